@@ -1,0 +1,12 @@
+// Shadow pass: depth only. No fragment stage: the rasterizer writes depth by itself.
+
+struct Layer {
+    view_proj: mat4x4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> layer: Layer;
+
+@vertex
+fn vs_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
+    return layer.view_proj * object.model * vec4<f32>(v.position, 1.0);
+}

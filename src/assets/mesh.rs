@@ -1,0 +1,125 @@
+//! Triangle meshes in CPU memory and the library that owns them.
+
+use crate::shadow::Aabb;
+use bevy_ecs::prelude::*;
+use glam::Vec3;
+use std::sync::Arc;
+
+/// One vertex as the GPU reads it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Vertex {
+    /// Object-space position.
+    pub position: [f32; 3],
+    /// Object-space unit normal.
+    pub normal: [f32; 3],
+}
+
+/// An indexed triangle list with its object-space bounds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshData {
+    /// Vertices.
+    pub vertices: Vec<Vertex>,
+    /// Three indices per triangle.
+    pub indices: Vec<u32>,
+    /// Object-space bounds of the vertices.
+    pub bounds: Aabb,
+}
+
+impl MeshData {
+    /// A mesh from vertices and indices, computing its bounds.
+    pub fn new(vertices: Vec<Vertex>, indices: Vec<u32>) -> Self {
+        let bounds = Aabb::from_points(vertices.iter().map(|v| Vec3::from(v.position)));
+        MeshData { vertices, indices, bounds }
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+}
+
+/// All meshes of the scene; a [`crate::components::Mesh`] is an index into it.
+#[derive(Resource, Default, Debug)]
+pub struct MeshLibrary {
+    meshes: Vec<Arc<MeshData>>,
+}
+
+impl MeshLibrary {
+    /// Adds a mesh and returns the component that refers to it.
+    pub fn add(&mut self, mesh: MeshData) -> crate::components::Mesh {
+        self.meshes.push(Arc::new(mesh));
+        crate::components::Mesh(self.meshes.len() - 1)
+    }
+
+    /// The mesh a component refers to, if it exists.
+    pub fn get(&self, mesh: crate::components::Mesh) -> Option<&Arc<MeshData>> {
+        self.meshes.get(mesh.0)
+    }
+
+    /// All meshes in index order.
+    pub fn all(&self) -> &[Arc<MeshData>] {
+        &self.meshes
+    }
+}
+
+/// A box centred on the origin with the given half extents and flat face normals.
+pub fn cube(half: Vec3) -> MeshData {
+    let mut vertices = Vec::with_capacity(24);
+    let mut indices = Vec::with_capacity(36);
+    for axis in 0..3 {
+        for sign in [1.0f32, -1.0] {
+            let n = Vec3::from_array(std::array::from_fn(|i| if i == axis { sign } else { 0.0 }));
+            // Two tangents chosen so (u, v, n) is right-handed: triangles wind counter-clockwise.
+            let u = Vec3::from_array(std::array::from_fn(|i| if i == (axis + 1) % 3 { 1.0 } else { 0.0 }));
+            let v = n.cross(u);
+            let base = vertices.len() as u32;
+            for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                let p = (n + u * a + v * b) * half;
+                vertices.push(Vertex { position: p.to_array(), normal: n.to_array() });
+            }
+            indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+        }
+    }
+    MeshData::new(vertices, indices)
+}
+
+/// A square in the XZ plane, `size` metres on a side, facing +Y.
+pub fn plane(size: f32) -> MeshData {
+    let h = size * 0.5;
+    let n = [0.0, 1.0, 0.0];
+    let vertices = [(-h, h), (h, h), (h, -h), (-h, -h)]
+        .map(|(x, z)| Vertex { position: [x, 0.0, z], normal: n })
+        .to_vec();
+    MeshData::new(vertices, vec![0, 1, 2, 0, 2, 3])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every triangle must wind counter-clockwise seen from outside (its normal's side).
+    fn assert_outward(mesh: &MeshData) {
+        for t in mesh.indices.chunks(3) {
+            let [a, b, c] = [0, 1, 2].map(|i| mesh.vertices[t[i] as usize]);
+            let (pa, pb, pc) = (Vec3::from(a.position), Vec3::from(b.position), Vec3::from(c.position));
+            let face = (pb - pa).cross(pc - pa);
+            assert!(face.dot(Vec3::from(a.normal)) > 0.0, "triangle {t:?} winds inwards");
+        }
+    }
+
+    #[test]
+    fn cube_is_closed_outward_and_bounded() {
+        let c = cube(Vec3::new(1.0, 2.0, 3.0));
+        assert_eq!(c.triangle_count(), 12);
+        assert_outward(&c);
+        assert_eq!(c.bounds, Aabb::new(Vec3::new(-1.0, -2.0, -3.0), Vec3::new(1.0, 2.0, 3.0)));
+    }
+
+    #[test]
+    fn plane_faces_up() {
+        let p = plane(4.0);
+        assert_outward(&p);
+        assert_eq!(p.bounds.max.x, 2.0);
+    }
+}

@@ -1,0 +1,297 @@
+//! Components and resources: the data the systems write and the renderer reads.
+
+use crate::shadow::Aabb;
+use bevy_ecs::prelude::*;
+use glam::{Mat4, Quat, Vec2, Vec3};
+
+/// Where an entity is: translation, rotation and scale.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Transform {
+    /// Position in metres.
+    pub translation: Vec3,
+    /// Orientation.
+    pub rotation: Quat,
+    /// Per-axis scale.
+    pub scale: Vec3,
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Transform { translation: Vec3::ZERO, rotation: Quat::IDENTITY, scale: Vec3::ONE }
+    }
+}
+
+impl Transform {
+    /// A transform at `(x, y, z)` with no rotation or scale.
+    pub fn from_xyz(x: f32, y: f32, z: f32) -> Self {
+        Transform { translation: Vec3::new(x, y, z), ..Default::default() }
+    }
+
+    /// This transform with its scale replaced.
+    pub fn with_scale(self, scale: Vec3) -> Self {
+        Transform { scale, ..self }
+    }
+
+    /// This transform with its rotation replaced.
+    pub fn with_rotation(self, rotation: Quat) -> Self {
+        Transform { rotation, ..self }
+    }
+
+    /// This transform turned to look along `dir` (its -Z axis points that way).
+    pub fn looking_to(self, dir: Vec3) -> Self {
+        let view = crate::shadow::light_view(Vec3::ZERO, dir);
+        let rotation = Quat::from_mat4(&view.inverse());
+        Transform { rotation, ..self }
+    }
+
+    /// Local to world matrix.
+    pub fn matrix(&self) -> Mat4 {
+        Mat4::from_scale_rotation_translation(self.scale, self.rotation, self.translation)
+    }
+
+    /// The direction the entity faces (its local -Z).
+    pub fn forward(&self) -> Vec3 {
+        self.rotation * Vec3::NEG_Z
+    }
+}
+
+/// Index of a mesh in the [`crate::assets::MeshLibrary`].
+///
+/// A mesh entity always has a [`Transform`] and [`WorldBounds`]; they are added if missing.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[require(Transform, WorldBounds)]
+pub struct Mesh(pub usize);
+
+/// Surface colour and Phong response.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Linear RGB albedo.
+    pub base_color: Vec3,
+    /// Strength of the specular highlight (0 = matte).
+    pub specular: f32,
+    /// Phong exponent: larger is a tighter highlight.
+    pub shininess: f32,
+}
+
+impl Material {
+    /// A matte material of the given linear colour with a faint highlight.
+    pub fn color(r: f32, g: f32, b: f32) -> Self {
+        Material { base_color: Vec3::new(r, g, b), specular: 0.25, shininess: 32.0 }
+    }
+}
+
+/// A perspective camera; its pose is the entity's [`Transform`].
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Vertical field of view in radians.
+    pub fov_y: f32,
+    /// Near plane distance in metres.
+    pub near: f32,
+    /// Far plane distance in metres.
+    pub far: f32,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Camera { fov_y: 60f32.to_radians(), near: 0.1, far: 200.0 }
+    }
+}
+
+impl Camera {
+    /// Projection for a viewport of the given aspect ratio (depth 0..1).
+    pub fn projection(&self, aspect: f32) -> Mat4 {
+        glam::camera::rh::proj::directx::perspective(self.fov_y, aspect.max(1e-3), self.near, self.far)
+    }
+
+    /// World to clip space for a camera at `transform`.
+    pub fn view_proj(&self, transform: &Transform, aspect: f32) -> Mat4 {
+        let view = Mat4::from_rotation_translation(transform.rotation, transform.translation).inverse();
+        self.projection(aspect) * view
+    }
+}
+
+/// Fly-camera state: the camera looks along yaw/pitch and moves at `speed` m/s.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct FlyCamera {
+    /// Turn about world Y in radians (0 looks along -Z).
+    pub yaw: f32,
+    /// Turn above the horizon in radians.
+    pub pitch: f32,
+    /// Walking speed in metres per second.
+    pub speed: f32,
+    /// Radians turned per pixel of mouse motion.
+    pub sensitivity: f32,
+}
+
+impl FlyCamera {
+    /// A fly camera looking along yaw/pitch at the default speed.
+    pub fn new(yaw: f32, pitch: f32) -> Self {
+        FlyCamera { yaw, pitch, speed: 6.0, sensitivity: 0.003 }
+    }
+
+    /// The rotation the yaw and pitch describe.
+    pub fn rotation(&self) -> Quat {
+        Quat::from_rotation_y(self.yaw) * Quat::from_rotation_x(self.pitch)
+    }
+}
+
+/// The sun: parallel light travelling along `direction`.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct DirectionalLight {
+    /// Direction the light travels (from the sun towards the ground).
+    pub direction: Vec3,
+    /// Linear RGB colour.
+    pub color: Vec3,
+    /// Brightness multiplier.
+    pub intensity: f32,
+}
+
+/// A spot light at its entity's [`Transform`], shining along the transform's forward axis.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct SpotLight {
+    /// Linear RGB colour.
+    pub color: Vec3,
+    /// Brightness multiplier.
+    pub intensity: f32,
+    /// Distance in metres at which the light has faded to nothing.
+    pub range: f32,
+    /// Half angle (radians) inside which the light is at full strength.
+    pub inner_angle: f32,
+    /// Half angle (radians) outside which the light gives nothing.
+    pub outer_angle: f32,
+}
+
+/// A light's shadow map: written by the light-matrix system, read by the renderer.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct ShadowMap {
+    /// World to light clip space.
+    pub view_proj: Mat4,
+    /// World size of one texel: `texel.x + texel.y * distance`.
+    pub texel: Vec2,
+    /// Layer of the shadow-map array this light renders into.
+    pub layer: u32,
+}
+
+impl Default for ShadowMap {
+    fn default() -> Self {
+        ShadowMap { view_proj: Mat4::IDENTITY, texel: Vec2::ZERO, layer: 0 }
+    }
+}
+
+/// Marks an entity that is drawn into shadow maps.
+#[derive(Component, Clone, Copy, Debug, Default)]
+pub struct ShadowCaster;
+
+/// Marks an entity whose surface takes shadows.
+#[derive(Component, Clone, Copy, Debug, Default)]
+pub struct ShadowReceiver;
+
+/// Turns an entity about `axis` at `rate` radians per second from `base` at t = 0.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Spin {
+    /// Unit axis.
+    pub axis: Vec3,
+    /// Radians per second.
+    pub rate: f32,
+    /// Rotation at t = 0.
+    pub base: Quat,
+}
+
+/// Moves an entity up and down: `y = base_y + amplitude * sin(frequency * t + phase)`.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Bob {
+    /// Height of the centre of motion.
+    pub base_y: f32,
+    /// Metres above and below the centre.
+    pub amplitude: f32,
+    /// Radians per second.
+    pub frequency: f32,
+    /// Radians at t = 0.
+    pub phase: f32,
+}
+
+/// World-space bounds of a mesh entity, kept up to date by [`crate::systems::update_bounds`].
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct WorldBounds(pub Aabb);
+
+impl Default for WorldBounds {
+    fn default() -> Self {
+        WorldBounds(Aabb::EMPTY)
+    }
+}
+
+/// Simulation time on a fixed step: the scene at `t` is a pure function of `t`.
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+pub struct Time {
+    /// Seconds since the start.
+    pub t: f64,
+    /// The fixed step in seconds.
+    pub dt: f32,
+    /// Steps taken.
+    pub frame: u64,
+}
+
+impl Default for Time {
+    fn default() -> Self {
+        Time { t: 0.0, dt: 1.0 / 60.0, frame: 0 }
+    }
+}
+
+/// Keys the sample reacts to, independent of the window library.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Key {
+    /// Move forward.
+    Forward,
+    /// Move back.
+    Back,
+    /// Move left.
+    Left,
+    /// Move right.
+    Right,
+    /// Move up.
+    Up,
+    /// Move down.
+    Down,
+    /// Move faster while held.
+    Fast,
+}
+
+/// Input for this step: held keys and mouse motion while looking.
+#[derive(Resource, Clone, Debug, Default, PartialEq)]
+pub struct Input {
+    /// Keys held down.
+    pub held: Vec<Key>,
+    /// Mouse motion in pixels since the last step (only while looking).
+    pub look_delta: Vec2,
+}
+
+impl Input {
+    /// True while `key` is held.
+    pub fn pressed(&self, key: Key) -> bool {
+        self.held.contains(&key)
+    }
+
+    /// Starts or stops holding `key`.
+    pub fn set(&mut self, key: Key, down: bool) {
+        self.held.retain(|k| *k != key);
+        if down {
+            self.held.push(key);
+        }
+    }
+}
+
+/// Size of the image being rendered, in pixels.
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Viewport {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+}
+
+impl Viewport {
+    /// Width over height (1 for an empty viewport).
+    pub fn aspect(&self) -> f32 {
+        if self.width == 0 || self.height == 0 { 1.0 } else { self.width as f32 / self.height as f32 }
+    }
+}

@@ -1,0 +1,110 @@
+//! umbra: a game sample about real-time shadow mapping.
+//!
+//! The [`App`] owns a bevy_ecs [`World`] and the fixed-step update schedule; the renderer in
+//! [`render`] reads the world's components and draws the shadow pass and then the main pass.
+
+pub mod assets;
+pub mod components;
+pub mod play;
+pub mod render;
+pub mod scene;
+pub mod settings;
+pub mod shadow;
+pub mod systems;
+
+use assets::MeshLibrary;
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::{ScheduleConfigs, ScheduleLabel};
+use bevy_ecs::system::ScheduleSystem;
+use components::{Input, Time, Viewport};
+pub use settings::{Settings, SettingsError};
+
+/// The fixed-step update schedule.
+#[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Update;
+
+/// The ordered stages of one update; gameplay systems go in [`Stage::Gameplay`].
+#[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Stage {
+    /// Scripted animation (cubes).
+    Animate,
+    /// Camera control from input.
+    Camera,
+    /// User systems: they see the animated scene and may move anything before lights are fitted.
+    Gameplay,
+    /// World bounds and light matrices.
+    Lights,
+}
+
+/// The sample: a world, its update schedule and a fixed clock.
+pub struct App {
+    /// All entities, components and resources.
+    pub world: World,
+    update: Schedule,
+}
+
+impl App {
+    /// An app holding the sample scene.
+    pub fn new(settings: Settings) -> Result<App, SettingsError> {
+        let mut app = App::empty(settings)?;
+        let settings = app.world.resource::<Settings>().clone();
+        scene::spawn_sample_scene(&mut app.world, &settings);
+        Ok(app)
+    }
+
+    /// An app with umbra's resources and systems but no entities, for custom scenes and tests.
+    pub fn empty(settings: Settings) -> Result<App, SettingsError> {
+        settings.validate()?;
+        let mut world = World::new();
+        world.insert_resource(Time { dt: settings.dt, ..Default::default() });
+        world.insert_resource(settings);
+        world.insert_resource(Input::default());
+        world.insert_resource(Viewport { width: 1280, height: 720 });
+        world.insert_resource(MeshLibrary::default());
+        let mut update = Schedule::new(Update);
+        update.configure_sets((Stage::Animate, Stage::Camera, Stage::Gameplay, Stage::Lights).chain());
+        update.add_systems((systems::spin, systems::bob).in_set(Stage::Animate));
+        update.add_systems(systems::fly_camera.in_set(Stage::Camera));
+        update.add_systems((systems::update_bounds, systems::update_light_matrices).chain().in_set(Stage::Lights));
+        Ok(App { world, update })
+    }
+
+    /// Adds gameplay systems; they run after animation and camera and before the light matrices.
+    pub fn add_systems<M>(&mut self, systems: impl IntoScheduleConfigs<ScheduleSystem, M>) -> &mut Self {
+        let configs: ScheduleConfigs<ScheduleSystem> = systems.into_configs();
+        self.update.add_systems(configs.in_set(Stage::Gameplay));
+        self
+    }
+
+    /// Advances the clock by one fixed step and runs the update schedule.
+    pub fn step(&mut self) {
+        let mut time = self.world.resource_mut::<Time>();
+        time.frame += 1;
+        time.t = time.frame as f64 * time.dt as f64;
+        self.run_update();
+    }
+
+    /// Sets the clock to `t` seconds and runs the update schedule: the scene as it is at `t`.
+    pub fn set_time(&mut self, t: f64) {
+        let mut time = self.world.resource_mut::<Time>();
+        time.frame = (t / time.dt as f64).round() as u64;
+        time.t = t;
+        self.run_update();
+    }
+
+    /// Tells the app the size of the image it is rendered into.
+    pub fn resize(&mut self, width: u32, height: u32) {
+        *self.world.resource_mut::<Viewport>() = Viewport { width, height };
+    }
+
+    /// The settings in force.
+    pub fn settings(&self) -> &Settings {
+        self.world.resource::<Settings>()
+    }
+
+    fn run_update(&mut self) {
+        self.update.run(&mut self.world);
+        // Mouse motion is consumed by the step that saw it.
+        self.world.resource_mut::<Input>().look_delta = glam::Vec2::ZERO;
+    }
+}

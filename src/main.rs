@@ -1,0 +1,165 @@
+//! The `umbra` command: play the sample in a window (the default) or render frames headless.
+
+use anyhow::{Context, Result};
+use clap::{Args, Parser, Subcommand};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use umbra::render::{Gpu, HEADLESS_FORMAT, Renderer, render_headless};
+use umbra::{App, Settings};
+
+/// umbra: a game sample about real-time shadow mapping.
+#[derive(Parser)]
+#[command(version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Play the scene in a window (the default); without a display, render umbra.png instead.
+    Play(SceneArgs),
+    /// Render one deterministic frame headless to a PNG.
+    Render(RenderArgs),
+}
+
+/// Settings shared by every command.
+#[derive(Args, Clone, Default)]
+struct SceneArgs {
+    /// Turn shadows off.
+    #[arg(long)]
+    no_shadows: bool,
+    /// Shadow-map layer size in texels.
+    #[arg(long, value_name = "TEXELS")]
+    shadow_map_size: Option<u32>,
+    /// How dark shadows are, 0..1.
+    #[arg(long, value_name = "0..1", allow_negative_numbers = true)]
+    shadow_strength: Option<f32>,
+    /// Constant depth bias in texels.
+    #[arg(long, value_name = "TEXELS", allow_negative_numbers = true)]
+    depth_bias: Option<f32>,
+    /// Slope-scaled depth bias in texels.
+    #[arg(long, value_name = "TEXELS", allow_negative_numbers = true)]
+    slope_bias: Option<f32>,
+    /// Normal-offset bias in texels.
+    #[arg(long, value_name = "TEXELS", allow_negative_numbers = true)]
+    normal_bias: Option<f32>,
+    /// Number of animated cubes.
+    #[arg(long)]
+    cubes: Option<u32>,
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// Where to write the PNG.
+    #[arg(long, default_value = "umbra.png")]
+    out: PathBuf,
+    /// Width in pixels.
+    #[arg(long, default_value_t = 1280, value_parser = parse_size, allow_negative_numbers = true)]
+    width: u32,
+    /// Height in pixels.
+    #[arg(long, default_value_t = 720, value_parser = parse_size, allow_negative_numbers = true)]
+    height: u32,
+    /// Scene time in seconds.
+    #[arg(long, default_value_t = 2.0, value_parser = parse_time, allow_negative_numbers = true)]
+    time: f64,
+    /// Render the frame this many extra times and print the median frame time.
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    repeat: u32,
+    #[command(flatten)]
+    scene: SceneArgs,
+}
+
+fn parse_size(s: &str) -> Result<u32, String> {
+    match s.parse::<i64>() {
+        Ok(v) if (1..=16384).contains(&v) => Ok(v as u32),
+        _ => Err(format!("`{s}` is not a size: give a whole number of pixels from 1 to 16384")),
+    }
+}
+
+fn parse_time(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(t) if t.is_finite() && t >= 0.0 => Ok(t),
+        _ => Err(format!("`{s}` is not a time: give seconds, 0 or more")),
+    }
+}
+
+impl SceneArgs {
+    fn settings(&self) -> Settings {
+        let d = Settings::default();
+        Settings {
+            shadows: !self.no_shadows,
+            shadow_map_size: self.shadow_map_size.unwrap_or(d.shadow_map_size),
+            shadow_strength: self.shadow_strength.unwrap_or(d.shadow_strength),
+            depth_bias: self.depth_bias.unwrap_or(d.depth_bias),
+            slope_bias: self.slope_bias.unwrap_or(d.slope_bias),
+            normal_bias: self.normal_bias.unwrap_or(d.normal_bias),
+            cubes: self.cubes.unwrap_or(d.cubes),
+            ..d
+        }
+    }
+}
+
+fn main() {
+    if let Err(e) = run(Cli::parse()) {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command.unwrap_or(Command::Play(SceneArgs::default())) {
+        Command::Play(scene) => play(scene),
+        Command::Render(args) => render(&args),
+    }
+}
+
+fn play(scene: SceneArgs) -> Result<()> {
+    let app = App::new(scene.settings())?;
+    match umbra::play::play(app) {
+        Err(umbra::play::PlayError::NoDisplay(why)) => {
+            println!("no display ({why}); rendering the scene headless to umbra.png instead");
+            let args = RenderArgs {
+                out: "umbra.png".into(),
+                width: 1280,
+                height: 720,
+                time: 2.0,
+                repeat: 0,
+                scene,
+            };
+            render(&args)
+        }
+        other => Ok(other?),
+    }
+}
+
+fn render(args: &RenderArgs) -> Result<()> {
+    let mut app = App::new(args.scene.settings())?;
+    let gpu = Gpu::headless()?;
+    println!("adapter: {}", gpu.describe());
+    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT)?;
+    app.resize(args.width, args.height);
+    app.set_time(args.time);
+    let image = render_headless(&gpu, &mut renderer, &mut app, args.width, args.height)?;
+    save(&image, &args.out)?;
+    if args.repeat > 0 {
+        let mut times: Vec<f64> = (0..args.repeat)
+            .map(|_| {
+                let start = Instant::now();
+                render_headless(&gpu, &mut renderer, &mut app, args.width, args.height)?;
+                Ok(start.elapsed().as_secs_f64() * 1e3)
+            })
+            .collect::<Result<_>>()?;
+        times.sort_by(f64::total_cmp);
+        let median = times[times.len() / 2];
+        let (lo, hi) = (times[0], times[times.len() - 1]);
+        println!("frame time (shadow + main pass + readback): median {median:.1} ms, min {lo:.1}, max {hi:.1}, {} frames", times.len());
+    }
+    Ok(())
+}
+
+fn save(image: &umbra::render::Image, out: &Path) -> Result<()> {
+    image.save_png(out).with_context(|| "saving the frame")?;
+    println!("wrote {} ({}x{})", out.display(), image.width, image.height);
+    Ok(())
+}

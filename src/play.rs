@@ -1,0 +1,221 @@
+//! Playing the scene in a window: winit events in, fixed steps of the app, frames presented.
+
+use crate::components::{Input, Key};
+use crate::render::{Gpu, RenderError, Renderer};
+use crate::App;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use winit::application::ApplicationHandler;
+use winit::event::{DeviceEvent, DeviceId, ElementState, MouseButton, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+/// Why playing in a window stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum PlayError {
+    /// No display could be opened (no X server, say); the caller may render headless instead.
+    #[error("no display could be opened: {0}")]
+    NoDisplay(String),
+    /// Rendering failed.
+    #[error(transparent)]
+    Render(#[from] RenderError),
+    /// The window could not be created or driven.
+    #[error("window: {0}")]
+    Window(String),
+}
+
+/// Most fixed steps taken per presented frame, so a slow frame cannot snowball.
+const MAX_STEPS_PER_FRAME: u32 = 8;
+
+struct Shown {
+    window: Arc<Window>,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    gpu: Gpu,
+    renderer: Renderer,
+}
+
+struct Player {
+    app: App,
+    shown: Option<Shown>,
+    error: Option<PlayError>,
+    looking: bool,
+    last: Option<Instant>,
+    behind: f64,
+    frames: u32,
+    since: Instant,
+}
+
+/// Opens a window and plays `app` until the window is closed or Esc is pressed.
+pub fn play(app: App) -> Result<(), PlayError> {
+    let event_loop = EventLoop::new().map_err(|e| PlayError::NoDisplay(e.to_string()))?;
+    let mut player =
+        Player { app, shown: None, error: None, looking: false, last: None, behind: 0.0, frames: 0, since: Instant::now() };
+    event_loop.run_app(&mut player).map_err(|e| PlayError::Window(e.to_string()))?;
+    player.error.map_or(Ok(()), Err)
+}
+
+/// The sample's key for a physical key, if it has one.
+fn key_for(code: KeyCode) -> Option<Key> {
+    Some(match code {
+        KeyCode::KeyW | KeyCode::ArrowUp => Key::Forward,
+        KeyCode::KeyS | KeyCode::ArrowDown => Key::Back,
+        KeyCode::KeyA | KeyCode::ArrowLeft => Key::Left,
+        KeyCode::KeyD | KeyCode::ArrowRight => Key::Right,
+        KeyCode::KeyE | KeyCode::Space => Key::Up,
+        KeyCode::KeyQ | KeyCode::ControlLeft => Key::Down,
+        KeyCode::ShiftLeft | KeyCode::ShiftRight => Key::Fast,
+        _ => return None,
+    })
+}
+
+impl Player {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: PlayError) {
+        self.error.get_or_insert(error);
+        event_loop.exit();
+    }
+
+    fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<Shown, PlayError> {
+        let attributes = Window::default_attributes()
+            .with_title("umbra")
+            .with_inner_size(winit::dpi::LogicalSize::new(1280.0, 720.0));
+        let window = Arc::new(event_loop.create_window(attributes).map_err(|e| PlayError::Window(e.to_string()))?);
+        let display = Box::new(event_loop.owned_display_handle());
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(display));
+        let surface = instance.create_surface(window.clone()).map_err(|e| RenderError::Surface(e.to_string()))?;
+        let gpu = Gpu::new(instance, Some(&surface))?;
+        println!("adapter: {}", gpu.describe());
+        let caps = surface.get_capabilities(&gpu.adapter);
+        let format = caps.formats.iter().copied().find(|f| f.is_srgb()).or(caps.formats.first().copied());
+        let format = format.ok_or_else(|| RenderError::Surface("the surface offers no formats".into()))?;
+        let size = window.inner_size();
+        let (width, height) = (size.width.max(1), size.height.max(1));
+        let mut config = surface
+            .get_default_config(&gpu.adapter, width, height)
+            .ok_or_else(|| RenderError::Surface("the adapter cannot present to this window".into()))?;
+        config.format = format;
+        config.present_mode = wgpu::PresentMode::AutoVsync;
+        surface.configure(&gpu.device, &config);
+        let renderer = Renderer::new(&gpu, format)?;
+        self.app.resize(config.width, config.height);
+        Ok(Shown { window, surface, config, gpu, renderer })
+    }
+
+    /// Catches the simulation up with the wall clock in fixed steps.
+    fn advance(&mut self) {
+        let now = Instant::now();
+        let dt = self.app.settings().dt as f64;
+        self.behind += self.last.map_or(dt, |last| (now - last).as_secs_f64());
+        self.last = Some(now);
+        let mut steps = 0;
+        while self.behind >= dt && steps < MAX_STEPS_PER_FRAME {
+            self.app.step();
+            self.behind -= dt;
+            steps += 1;
+        }
+        if steps == MAX_STEPS_PER_FRAME {
+            self.behind = 0.0;
+        }
+    }
+
+    fn redraw(&mut self) -> Result<(), PlayError> {
+        self.advance();
+        let Some(shown) = self.shown.as_mut() else { return Ok(()) };
+        let frame = match shown.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
+            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => return Ok(()),
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                shown.surface.configure(&shown.gpu.device, &shown.config);
+                return Ok(());
+            }
+            wgpu::CurrentSurfaceTexture::Validation => {
+                shown.gpu.check_errors()?;
+                return Err(RenderError::Surface("validation error acquiring a frame".into()).into());
+            }
+        };
+        let view = frame.texture.create_view(&Default::default());
+        let (w, h) = (shown.config.width, shown.config.height);
+        shown.renderer.render(&shown.gpu, &mut self.app.world, &view, w, h)?;
+        shown.window.pre_present_notify();
+        shown.gpu.queue.present(frame);
+        self.frames += 1;
+        let elapsed = self.since.elapsed();
+        if elapsed >= Duration::from_secs(1) {
+            let fps = self.frames as f64 / elapsed.as_secs_f64();
+            shown.window.set_title(&format!("umbra - {fps:.0} fps - {}", shown.gpu.describe()));
+            (self.frames, self.since) = (0, Instant::now());
+        }
+        Ok(())
+    }
+
+    fn resize(&mut self, width: u32, height: u32) {
+        // A minimized window has no size: keep the old surface until it comes back.
+        let Some(shown) = self.shown.as_mut() else { return };
+        if width == 0 || height == 0 {
+            return;
+        }
+        shown.config.width = width;
+        shown.config.height = height;
+        shown.surface.configure(&shown.gpu.device, &shown.config);
+        self.app.resize(width, height);
+    }
+}
+
+impl ApplicationHandler for Player {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.shown.is_none() {
+            match self.open(event_loop) {
+                Ok(shown) => self.shown = Some(shown),
+                Err(e) => self.fail(event_loop, e),
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => self.resize(size.width, size.height),
+            WindowEvent::KeyboardInput { event, .. } => {
+                let down = event.state == ElementState::Pressed;
+                if let PhysicalKey::Code(code) = event.physical_key {
+                    if code == KeyCode::Escape && down {
+                        event_loop.exit();
+                    } else if let Some(key) = key_for(code) {
+                        self.app.world.resource_mut::<Input>().set(key, down);
+                    }
+                }
+            }
+            WindowEvent::MouseInput { state, button: MouseButton::Right, .. } => {
+                self.looking = state == ElementState::Pressed;
+                if let Some(shown) = &self.shown {
+                    shown.window.set_cursor_visible(!self.looking);
+                }
+            }
+            WindowEvent::Focused(false) => {
+                self.looking = false;
+                self.app.world.resource_mut::<Input>().held.clear();
+            }
+            WindowEvent::RedrawRequested => {
+                if let Err(e) = self.redraw() {
+                    self.fail(event_loop, e);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn device_event(&mut self, _event_loop: &ActiveEventLoop, _id: DeviceId, event: DeviceEvent) {
+        if let DeviceEvent::MouseMotion { delta } = event {
+            if self.looking {
+                self.app.world.resource_mut::<Input>().look_delta += glam::Vec2::new(delta.0 as f32, delta.1 as f32);
+            }
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(shown) = &self.shown {
+            shown.window.request_redraw();
+        }
+    }
+}

@@ -1,0 +1,90 @@
+//! Choosing an adapter, opening a device, and catching every wgpu error.
+
+use super::RenderError;
+use std::sync::{Arc, Mutex};
+
+/// An open GPU device with its queue and a log of uncaptured errors.
+pub struct Gpu {
+    /// The wgpu instance the adapter came from.
+    pub instance: wgpu::Instance,
+    /// The chosen adapter.
+    pub adapter: wgpu::Adapter,
+    /// The logical device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    errors: Arc<Mutex<Vec<String>>>,
+}
+
+/// A wgpu instance for the backends `WGPU_BACKEND` names, or all of them.
+pub fn instance() -> wgpu::Instance {
+    wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env())
+}
+
+/// Preference order: a real GPU first, a software rasterizer last; Vulkan/Metal/DX12 before GL.
+fn rank(info: &wgpu::AdapterInfo) -> (u8, u8) {
+    let device = match info.device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Other => 3,
+        wgpu::DeviceType::Cpu => 4,
+    };
+    (device, (info.backend == wgpu::Backend::Gl) as u8)
+}
+
+impl Gpu {
+    /// Opens the best adapter of a fresh [`instance`] for rendering off screen.
+    pub fn headless() -> Result<Gpu, RenderError> {
+        Gpu::new(instance(), None)
+    }
+
+    /// Opens the best adapter of `instance` that can present to `surface` (if given).
+    pub fn new(instance: wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Result<Gpu, RenderError> {
+        let backends = wgpu::Backends::all().with_env();
+        let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
+        adapters.retain(|a| surface.is_none_or(|s| a.is_surface_supported(s)));
+        adapters.sort_by_key(|a| rank(&a.get_info()));
+        let adapter = adapters.into_iter().next().ok_or_else(|| RenderError::NoAdapter {
+            backends: format!("{backends:?}"),
+        })?;
+        let desc = wgpu::DeviceDescriptor {
+            label: Some("umbra"),
+            required_features: wgpu::Features::empty(),
+            required_limits: adapter.limits(),
+            ..Default::default()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&desc))
+            .map_err(|e| RenderError::Device(e.to_string()))?;
+        let errors = Arc::new(Mutex::new(Vec::new()));
+        let sink = errors.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            sink.lock().unwrap_or_else(|p| p.into_inner()).push(e.to_string());
+        }));
+        Ok(Gpu { instance, adapter, device, queue, errors })
+    }
+
+    /// One line naming the adapter, its kind and its backend.
+    pub fn describe(&self) -> String {
+        let info = self.adapter.get_info();
+        format!("{} ({:?}, {:?} backend)", info.name, info.device_type, info.backend)
+    }
+
+    /// Fails with every wgpu error raised since the last check (and forgets them).
+    pub fn check_errors(&self) -> Result<(), RenderError> {
+        let mut errors = self.errors.lock().unwrap_or_else(|p| p.into_inner());
+        if errors.is_empty() {
+            Ok(())
+        } else {
+            Err(RenderError::Wgpu(std::mem::take(&mut *errors).join("\n")))
+        }
+    }
+
+    /// Blocks until the GPU has finished all submitted work.
+    pub fn wait(&self) -> Result<(), RenderError> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| RenderError::Wgpu(e.to_string()))
+    }
+}

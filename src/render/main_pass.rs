@@ -1,0 +1,182 @@
+//! The main pass: Phong lighting from the camera, each light's share scaled by its shadow test.
+
+use super::extract::{FrameData, FrameUniform};
+use super::renderer::{GpuMesh, vertex_layout};
+use super::shadow_pass::ShadowMaps;
+use super::uniform_array::UniformArray;
+
+/// Depth format of the camera's depth buffer.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Sky colour behind the scene (linear).
+const SKY: wgpu::Color = wgpu::Color { r: 0.38, g: 0.55, b: 0.78, a: 1.0 };
+
+/// Pipeline, frame uniform and the bind group that ties in the shadow maps.
+pub struct MainPass {
+    pipeline: wgpu::RenderPipeline,
+    frame_layout: wgpu::BindGroupLayout,
+    frame_buffer: wgpu::Buffer,
+    sampler: wgpu::Sampler,
+    bind_group: wgpu::BindGroup,
+}
+
+impl MainPass {
+    /// Builds the lighting pipeline for colour format `format`.
+    pub fn new(
+        device: &wgpu::Device,
+        object_layout: &wgpu::BindGroupLayout,
+        format: wgpu::TextureFormat,
+        maps: &ShadowMaps,
+    ) -> Self {
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("frame"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<FrameUniform>() as u64),
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
+            ],
+        });
+        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame"),
+            size: std::mem::size_of::<FrameUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        // Linear comparison filtering gives a 2x2 percentage-closer filter in hardware.
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow compare"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+        let source = concat!(
+            include_str!("../../shaders/common.wgsl"),
+            include_str!("../../shaders/shadow_sampling.wgsl"),
+            include_str!("../../shaders/main.wgsl")
+        );
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("main.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("main"),
+            bind_group_layouts: &[Some(&frame_layout), Some(object_layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("main"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(vertex_layout())],
+            },
+            primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let bind_group = Self::bind(device, &frame_layout, &frame_buffer, &sampler, maps);
+        MainPass { pipeline, frame_layout, frame_buffer, sampler, bind_group }
+    }
+
+    fn bind(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        buffer: &wgpu::Buffer,
+        sampler: &wgpu::Sampler,
+        maps: &ShadowMaps,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&maps.array_view) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(sampler) },
+            ],
+        })
+    }
+
+    /// Points the pass at new shadow maps after they were re-created.
+    pub fn rebind(&mut self, device: &wgpu::Device, maps: &ShadowMaps) {
+        self.bind_group = Self::bind(device, &self.frame_layout, &self.frame_buffer, &self.sampler, maps);
+    }
+
+    /// Draws every object into `color` (cleared to the sky) with depth testing against `depth`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn encode(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        data: &FrameData,
+        meshes: &[Option<GpuMesh>],
+        objects: &UniformArray,
+    ) {
+        queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&data.frame));
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("main pass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: color,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(SKY), store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        for (i, item) in data.items.iter().enumerate() {
+            if let Some(Some(mesh)) = meshes.get(item.mesh.0) {
+                pass.set_bind_group(1, &objects.bind_group, &[objects.offset(i)]);
+                mesh.draw(&mut pass);
+            }
+        }
+    }
+}

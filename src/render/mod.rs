@@ -1,0 +1,67 @@
+//! The renderer: wgpu only. It reads components, draws the shadow pass, then the main pass.
+//!
+//! Sections follow the data flow: [`gpu`] opens a device, [`extract`] turns the world into GPU
+//! structs, [`shadow_pass`] fills one depth layer per shadowed light, [`main_pass`] lights the
+//! scene, and [`readback`] brings a frame back to the CPU for headless use.
+
+mod extract;
+mod gpu;
+mod main_pass;
+mod readback;
+mod renderer;
+mod shadow_pass;
+mod uniform_array;
+
+pub use extract::{DrawItem, FrameData, MAX_SPOTS, extract};
+pub use gpu::{Gpu, instance};
+pub use readback::{HEADLESS_FORMAT, Image, render_headless};
+pub use renderer::Renderer;
+
+/// Everything that can go wrong between the world and a finished frame.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// No adapter at all on the enabled backends.
+    #[error(
+        "no GPU adapter found (backends: {backends}); install a driver, or Mesa for software rendering \
+         (`apt-get install mesa-vulkan-drivers libegl1`), or choose a backend with WGPU_BACKEND=vulkan|gl"
+    )]
+    NoAdapter {
+        /// The backends that were searched.
+        backends: String,
+    },
+    /// The adapter refused to open a device.
+    #[error("the GPU adapter could not open a device: {0}")]
+    Device(String),
+    /// wgpu reported a validation or other error.
+    #[error("wgpu error: {0}")]
+    Wgpu(String),
+    /// The device cannot make a shadow map this large.
+    #[error("shadow_map_size {size} is larger than this GPU allows ({max})")]
+    ShadowMapTooLarge {
+        /// Requested size.
+        size: u32,
+        /// Device limit.
+        max: u32,
+    },
+    /// The image size is zero or beyond the device limit.
+    #[error("image size {width}x{height} is not allowed: each side must be 1..={max}")]
+    BadSize {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+        /// Device limit.
+        max: u32,
+    },
+    /// The window surface could not be used.
+    #[error("window surface: {0}")]
+    Surface(String),
+    /// Writing the picture failed.
+    #[error("could not write {path}: {why}")]
+    Write {
+        /// Where.
+        path: String,
+        /// Why.
+        why: String,
+    },
+}

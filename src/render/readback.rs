@@ -1,0 +1,120 @@
+//! Headless rendering: a frame drawn into a texture and copied back to the CPU as RGBA8.
+
+use super::{Gpu, RenderError, Renderer};
+use crate::App;
+use std::path::Path;
+
+/// Format of headless frames: 8-bit sRGB, as a window would show them.
+pub const HEADLESS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// An RGBA8 (sRGB) picture, rows top to bottom.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Image {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Four bytes per pixel.
+    pub pixels: Vec<u8>,
+}
+
+impl Image {
+    /// The pixel at (x, y), or `None` outside the picture.
+    pub fn pixel(&self, x: u32, y: u32) -> Option<[u8; 4]> {
+        if x >= self.width || y >= self.height {
+            return None;
+        }
+        let i = 4 * (y as usize * self.width as usize + x as usize);
+        self.pixels[i..i + 4].try_into().ok()
+    }
+
+    /// Mean of the red, green and blue bytes at (x, y) (0 outside the picture).
+    pub fn brightness(&self, x: u32, y: u32) -> f32 {
+        self.pixel(x, y).map_or(0.0, |p| (p[0] as f32 + p[1] as f32 + p[2] as f32) / 3.0)
+    }
+
+    /// Writes a PNG; the file appears whole or not at all.
+    pub fn save_png(&self, path: &Path) -> Result<(), RenderError> {
+        let fail = |why: String| RenderError::Write { path: path.display().to_string(), why };
+        let tmp = path.with_extension("png.partial");
+        let write = || -> Result<(), String> {
+            let file = std::fs::File::create(&tmp).map_err(|e| e.to_string())?;
+            let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
+            encoder.set_color(png::ColorType::Rgba);
+            encoder.set_depth(png::BitDepth::Eight);
+            encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+            let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
+            writer.write_image_data(&self.pixels).map_err(|e| e.to_string())?;
+            writer.finish().map_err(|e| e.to_string())?;
+            std::fs::rename(&tmp, path).map_err(|e| e.to_string())
+        };
+        write().map_err(|why| {
+            let _ = std::fs::remove_file(&tmp);
+            fail(why)
+        })
+    }
+}
+
+/// Renders one frame of `app` as it is now, `width` x `height`, and reads it back.
+pub fn render_headless(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    app: &mut App,
+    width: u32,
+    height: u32,
+) -> Result<Image, RenderError> {
+    let max = gpu.device.limits().max_texture_dimension_2d;
+    if width == 0 || height == 0 || width > max || height > max {
+        return Err(RenderError::BadSize { width, height, max });
+    }
+    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("headless frame"),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: HEADLESS_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    renderer.render(gpu, &mut app.world, &texture.create_view(&Default::default()), width, height)?;
+    read_texture(gpu, &texture, width, height)
+}
+
+fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, width: u32, height: u32) -> Result<Image, RenderError> {
+    let row = 4 * width;
+    let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: padded as u64 * height as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: None },
+        },
+        wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+    );
+    gpu.queue.submit([encoder.finish()]);
+    let (tx, rx) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+        let _ = tx.send(r);
+    });
+    gpu.wait()?;
+    rx.recv()
+        .map_err(|e| RenderError::Wgpu(format!("readback never completed: {e}")))?
+        .map_err(|e| RenderError::Wgpu(format!("readback failed: {e}")))?;
+    let mapped = buffer.get_mapped_range(..).map_err(|e| RenderError::Wgpu(e.to_string()))?;
+    let mut pixels = Vec::with_capacity((row * height) as usize);
+    for r in mapped.chunks(padded as usize) {
+        pixels.extend_from_slice(&r[..row as usize]);
+    }
+    drop(mapped);
+    buffer.unmap();
+    gpu.check_errors()?;
+    Ok(Image { width, height, pixels })
+}

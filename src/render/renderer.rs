@@ -1,0 +1,134 @@
+//! The renderer: uploads meshes, then each frame extracts, runs the shadow pass and the main pass.
+
+use super::extract::{ObjectUniform, extract};
+use super::main_pass::{DEPTH_FORMAT, MainPass};
+use super::shadow_pass::ShadowPass;
+use super::uniform_array::UniformArray;
+use super::{Gpu, RenderError};
+use crate::assets::{MeshLibrary, Vertex};
+use crate::settings::Settings;
+use bevy_ecs::prelude::*;
+use wgpu::util::DeviceExt;
+
+/// A mesh in GPU memory.
+pub struct GpuMesh {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+}
+
+impl GpuMesh {
+    fn upload(device: &wgpu::Device, vertices: &[Vertex], indices: &[u32]) -> Option<GpuMesh> {
+        if vertices.is_empty() || indices.is_empty() {
+            return None;
+        }
+        let buffer = |label, contents, usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
+        Some(GpuMesh {
+            vertices: buffer("vertices", bytemuck::cast_slice(vertices), wgpu::BufferUsages::VERTEX),
+            indices: buffer("indices", bytemuck::cast_slice(indices), wgpu::BufferUsages::INDEX),
+            index_count: indices.len() as u32,
+        })
+    }
+
+    /// Binds the buffers and draws every triangle.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..self.index_count, 0, 0..1);
+    }
+}
+
+/// How the shaders read a [`Vertex`]: position at location 0, normal at location 1.
+pub fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
+    const ATTRIBUTES: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+    wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &ATTRIBUTES,
+    }
+}
+
+/// GPU state that lives across frames: pipelines, meshes, shadow maps and the depth buffer.
+pub struct Renderer {
+    objects: UniformArray,
+    meshes: Vec<Option<GpuMesh>>,
+    shadow: ShadowPass,
+    main: MainPass,
+    depth: Option<(wgpu::TextureView, u32, u32)>,
+}
+
+impl Renderer {
+    /// Builds the pipelines for a colour target of `format` (an sRGB format for correct output).
+    pub fn new(gpu: &Gpu, format: wgpu::TextureFormat) -> Result<Renderer, RenderError> {
+        let device = &gpu.device;
+        let objects = UniformArray::new(
+            device,
+            "objects",
+            std::mem::size_of::<ObjectUniform>() as u64,
+            wgpu::ShaderStages::VERTEX_FRAGMENT,
+        );
+        let shadow = ShadowPass::new(device, &objects.layout, 16);
+        let main = MainPass::new(device, &objects.layout, format, &shadow.maps);
+        gpu.check_errors()?;
+        Ok(Renderer { objects, meshes: Vec::new(), shadow, main, depth: None })
+    }
+
+    /// Renders the world as it is now into `target` (`width` x `height` pixels).
+    pub fn render(
+        &mut self,
+        gpu: &Gpu,
+        world: &mut World,
+        target: &wgpu::TextureView,
+        width: u32,
+        height: u32,
+    ) -> Result<(), RenderError> {
+        let (device, queue) = (&gpu.device, &gpu.queue);
+        let settings = world.resource::<Settings>().clone();
+        let max = device.limits().max_texture_dimension_2d;
+        if settings.shadow_map_size > max {
+            return Err(RenderError::ShadowMapTooLarge { size: settings.shadow_map_size, max });
+        }
+        self.upload_new_meshes(device, world.resource::<MeshLibrary>());
+        self.ensure_depth(device, width, height);
+        let data = extract(world);
+        if self.shadow.ensure_maps(device, settings.shadow_map_size, data.layers.len()) {
+            self.main.rebind(device, &self.shadow.maps);
+        }
+        let objects: Vec<ObjectUniform> = data.items.iter().map(|i| i.object).collect();
+        self.objects.write(device, queue, &objects);
+
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        if settings.shadows {
+            self.shadow.encode(device, queue, &mut encoder, &data, &self.meshes, &self.objects);
+        }
+        let depth = &self.depth.as_ref().expect("depth target was just ensured").0;
+        self.main.encode(queue, &mut encoder, target, depth, &data, &self.meshes, &self.objects);
+        queue.submit([encoder.finish()]);
+        gpu.check_errors()
+    }
+
+    fn upload_new_meshes(&mut self, device: &wgpu::Device, library: &MeshLibrary) {
+        for mesh in &library.all()[self.meshes.len().min(library.all().len())..] {
+            self.meshes.push(GpuMesh::upload(device, &mesh.vertices, &mesh.indices));
+        }
+    }
+
+    fn ensure_depth(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        if matches!(self.depth, Some((_, w, h)) if w == width && h == height) {
+            return;
+        }
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("depth"),
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        });
+        self.depth = Some((texture.create_view(&Default::default()), width, height));
+    }
+}

@@ -1,0 +1,91 @@
+//! An array of equal-sized uniform blocks in one buffer, bound one at a time by dynamic offset.
+
+use wgpu::util::DeviceExt;
+
+/// Uniform blocks of one type at a device-aligned stride, with the bind group that reads them.
+pub struct UniformArray {
+    label: &'static str,
+    /// Layout of the bind group: binding 0, a dynamic-offset uniform.
+    pub layout: wgpu::BindGroupLayout,
+    buffer: wgpu::Buffer,
+    /// The bind group over the buffer.
+    pub bind_group: wgpu::BindGroup,
+    item_size: u64,
+    stride: u64,
+    capacity: usize,
+}
+
+impl UniformArray {
+    /// An array of blocks of `item_size` bytes visible to `stages`.
+    pub fn new(device: &wgpu::Device, label: &'static str, item_size: u64, stages: wgpu::ShaderStages) -> Self {
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: stages,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: true,
+                    min_binding_size: wgpu::BufferSize::new(item_size),
+                },
+                count: None,
+            }],
+        });
+        let align = device.limits().min_uniform_buffer_offset_alignment as u64;
+        let stride = item_size.div_ceil(align) * align;
+        let (buffer, bind_group) = Self::allocate(device, label, &layout, item_size, stride, 16);
+        UniformArray { label, layout, buffer, bind_group, item_size, stride, capacity: 16 }
+    }
+
+    fn allocate(
+        device: &wgpu::Device,
+        label: &str,
+        layout: &wgpu::BindGroupLayout,
+        item_size: u64,
+        stride: u64,
+        capacity: usize,
+    ) -> (wgpu::Buffer, wgpu::BindGroup) {
+        let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: &vec![0u8; stride as usize * capacity],
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &buffer,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(item_size),
+                }),
+            }],
+        });
+        (buffer, bind_group)
+    }
+
+    /// Uploads `items` (each `item_size` bytes), growing the buffer when they do not fit.
+    pub fn write<T: bytemuck::Pod>(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, items: &[T]) {
+        debug_assert_eq!(std::mem::size_of::<T>() as u64, self.item_size);
+        if items.len() > self.capacity {
+            let capacity = items.len().next_power_of_two();
+            (self.buffer, self.bind_group) =
+                Self::allocate(device, self.label, &self.layout, self.item_size, self.stride, capacity);
+            self.capacity = capacity;
+        }
+        let mut bytes = vec![0u8; self.stride as usize * items.len()];
+        for (i, item) in items.iter().enumerate() {
+            let at = i * self.stride as usize;
+            bytes[at..at + self.item_size as usize].copy_from_slice(bytemuck::bytes_of(item));
+        }
+        if !bytes.is_empty() {
+            queue.write_buffer(&self.buffer, 0, &bytes);
+        }
+    }
+
+    /// Dynamic offset of block `i`.
+    pub fn offset(&self, i: usize) -> u32 {
+        (i as u64 * self.stride) as u32
+    }
+}

@@ -1,0 +1,126 @@
+//! Settings: every knob of the scene and the shadows, checked before use.
+
+use bevy_ecs::prelude::*;
+
+/// Everything a user can tune; [`Settings::validate`] rejects nonsense before it reaches the GPU.
+#[derive(Resource, Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// Draw shadows at all.
+    pub shadows: bool,
+    /// How dark a full shadow is: 0 = no darkening, 1 = only ambient light remains.
+    pub shadow_strength: f32,
+    /// Width and height of each shadow-map layer in texels.
+    pub shadow_map_size: u32,
+    /// Constant depth bias, in shadow-map texels.
+    pub depth_bias: f32,
+    /// Depth bias per unit of surface slope (tan of the light angle), in texels.
+    pub slope_bias: f32,
+    /// Offset along the surface normal, in texels.
+    pub normal_bias: f32,
+    /// Beyond this view distance (metres) the sun casts no shadow.
+    pub shadow_distance: f32,
+    /// Ambient light level (0..1) that reaches every surface.
+    pub ambient: f32,
+    /// Number of animated cubes in the sample scene.
+    pub cubes: u32,
+    /// Fixed simulation step in seconds.
+    pub dt: f32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            shadows: true,
+            shadow_strength: 1.0,
+            shadow_map_size: 2048,
+            depth_bias: 1.0,
+            slope_bias: 1.0,
+            normal_bias: 1.0,
+            shadow_distance: 60.0,
+            ambient: 0.12,
+            cubes: 10,
+            dt: 1.0 / 60.0,
+        }
+    }
+}
+
+/// A setting outside what makes sense, with the reason.
+#[derive(Debug, thiserror::Error, PartialEq)]
+#[error("setting `{name}` = {value} is invalid: {why}")]
+pub struct SettingsError {
+    /// Which setting.
+    pub name: &'static str,
+    /// Its value as text.
+    pub value: String,
+    /// What it must be instead.
+    pub why: &'static str,
+}
+
+/// Largest shadow-map layer accepted (the device may allow less; the renderer checks again).
+pub const MAX_SHADOW_MAP_SIZE: u32 = 8192;
+
+impl Settings {
+    /// Checks every setting; the first bad one is named in the error.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        fn bad(name: &'static str, value: impl ToString, why: &'static str) -> Result<(), SettingsError> {
+            Err(SettingsError { name, value: value.to_string(), why })
+        }
+        let unit = |x: f32| x.is_finite() && (0.0..=1.0).contains(&x);
+        let non_negative = |x: f32| x.is_finite() && x >= 0.0;
+        if !unit(self.shadow_strength) {
+            return bad("shadow_strength", self.shadow_strength, "must be between 0 and 1");
+        }
+        if !(16..=MAX_SHADOW_MAP_SIZE).contains(&self.shadow_map_size) {
+            return bad("shadow_map_size", self.shadow_map_size, "must be between 16 and 8192 texels");
+        }
+        for (name, v) in
+            [("depth_bias", self.depth_bias), ("slope_bias", self.slope_bias), ("normal_bias", self.normal_bias)]
+        {
+            if !non_negative(v) || v > 100.0 {
+                return bad(name, v, "must be between 0 and 100 texels");
+            }
+        }
+        if !(self.shadow_distance.is_finite() && self.shadow_distance > 0.1) {
+            return bad("shadow_distance", self.shadow_distance, "must be a finite distance above 0.1 m");
+        }
+        if !unit(self.ambient) {
+            return bad("ambient", self.ambient, "must be between 0 and 1");
+        }
+        if self.cubes > 1000 {
+            return bad("cubes", self.cubes, "must be at most 1000");
+        }
+        if !(self.dt.is_finite() && self.dt > 0.0 && self.dt <= 1.0) {
+            return bad("dt", self.dt, "must be a step above 0 and at most 1 second");
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid() {
+        assert_eq!(Settings::default().validate(), Ok(()));
+    }
+
+    #[test]
+    fn nonsense_is_named() {
+        let cases: [(fn(&mut Settings), &str); 6] = [
+            (|s| s.shadow_strength = 2.0, "shadow_strength"),
+            (|s| s.shadow_map_size = 0, "shadow_map_size"),
+            (|s| s.slope_bias = f32::NAN, "slope_bias"),
+            (|s| s.shadow_distance = -1.0, "shadow_distance"),
+            (|s| s.ambient = f32::INFINITY, "ambient"),
+            (|s| s.dt = 0.0, "dt"),
+        ];
+        for (break_it, name) in cases {
+            let mut s = Settings::default();
+            break_it(&mut s);
+            let err = s.validate().unwrap_err();
+            assert_eq!(err.name, name);
+            assert!(err.to_string().contains(name));
+        }
+    }
+}

@@ -1,0 +1,9 @@
+//! Update systems: small functions over components, run in order each fixed step.
+
+mod animate;
+mod camera;
+mod lights;
+
+pub use animate::{bob, spin};
+pub use camera::fly_camera;
+pub use lights::{update_bounds, update_light_matrices};
