@@ -294,4 +294,33 @@ impl Viewport {
     pub fn aspect(&self) -> f32 {
         if self.width == 0 || self.height == 0 { 1.0 } else { self.width as f32 / self.height as f32 }
     }
+
+    /// Pixel coordinates (x right, y down) of world point `p` seen through `view_proj`, or `None`
+    /// when the point is behind the camera.
+    pub fn project(&self, view_proj: &Mat4, p: Vec3) -> Option<Vec2> {
+        let clip = *view_proj * p.extend(1.0);
+        if clip.w <= 0.0 {
+            return None;
+        }
+        let ndc = clip.truncate() / clip.w;
+        Some(Vec2::new((ndc.x * 0.5 + 0.5) * self.width as f32, (0.5 - ndc.y * 0.5) * self.height as f32))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn project_puts_the_look_target_in_the_middle() {
+        let cam = Camera::default();
+        let t = Transform::from_xyz(0.0, 2.0, 5.0).looking_to(Vec3::new(0.0, -2.0, -5.0));
+        let vp = Viewport { width: 200, height: 100 };
+        let m = cam.view_proj(&t, vp.aspect());
+        let c = vp.project(&m, Vec3::ZERO).unwrap();
+        assert!((c - Vec2::new(100.0, 50.0)).length() < 1e-3, "{c:?}");
+        // Up in the world is up on screen, which is a smaller y.
+        assert!(vp.project(&m, Vec3::Y * 0.5).unwrap().y < 50.0);
+        assert!(vp.project(&m, Vec3::new(0.0, 2.0, 10.0)).is_none());
+    }
 }

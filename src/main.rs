@@ -4,7 +4,7 @@ use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use umbra::render::{Gpu, HEADLESS_FORMAT, Renderer, render_headless};
+use umbra::render::{render_headless, render_png};
 use umbra::{App, Settings};
 
 /// umbra: a game sample about real-time shadow mapping.
@@ -115,51 +115,29 @@ fn run(cli: Cli) -> Result<()> {
 }
 
 fn play(scene: SceneArgs) -> Result<()> {
-    let app = App::new(scene.settings())?;
-    match umbra::play::play(app) {
-        Err(umbra::play::PlayError::NoDisplay(why)) => {
-            println!("no display ({why}); rendering the scene headless to umbra.png instead");
-            let args = RenderArgs {
-                out: "umbra.png".into(),
-                width: 1280,
-                height: 720,
-                time: 2.0,
-                repeat: 0,
-                scene,
-            };
-            render(&args)
-        }
-        other => Ok(other?),
-    }
+    Ok(umbra::play::play_or_render(App::new(scene.settings())?, Path::new("umbra.png"))?)
 }
 
 fn render(args: &RenderArgs) -> Result<()> {
     let mut app = App::new(args.scene.settings())?;
-    let gpu = Gpu::headless()?;
-    println!("adapter: {}", gpu.describe());
-    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT)?;
-    app.resize(args.width, args.height);
-    app.set_time(args.time);
-    let image = render_headless(&gpu, &mut renderer, &mut app, args.width, args.height)?;
-    save(&image, &args.out)?;
-    if args.repeat > 0 {
-        let mut times: Vec<f64> = (0..args.repeat)
-            .map(|_| {
-                let start = Instant::now();
-                render_headless(&gpu, &mut renderer, &mut app, args.width, args.height)?;
-                Ok(start.elapsed().as_secs_f64() * 1e3)
-            })
-            .collect::<Result<_>>()?;
-        times.sort_by(f64::total_cmp);
-        let median = times[times.len() / 2];
-        let (lo, hi) = (times[0], times[times.len() - 1]);
-        println!("frame time (shadow + main pass + readback): median {median:.1} ms, min {lo:.1}, max {hi:.1}, {} frames", times.len());
+    let (gpu, mut renderer, _) = render_png(&mut app, args.width, args.height, args.time, &args.out)
+        .with_context(|| format!("rendering {}", args.out.display()))?;
+    if args.repeat == 0 {
+        return Ok(());
     }
-    Ok(())
-}
-
-fn save(image: &umbra::render::Image, out: &Path) -> Result<()> {
-    image.save_png(out).with_context(|| "saving the frame")?;
-    println!("wrote {} ({}x{})", out.display(), image.width, image.height);
+    let mut times = Vec::new();
+    for _ in 0..args.repeat {
+        let start = Instant::now();
+        render_headless(&gpu, &mut renderer, &mut app, args.width, args.height)?;
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    times.sort_by(f64::total_cmp);
+    println!(
+        "frame time (shadow pass + main pass + readback) over {} frames: median {:.1} ms, min {:.1}, max {:.1}",
+        times.len(),
+        times[times.len() / 2],
+        times[0],
+        times[times.len() - 1]
+    );
     Ok(())
 }

@@ -3,6 +3,7 @@
 use crate::components::{Input, Key};
 use crate::render::{Gpu, RenderError, Renderer};
 use crate::App;
+use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
@@ -50,6 +51,26 @@ struct Player {
 /// Opens a window and plays `app` until the window is closed or Esc is pressed.
 pub fn play(app: App) -> Result<(), PlayError> {
     let event_loop = EventLoop::new().map_err(|e| PlayError::NoDisplay(e.to_string()))?;
+    run(event_loop, app)
+}
+
+/// Plays `app` in a window; where no display can be opened, says so in one line and renders the
+/// scene headless to `fallback` instead, so the command always does something useful.
+pub fn play_or_render(mut app: App, fallback: &Path) -> Result<(), PlayError> {
+    match EventLoop::new() {
+        Ok(event_loop) => run(event_loop, app),
+        Err(e) => {
+            println!("no display ({e}); rendering the scene headless to {} instead", fallback.display());
+            crate::render::render_png(&mut app, 1280, 720, FALLBACK_TIME, fallback)?;
+            Ok(())
+        }
+    }
+}
+
+/// Scene time of the picture rendered when there is no display.
+pub const FALLBACK_TIME: f64 = 2.0;
+
+fn run(event_loop: EventLoop<()>, app: App) -> Result<(), PlayError> {
     let mut player =
         Player { app, shown: None, error: None, looking: false, last: None, behind: 0.0, frames: 0, since: Instant::now() };
     event_loop.run_app(&mut player).map_err(|e| PlayError::Window(e.to_string()))?;

@@ -14,7 +14,7 @@ mod uniform_array;
 
 pub use extract::{DrawItem, FrameData, MAX_SPOTS, extract};
 pub use gpu::{Gpu, instance};
-pub use readback::{HEADLESS_FORMAT, Image, render_headless};
+pub use readback::{HEADLESS_FORMAT, Image, render_headless, render_png};
 pub use renderer::Renderer;
 
 /// Everything that can go wrong between the world and a finished frame.

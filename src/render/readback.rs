@@ -55,6 +55,27 @@ impl Image {
     }
 }
 
+/// Opens the headless adapter (and says which), renders `app` at time `t` and writes a PNG.
+///
+/// The GPU and renderer are handed back so more frames can be drawn with them.
+pub fn render_png(
+    app: &mut App,
+    width: u32,
+    height: u32,
+    t: f64,
+    path: &Path,
+) -> Result<(Gpu, Renderer, Image), RenderError> {
+    let gpu = Gpu::headless()?;
+    println!("adapter: {}", gpu.describe());
+    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT)?;
+    app.resize(width, height);
+    app.set_time(t);
+    let image = render_headless(&gpu, &mut renderer, app, width, height)?;
+    image.save_png(path)?;
+    println!("wrote {} ({width}x{height})", path.display());
+    Ok((gpu, renderer, image))
+}
+
 /// Renders one frame of `app` as it is now, `width` x `height`, and reads it back.
 pub fn render_headless(
     gpu: &Gpu,

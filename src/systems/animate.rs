@@ -23,6 +23,7 @@ pub fn bob(time: Res<Time>, mut query: Query<(&Bob, &mut Transform)>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use bevy_ecs::system::RunSystemOnce;
     use glam::Vec3;
 
     fn world_at(t: f64) -> World {

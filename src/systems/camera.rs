@@ -28,6 +28,7 @@ pub fn fly_camera(time: Res<Time>, input: Res<Input>, mut query: Query<(&mut Fly
 #[cfg(test)]
 mod tests {
     use super::*;
+    use bevy_ecs::system::RunSystemOnce;
     use glam::Vec2;
 
     fn run(input: Input, fly: FlyCamera) -> (FlyCamera, Transform) {

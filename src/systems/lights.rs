@@ -53,6 +53,7 @@ pub fn update_light_matrices(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use bevy_ecs::system::RunSystemOnce;
     use crate::assets::cube;
     use glam::{Mat4, Vec3};
 

@@ -1,0 +1,66 @@
+//! The `umbra` command as a user runs it: a valid PNG of the asked size, clear errors otherwise.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("umbra-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn umbra(args: &[&str], dir: &PathBuf) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_umbra"))
+        .args(args)
+        .current_dir(dir)
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap()
+}
+
+fn png_size(path: &PathBuf) -> (u32, u32) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let reader = decoder.read_info().expect("a valid PNG");
+    (reader.info().width, reader.info().height)
+}
+
+#[test]
+fn render_writes_a_png_of_the_requested_size() {
+    let dir = scratch("render");
+    let out = umbra(&["render", "--out", "frame.png", "--width", "96", "--height", "54", "--time", "1.25"], &dir);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("adapter:"), "the adapter is named: {stdout}");
+    assert_eq!(png_size(&dir.join("frame.png")), (96, 54));
+}
+
+#[test]
+fn without_a_display_play_renders_umbra_png() {
+    let dir = scratch("play");
+    let out = umbra(&[], &dir);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(stdout.lines().filter(|l| l.starts_with("no display")).count(), 1, "{stdout}");
+    assert_eq!(png_size(&dir.join("umbra.png")), (1280, 720));
+}
+
+#[test]
+fn bad_arguments_are_named_and_fail() {
+    let dir = scratch("bad");
+    let cases: [(&[&str], &str); 5] = [
+        (&["render", "--width", "-5"], "not a size"),
+        (&["render", "--height", "0"], "not a size"),
+        (&["render", "--time", "nan"], "not a time"),
+        (&["render", "--frobnicate"], "--frobnicate"),
+        (&["render", "--shadow-strength", "3"], "shadow_strength"),
+    ];
+    for (args, says) in cases {
+        let out = umbra(args, &dir);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} should fail");
+        assert!(stderr.contains(says), "{args:?}: stderr should mention {says:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
+    }
+    assert!(!dir.join("umbra.png").exists(), "a failed command writes nothing");
+}

@@ -1,0 +1,52 @@
+//! Shared helpers for the render tests: one GPU per test binary, used by one test at a time.
+
+#![allow(dead_code)]
+
+use glam::{Vec2, Vec3};
+use std::sync::{Mutex, MutexGuard, OnceLock};
+use umbra::App;
+use umbra::components::{Camera, Transform, Viewport};
+use umbra::render::{Gpu, HEADLESS_FORMAT, Image, Renderer, render_headless};
+
+/// Side of the square test frames.
+pub const SIZE: u32 = 256;
+
+/// The software (or whatever) adapter, opened once; the lock keeps each test's wgpu errors its own.
+pub fn gpu() -> MutexGuard<'static, Gpu> {
+    static GPU: OnceLock<Mutex<Gpu>> = OnceLock::new();
+    let gpu = GPU.get_or_init(|| {
+        let gpu = Gpu::headless().expect("the render tests need an adapter (Mesa gives a software one)");
+        eprintln!("render tests on: {}", gpu.describe());
+        Mutex::new(gpu)
+    });
+    gpu.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+/// Renders `app` at time `t` into a SIZE x SIZE frame; any wgpu error fails the test.
+pub fn render(app: &mut App, t: f64) -> Image {
+    let gpu = gpu();
+    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).expect("renderer");
+    app.resize(SIZE, SIZE);
+    app.set_time(t);
+    render_headless(&gpu, &mut renderer, app, SIZE, SIZE).expect("frame renders without wgpu errors")
+}
+
+/// Where world point `p` lands in the last frame of `app`.
+pub fn pixel_of(app: &mut App, p: Vec3) -> (u32, u32) {
+    let viewport = *app.world.resource::<Viewport>();
+    let (camera, transform) = app.world.query::<(&Camera, &Transform)>().iter(&app.world).next().unwrap();
+    let at: Vec2 = viewport.project(&camera.view_proj(transform, viewport.aspect()), p).expect("in front");
+    assert!(at.x >= 0.0 && at.y >= 0.0 && at.x < SIZE as f32 && at.y < SIZE as f32, "{p:?} is off screen");
+    (at.x as u32, at.y as u32)
+}
+
+/// Brightness (0..255) of the pixel showing world point `p`.
+pub fn brightness_at(app: &mut App, image: &Image, p: Vec3) -> f32 {
+    let (x, y) = pixel_of(app, p);
+    image.brightness(x, y)
+}
+
+/// A camera at `eye` looking at `target`.
+pub fn camera_at(eye: Vec3, target: Vec3) -> (Camera, Transform) {
+    (Camera::default(), Transform { translation: eye, ..Default::default() }.looking_to(target - eye))
+}
