@@ -18,7 +18,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Play the scene in a window (the default); without a display, render umbra.png instead.
-    Play(SceneArgs),
+    Play(PlayArgs),
     /// Render one deterministic frame headless to a PNG.
     Render(RenderArgs),
 }
@@ -47,6 +47,15 @@ struct SceneArgs {
     /// Number of animated cubes.
     #[arg(long)]
     cubes: Option<u32>,
+}
+
+#[derive(Args, Default)]
+struct PlayArgs {
+    /// Quit after showing this many frames (for smoke tests).
+    #[arg(long, value_name = "N")]
+    frames: Option<u32>,
+    #[command(flatten)]
+    scene: SceneArgs,
 }
 
 #[derive(Args)]
@@ -108,14 +117,15 @@ fn main() {
 }
 
 fn run(cli: Cli) -> Result<()> {
-    match cli.command.unwrap_or(Command::Play(SceneArgs::default())) {
-        Command::Play(scene) => play(scene),
+    match cli.command.unwrap_or(Command::Play(PlayArgs::default())) {
+        Command::Play(args) => play(args),
         Command::Render(args) => render(&args),
     }
 }
 
-fn play(scene: SceneArgs) -> Result<()> {
-    Ok(umbra::play::play_or_render(App::new(scene.settings())?, Path::new("umbra.png"))?)
+fn play(args: PlayArgs) -> Result<()> {
+    let app = App::new(args.scene.settings())?;
+    Ok(umbra::play::play_or_render(app, args.frames, Path::new("umbra.png"))?)
 }
 
 fn render(args: &RenderArgs) -> Result<()> {

@@ -46,19 +46,22 @@ struct Player {
     behind: f64,
     frames: u32,
     since: Instant,
+    shown_frames: u32,
+    max_frames: Option<u32>,
 }
 
-/// Opens a window and plays `app` until the window is closed or Esc is pressed.
-pub fn play(app: App) -> Result<(), PlayError> {
+/// Opens a window and plays `app` until the window is closed, Esc is pressed, or `frames` frames
+/// (if given) have been shown.
+pub fn play(app: App, frames: Option<u32>) -> Result<(), PlayError> {
     let event_loop = EventLoop::new().map_err(|e| PlayError::NoDisplay(e.to_string()))?;
-    run(event_loop, app)
+    run(event_loop, app, frames)
 }
 
-/// Plays `app` in a window; where no display can be opened, says so in one line and renders the
-/// scene headless to `fallback` instead, so the command always does something useful.
-pub fn play_or_render(mut app: App, fallback: &Path) -> Result<(), PlayError> {
+/// Plays `app` in a window like [`play`]; where no display can be opened, says so in one line
+/// and renders the scene headless to `fallback` instead, so the command always does something useful.
+pub fn play_or_render(mut app: App, frames: Option<u32>, fallback: &Path) -> Result<(), PlayError> {
     match EventLoop::new() {
-        Ok(event_loop) => run(event_loop, app),
+        Ok(event_loop) => run(event_loop, app, frames),
         Err(e) => {
             println!("no display ({e}); rendering the scene headless to {} instead", fallback.display());
             crate::render::render_png(&mut app, 1280, 720, FALLBACK_TIME, fallback)?;
@@ -70,10 +73,23 @@ pub fn play_or_render(mut app: App, fallback: &Path) -> Result<(), PlayError> {
 /// Scene time of the picture rendered when there is no display.
 pub const FALLBACK_TIME: f64 = 2.0;
 
-fn run(event_loop: EventLoop<()>, app: App) -> Result<(), PlayError> {
-    let mut player =
-        Player { app, shown: None, error: None, looking: false, last: None, behind: 0.0, frames: 0, since: Instant::now() };
+fn run(event_loop: EventLoop<()>, app: App, frames: Option<u32>) -> Result<(), PlayError> {
+    let mut player = Player {
+        app,
+        shown: None,
+        error: None,
+        looking: false,
+        last: None,
+        behind: 0.0,
+        frames: 0,
+        since: Instant::now(),
+        shown_frames: 0,
+        max_frames: frames,
+    };
     event_loop.run_app(&mut player).map_err(|e| PlayError::Window(e.to_string()))?;
+    if frames.is_some() {
+        println!("played {} frames", player.shown_frames);
+    }
     player.error.map_or(Ok(()), Err)
 }
 
@@ -161,6 +177,7 @@ impl Player {
         shown.window.pre_present_notify();
         shown.gpu.queue.present(frame);
         self.frames += 1;
+        self.shown_frames += 1;
         let elapsed = self.since.elapsed();
         if elapsed >= Duration::from_secs(1) {
             let fps = self.frames as f64 / elapsed.as_secs_f64();
@@ -220,6 +237,8 @@ impl ApplicationHandler for Player {
             WindowEvent::RedrawRequested => {
                 if let Err(e) = self.redraw() {
                     self.fail(event_loop, e);
+                } else if self.max_frames.is_some_and(|n| self.shown_frames >= n) {
+                    event_loop.exit();
                 }
             }
             _ => {}

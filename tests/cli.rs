@@ -64,3 +64,23 @@ fn bad_arguments_are_named_and_fail() {
     }
     assert!(!dir.join("umbra.png").exists(), "a failed command writes nothing");
 }
+
+#[test]
+fn no_adapter_is_a_clear_error_not_a_panic() {
+    if cfg!(target_vendor = "apple") {
+        return; // Metal is a real backend there.
+    }
+    let dir = scratch("noadapter");
+    // Metal exists only on Apple machines: asking for it alone leaves no adapter here.
+    let out = Command::new(env!("CARGO_BIN_EXE_umbra"))
+        .args(["render", "--width", "8", "--height", "8"])
+        .current_dir(&dir)
+        .env("WGPU_BACKEND", "metal")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("no GPU adapter found"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(!dir.join("umbra.png").exists());
+}
