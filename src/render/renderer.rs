@@ -91,7 +91,7 @@ impl Renderer {
             return Err(RenderError::ShadowMapTooLarge { size: settings.shadow_map_size, max });
         }
         self.upload_new_meshes(device, world.resource::<MeshLibrary>());
-        self.ensure_depth(device, width, height);
+        let depth = self.ensure_depth(device, width, height);
         let data = extract(world);
         if self.shadow.ensure_maps(device, settings.shadow_map_size, data.layers.len()) {
             self.main.rebind(device, &self.shadow.maps);
@@ -103,8 +103,7 @@ impl Renderer {
         if settings.shadows {
             self.shadow.encode(device, queue, &mut encoder, &data, &self.meshes, &self.objects);
         }
-        let depth = &self.depth.as_ref().expect("depth target was just ensured").0;
-        self.main.encode(queue, &mut encoder, target, depth, &data, &self.meshes, &self.objects);
+        self.main.encode(queue, &mut encoder, target, &depth, &data, &self.meshes, &self.objects);
         queue.submit([encoder.finish()]);
         gpu.check_errors()
     }
@@ -115,9 +114,12 @@ impl Renderer {
         }
     }
 
-    fn ensure_depth(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        if matches!(self.depth, Some((_, w, h)) if w == width && h == height) {
-            return;
+    /// The camera depth buffer for this size, re-created only when the size changes.
+    fn ensure_depth(&mut self, device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureView {
+        if let Some((view, w, h)) = &self.depth
+            && (*w, *h) == (width, height)
+        {
+            return view.clone();
         }
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("depth"),
@@ -129,6 +131,8 @@ impl Renderer {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
             view_formats: &[],
         });
-        self.depth = Some((texture.create_view(&Default::default()), width, height));
+        let view = texture.create_view(&Default::default());
+        self.depth = Some((view.clone(), width, height));
+        view
     }
 }
