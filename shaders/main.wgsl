@@ -1,15 +1,24 @@
 // Main pass: Phong lighting per light, each light's contribution scaled by its shadow visibility.
 
 const MAX_SPOTS: u32 = 8u;
+const MAX_CASCADES: u32 = 4u;
 
 struct Sun {
     // xyz: direction the light travels.
     direction: vec4<f32>,
     // rgb: colour times intensity.
     color: vec4<f32>,
-    view_proj: mat4x4<f32>,
-    // x: layer (negative: no shadow), y/z: texel size = y + z * distance.
+    view_proj: array<mat4x4<f32>, MAX_CASCADES>,
+    // View depth where each cascade ends.
+    far: vec4<f32>,
+    // Width of the band before `far` where each cascade blends into the next.
+    blend: vec4<f32>,
+    // World size of one texel of each cascade.
+    texel: vec4<f32>,
+    // x: layer of the first cascade (negative: no shadow), y: number of cascades.
     shadow: vec4<f32>,
+    // x: constant, y: slope, z: normal bias, in texels.
+    bias: vec4<f32>,
 };
 
 struct Spot {
@@ -19,24 +28,34 @@ struct Spot {
     direction: vec4<f32>,
     // rgb: colour times intensity, w: cos(inner angle).
     color: vec4<f32>,
+    // The cone's projection: shadow map and cookie alike.
     view_proj: mat4x4<f32>,
+    // x: layer (negative: no shadow), y: texel size per metre of distance, z: cookie layer
+    // (negative: none).
     shadow: vec4<f32>,
+    // x: constant, y: slope, z: normal bias, in texels.
+    bias: vec4<f32>,
 };
 
 struct Frame {
     view_proj: mat4x4<f32>,
     camera_position: vec4<f32>,
+    // xyz: the camera's forward axis, w: shadow distance.
+    camera_forward: vec4<f32>,
     sun: Sun,
     spots: array<Spot, MAX_SPOTS>,
     // x: suns (0 or 1), y: spots.
     counts: vec4<u32>,
-    // x: shadow strength, y: constant bias, z: slope bias, w: normal bias.
+    // x: shadow strength, y: view depth where the sun's shadow starts to fade.
     shadow: vec4<f32>,
-    // x: ambient, y: 1 when shadows are on.
+    // x: ambient, y: 1 when shadows are on, z: 1 to tint each cascade.
     misc: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;
+// Cookie images, COOKIE_SIZE² bytes each, four bytes to a word.
+const COOKIE_SIZE: u32 = 64u;
+@group(0) @binding(3) var<uniform> cookies: array<vec4<u32>, 512>;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -54,14 +73,62 @@ fn vs_main(v: VertexIn) -> VertexOut {
     return out;
 }
 
-// Visibility of a light with shadow parameters `s`, or 1 where there is no shadow to look up.
-fn visibility(view_proj: mat4x4<f32>, s: vec4<f32>, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>) -> f32 {
-    if (s.x < 0.0 || frame.misc.y < 0.5 || object.color.w < 0.5) {
+// True where shadows are looked up at all: shadows on and the surface receives them.
+fn receives_shadows() -> bool {
+    return frame.misc.y > 0.5 && object.color.w > 0.5;
+}
+
+// A visibility weakened by the shadow strength setting.
+fn strengthen(vis: f32) -> f32 {
+    return 1.0 - frame.shadow.x * (1.0 - vis);
+}
+
+// Visibility of spot light `s` at distance `distance`, or 1 where there is no shadow to look up.
+fn spot_visibility(s: Spot, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>) -> f32 {
+    if (s.shadow.x < 0.0 || !receives_shadows()) {
         return 1.0;
     }
-    let bias = Bias(frame.shadow.y, frame.shadow.z, frame.shadow.w);
-    let vis = shadow_visibility(view_proj, i32(s.x), s.y + s.z * distance, p, n, l, bias);
-    return 1.0 - frame.shadow.x * (1.0 - vis);
+    let bias = Bias(s.bias.x, s.bias.y, s.bias.z);
+    return strengthen(shadow_visibility(s.view_proj, i32(s.shadow.x), s.shadow.y * distance, p, n, l, bias));
+}
+
+// The spot's cookie at `p`: the image projected through the cone (1 without a cookie).
+fn cookie(s: Spot, p: vec3<f32>) -> f32 {
+    if (s.shadow.z < 0.0) {
+        return 1.0;
+    }
+    let clip = s.view_proj * vec4<f32>(p, 1.0);
+    if (clip.w <= 0.0) {
+        return 0.0;
+    }
+    let ndc = clip.xy / clip.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0))) {
+        return 0.0;
+    }
+    return cookie_bilinear(uv, u32(s.shadow.z));
+}
+
+// Texel (x, y) of cookie `layer`, 0..1.
+fn cookie_texel(layer: u32, x: u32, y: u32) -> f32 {
+    let i = (layer * COOKIE_SIZE + y) * COOKIE_SIZE + x;
+    let word = cookies[i / 16u][(i / 4u) % 4u];
+    return f32((word >> (8u * (i % 4u))) & 0xffu) / 255.0;
+}
+
+// Bilinear lookup in cookie `layer` at `uv`, clamped at the edges.
+fn cookie_bilinear(uv: vec2<f32>, layer: u32) -> f32 {
+    let at = uv * f32(COOKIE_SIZE) - 0.5;
+    let base = floor(at);
+    let f = at - base;
+    let hi = i32(COOKIE_SIZE) - 1;
+    let x0 = u32(clamp(i32(base.x), 0, hi));
+    let y0 = u32(clamp(i32(base.y), 0, hi));
+    let x1 = u32(clamp(i32(base.x) + 1, 0, hi));
+    let y1 = u32(clamp(i32(base.y) + 1, 0, hi));
+    let top = mix(cookie_texel(layer, x0, y0), cookie_texel(layer, x1, y0), f.x);
+    let bottom = mix(cookie_texel(layer, x0, y1), cookie_texel(layer, x1, y1), f.x);
+    return mix(top, bottom, f.y);
 }
 
 // Diffuse plus specular Phong terms for unit vectors normal, to-light and to-eye.
@@ -77,13 +144,17 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let n = normalize(in.normal);
     let p = in.world;
     let v = normalize(frame.camera_position.xyz - p);
+    let depth = dot(p - frame.camera_position.xyz, frame.camera_forward.xyz);
     let albedo = object.color.rgb;
     var color = albedo * frame.misc.x;
 
     if (frame.counts.x > 0u) {
         let l = -normalize(frame.sun.direction.xyz);
         if (dot(n, l) > 0.0) {
-            let vis = visibility(frame.sun.view_proj, frame.sun.shadow, 0.0, p, n, l);
+            var vis = 1.0;
+            if (receives_shadows()) {
+                vis = strengthen(sun_visibility(p, n, l, depth));
+            }
             color += frame.sun.color.rgb * phong(n, l, v, albedo) * vis;
         }
     }
@@ -101,9 +172,12 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
         let attenuation = window * window / (1.0 + 0.05 * d * d);
         if (cone * attenuation > 0.0 && dot(n, l) > 0.0) {
-            let vis = visibility(spot.view_proj, spot.shadow, d, p, n, l);
-            color += spot.color.rgb * phong(n, l, v, albedo) * (cone * attenuation * vis);
+            let vis = spot_visibility(spot, d, p, n, l);
+            color += spot.color.rgb * phong(n, l, v, albedo) * (cone * attenuation * vis * cookie(spot, p));
         }
+    }
+    if (frame.misc.z > 0.5) {
+        color *= cascade_tint(depth);
     }
     return vec4<f32>(color, 1.0);
 }

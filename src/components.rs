@@ -161,20 +161,76 @@ pub struct SpotLight {
     pub outer_angle: f32,
 }
 
-/// A light's shadow map: written by the light-matrix system, read by the renderer.
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
-pub struct ShadowMap {
+/// One layer of the shadow-map array: a spot light's map, or one cascade of the sun's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowLayer {
     /// World to light clip space.
     pub view_proj: Mat4,
     /// World size of one texel: `texel.x + texel.y * distance`.
     pub texel: Vec2,
-    /// Layer of the shadow-map array this light renders into.
+    /// Layer of the shadow-map array this renders into.
     pub layer: u32,
+    /// View depth at which this cascade ends (infinite for a spot light).
+    pub far: f32,
+    /// Width of the band before `far` where this cascade blends into the next.
+    pub blend: f32,
+    /// The layer changed in the last update and its map must be drawn again.
+    pub dirty: bool,
+    /// Identifies the layer's contents: a new number each time it becomes dirty, so a renderer
+    /// can tell whether the map it holds is still good, however many updates it missed.
+    pub version: u64,
 }
 
-impl Default for ShadowMap {
+/// A light's shadow maps, written by the light-matrix system and read by the renderer: one layer
+/// for a spot light, one per cascade for the sun. A light without layers casts no shadow.
+#[derive(Component, Clone, Debug, Default, PartialEq)]
+#[require(ShadowBias)]
+pub struct ShadowMap {
+    /// The light's layers, nearest cascade first.
+    pub layers: Vec<ShadowLayer>,
+}
+
+impl ShadowMap {
+    /// True when any of the light's layers must be drawn again (its dirty flag).
+    pub fn dirty(&self) -> bool {
+        self.layers.iter().any(|l| l.dirty)
+    }
+}
+
+/// How far a light's shadow test pushes the surface before looking it up, in shadow-map texels.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct ShadowBias {
+    /// Towards the light, always.
+    pub constant: f32,
+    /// Towards the light, times tan of the angle between normal and light.
+    pub slope: f32,
+    /// Along the surface normal.
+    pub normal: f32,
+}
+
+impl Default for ShadowBias {
     fn default() -> Self {
-        ShadowMap { view_proj: Mat4::IDENTITY, texel: Vec2::ZERO, layer: 0 }
+        ShadowBias { constant: 1.0, slope: 1.0, normal: 1.0 }
+    }
+}
+
+/// An image projected through a spot light's cone that shapes its light (seed 004's projected
+/// texture): the light is multiplied by the image where the cone meets a surface.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Cookie {
+    /// A four-pane window: a frame and a cross of dark bars.
+    Window,
+    /// Dappled light through leaves: soft round spots.
+    Leaves,
+}
+
+impl Cookie {
+    /// Every cookie, in texture-layer order.
+    pub const ALL: [Cookie; 2] = [Cookie::Window, Cookie::Leaves];
+
+    /// Layer of the cookie texture array holding this image.
+    pub fn layer(self) -> u32 {
+        Cookie::ALL.iter().position(|c| *c == self).unwrap_or(0) as u32
     }
 }
 

@@ -5,6 +5,7 @@
 
 pub mod assets;
 pub mod components;
+pub mod eval;
 pub mod play;
 pub mod render;
 pub mod scene;
@@ -32,7 +33,7 @@ pub enum Stage {
     Camera,
     /// User systems: they see the animated scene and may move anything before lights are fitted.
     Gameplay,
-    /// World bounds and light matrices.
+    /// World bounds, light matrices and shadow-map dirty flags.
     Lights,
 }
 
@@ -61,11 +62,13 @@ impl App {
         world.insert_resource(Input::default());
         world.insert_resource(Viewport { width: 1280, height: 720 });
         world.insert_resource(MeshLibrary::default());
+        world.insert_resource(systems::CasterChanges::default());
         let mut update = Schedule::new(Update);
         update.configure_sets((Stage::Animate, Stage::Camera, Stage::Gameplay, Stage::Lights).chain());
         update.add_systems((systems::spin, systems::bob).in_set(Stage::Animate));
         update.add_systems(systems::fly_camera.in_set(Stage::Camera));
-        update.add_systems((systems::update_bounds, systems::update_light_matrices).chain().in_set(Stage::Lights));
+        let lights = (systems::update_bounds, systems::track_casters, systems::update_light_matrices);
+        update.add_systems(lights.chain().in_set(Stage::Lights));
         Ok(App { world, update })
     }
 

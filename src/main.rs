@@ -4,7 +4,8 @@ use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use umbra::render::{render_headless, render_png};
+use umbra::render::{Gpu, render_headless, render_png};
+use umbra::shadow::FitMode;
 use umbra::{App, Settings};
 
 /// umbra: a game sample about real-time shadow mapping.
@@ -21,6 +22,8 @@ enum Command {
     Play(PlayArgs),
     /// Render one deterministic frame headless to a PNG.
     Render(RenderArgs),
+    /// Measure frame cost with shadows off and on, with nothing, one cube or everything moving.
+    Bench(BenchArgs),
 }
 
 /// Settings shared by every command.
@@ -47,6 +50,24 @@ struct SceneArgs {
     /// Number of animated cubes.
     #[arg(long)]
     cubes: Option<u32>,
+    /// Cascades of the sun's shadow, 1..4.
+    #[arg(long, value_name = "N")]
+    cascades: Option<u32>,
+    /// Cascade split scheme: 0 uniform .. 1 logarithmic.
+    #[arg(long, value_name = "0..1", allow_negative_numbers = true)]
+    split_lambda: Option<f32>,
+    /// Fraction of each cascade that blends into the next, 0..0.5.
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
+    cascade_blend: Option<f32>,
+    /// How cascades are fitted: stable (no shimmer) or tight (sharper, shimmers).
+    #[arg(long, value_name = "MODE")]
+    fit: Option<FitMode>,
+    /// Tint each cascade in its own colour.
+    #[arg(long)]
+    cascade_debug: bool,
+    /// Draw every shadow map every frame instead of only those of dirty lights.
+    #[arg(long)]
+    redraw_shadows: bool,
 }
 
 #[derive(Args, Default)]
@@ -79,6 +100,21 @@ struct RenderArgs {
     scene: SceneArgs,
 }
 
+#[derive(Args)]
+struct BenchArgs {
+    /// Measured frames per scenario.
+    #[arg(long, default_value_t = 60, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    frames: u32,
+    /// Width in pixels.
+    #[arg(long, default_value_t = 1280, value_parser = parse_size, allow_negative_numbers = true)]
+    width: u32,
+    /// Height in pixels.
+    #[arg(long, default_value_t = 720, value_parser = parse_size, allow_negative_numbers = true)]
+    height: u32,
+    #[command(flatten)]
+    scene: SceneArgs,
+}
+
 fn parse_size(s: &str) -> Result<u32, String> {
     match s.parse::<i64>() {
         Ok(v) if (1..=16384).contains(&v) => Ok(v as u32),
@@ -104,6 +140,12 @@ impl SceneArgs {
             slope_bias: self.slope_bias.unwrap_or(d.slope_bias),
             normal_bias: self.normal_bias.unwrap_or(d.normal_bias),
             cubes: self.cubes.unwrap_or(d.cubes),
+            cascades: self.cascades.unwrap_or(d.cascades),
+            split_lambda: self.split_lambda.unwrap_or(d.split_lambda),
+            cascade_blend: self.cascade_blend.unwrap_or(d.cascade_blend),
+            fit_mode: self.fit.unwrap_or(d.fit_mode),
+            cascade_debug: self.cascade_debug,
+            reuse_shadow_maps: !self.redraw_shadows,
             ..d
         }
     }
@@ -120,7 +162,32 @@ fn run(cli: Cli) -> Result<()> {
     match cli.command.unwrap_or(Command::Play(PlayArgs::default())) {
         Command::Play(args) => play(args),
         Command::Render(args) => render(&args),
+        Command::Bench(args) => bench(&args),
     }
+}
+
+fn bench(args: &BenchArgs) -> Result<()> {
+    let settings = args.scene.settings();
+    settings.validate()?;
+    let gpu = Gpu::headless()?;
+    println!("adapter: {}", gpu.describe());
+    println!(
+        "{} frames per scenario at {}x{}, {}² shadow maps, {} cascades, {} fit",
+        args.frames,
+        args.width,
+        args.height,
+        settings.shadow_map_size,
+        settings.cascades,
+        settings.fit_mode.name()
+    );
+    let rows = umbra::eval::bench::run(&gpu, &settings, args.frames, args.width, args.height, |done, all| {
+        if done == all || done % 10 == 0 {
+            eprint!("\r{done}/{all} rounds");
+        }
+    })?;
+    eprintln!();
+    print!("{}", umbra::eval::bench::table(&rows));
+    Ok(())
 }
 
 fn play(args: PlayArgs) -> Result<()> {

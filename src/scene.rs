@@ -1,4 +1,4 @@
-//! The sample scene: ground, pillars, a wall, animated cubes, a sun and a coloured spot light.
+//! The sample scene: ground, pillars, a wall, animated cubes, a sun and two coloured spot lights.
 //!
 //! Everything here is a pure function of the settings, so the scene at time t is reproducible.
 
@@ -32,21 +32,34 @@ pub fn spawn_sample_scene(world: &mut World, settings: &Settings) {
         world.spawn(animated_cube(i, settings.cubes, unit_cube));
     }
 
+    let bias = ShadowBias { constant: settings.depth_bias, slope: settings.slope_bias, normal: settings.normal_bias };
     let sun = DirectionalLight { direction: SUN_DIRECTION.normalize(), color: Vec3::new(1.0, 0.95, 0.85), intensity: 1.0 };
-    world.spawn((sun, ShadowMap::default()));
-    let spot = SpotLight {
-        color: Vec3::new(0.35, 0.75, 1.0),
-        intensity: 4.0,
+    world.spawn((sun, ShadowMap::default(), bias));
+    for (spot, at, target, cookie) in sample_spots() {
+        let transform = Transform { translation: at, ..Default::default() }.looking_to(target - at);
+        let mut light = world.spawn((spot, transform, ShadowMap::default(), bias));
+        if let Some(cookie) = cookie {
+            light.insert(cookie);
+        }
+    }
+
+    world.spawn(default_camera());
+}
+
+/// The sample's shadowed spot lights (seed 004 keeps an array of them, each its own colour): a cool
+/// light thrown through a window cookie and a warm one, each with its position and aim point.
+pub fn sample_spots() -> [(SpotLight, Vec3, Vec3, Option<Cookie>); 2] {
+    let spot = |color, intensity| SpotLight {
+        color,
+        intensity,
         range: 16.0,
         inner_angle: 16f32.to_radians(),
         outer_angle: 24f32.to_radians(),
     };
-    let spot_at = Vec3::new(-5.0, 7.0, 3.0);
-    let spot_transform = Transform { translation: spot_at, ..Default::default() }
-        .looking_to(Vec3::new(-3.0, 0.0, 0.5) - spot_at);
-    world.spawn((spot, spot_transform, ShadowMap::default()));
-
-    world.spawn(default_camera());
+    [
+        (spot(Vec3::new(0.35, 0.75, 1.0), 4.0), Vec3::new(-5.0, 7.0, 3.0), Vec3::new(-3.0, 0.0, 0.5), Some(Cookie::Window)),
+        (spot(Vec3::new(1.0, 0.55, 0.25), 3.5), Vec3::new(6.0, 6.5, 4.0), Vec3::new(4.0, 0.0, 1.0), None),
+    ]
 }
 
 /// The camera the sample starts with: south of the scene, looking down at the ring of cubes.
@@ -97,7 +110,8 @@ mod tests {
         let animated = world.query_filtered::<(), (With<Spin>, With<Bob>)>().iter(&world).count();
         assert!(animated >= 8);
         assert_eq!(world.query::<&DirectionalLight>().iter(&world).count(), 1);
-        assert_eq!(world.query::<&SpotLight>().iter(&world).count(), 1);
+        assert_eq!(world.query::<(&SpotLight, &ShadowMap)>().iter(&world).count(), 2);
+        assert_eq!(world.query::<(&SpotLight, &Cookie)>().iter(&world).count(), 1);
         assert_eq!(world.query::<&Camera>().iter(&world).count(), 1);
     }
 

@@ -6,6 +6,7 @@ use crate::components::*;
 use crate::settings::Settings;
 use bevy_ecs::prelude::*;
 use bytemuck::{Pod, Zeroable};
+use crate::shadow::{Aabb, MAX_CASCADES, intersects_clip_volume, spot_projection};
 use glam::{Mat4, Vec3, Vec4};
 
 /// Most spot lights the main pass lights with (more are ignored).
@@ -26,8 +27,12 @@ pub struct ObjectUniform {
 struct SunUniform {
     direction: Vec4,
     color: Vec4,
-    view_proj: Mat4,
+    view_proj: [Mat4; MAX_CASCADES],
+    far: Vec4,
+    blend: Vec4,
+    texel: Vec4,
     shadow: Vec4,
+    bias: Vec4,
 }
 
 #[repr(C)]
@@ -38,6 +43,7 @@ struct SpotUniform {
     color: Vec4,
     view_proj: Mat4,
     shadow: Vec4,
+    bias: Vec4,
 }
 
 /// Per-frame uniform (matches `Frame` in main.wgsl).
@@ -46,6 +52,7 @@ struct SpotUniform {
 pub struct FrameUniform {
     view_proj: Mat4,
     camera_position: Vec4,
+    camera_forward: Vec4,
     sun: SunUniform,
     spots: [SpotUniform; MAX_SPOTS],
     counts: [u32; 4],
@@ -64,6 +71,39 @@ pub struct DrawItem {
     pub caster: bool,
 }
 
+/// Which light a shadow-map layer belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum LightId {
+    /// The sun (all its cascades).
+    Sun,
+    /// The spot light at this index of the frame's spots.
+    Spot(usize),
+}
+
+impl std::fmt::Display for LightId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LightId::Sun => write!(f, "sun"),
+            LightId::Spot(i) => write!(f, "spot {}", i + 1),
+        }
+    }
+}
+
+/// One shadow-map layer to keep or draw, with the casters inside its volume.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LayerDraw {
+    /// The light it belongs to.
+    pub light: LightId,
+    /// Layer of the shadow-map array.
+    pub layer: u32,
+    /// World to light clip space.
+    pub view_proj: Mat4,
+    /// Version of its contents (see [`ShadowLayer::version`]).
+    pub version: u64,
+    /// Indices into [`FrameData::items`] of the casters whose bounds meet the layer's volume.
+    pub casters: Vec<usize>,
+}
+
 /// Everything one frame needs from the world.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameData {
@@ -71,71 +111,87 @@ pub struct FrameData {
     pub frame: FrameUniform,
     /// Objects in draw order.
     pub items: Vec<DrawItem>,
-    /// View-projection of each shadow-map layer, by layer index.
-    pub layers: Vec<Mat4>,
+    /// The shadow-map layers of the lights the main pass uses.
+    pub layers: Vec<LayerDraw>,
     /// The camera's view-projection.
     pub camera_view_proj: Mat4,
 }
 
-/// Shadow parameters for the shader: layer (or -1 without a map) and texel size terms.
-fn shadow_params(map: Option<&ShadowMap>) -> Vec4 {
-    map.map_or(Vec4::new(-1.0, 0.0, 0.0, 0.0), |m| Vec4::new(m.layer as f32, m.texel.x, m.texel.y, 0.0))
+/// Shortest distance over which the sun's shadow fades to nothing at the shadow distance, as a
+/// fraction of that distance.
+pub const SHADOW_FADE: f32 = 0.1;
+
+fn bias_params(bias: &ShadowBias) -> Vec4 {
+    Vec4::new(bias.constant, bias.slope, bias.normal, 0.0)
+}
+
+/// The shadow-map layers of one light, each with the casters inside its volume.
+fn layer_draws(light: LightId, map: &ShadowMap, items: &[(DrawItem, Aabb)]) -> Vec<LayerDraw> {
+    map.layers
+        .iter()
+        .map(|l| LayerDraw {
+            light,
+            layer: l.layer,
+            view_proj: l.view_proj,
+            version: l.version,
+            casters: (0..items.len())
+                .filter(|&i| items[i].0.caster && intersects_clip_volume(&l.view_proj, &items[i].1))
+                .collect(),
+        })
+        .collect()
+}
+
+/// The sun's uniform: its cascades, or no shadow (layer -1) without them.
+fn sun_uniform(light: &DirectionalLight, map: &ShadowMap, bias: ShadowBias) -> SunUniform {
+    let mut sun = SunUniform {
+        direction: light.direction.normalize_or(Vec3::NEG_Y).extend(0.0),
+        color: (light.color * light.intensity).extend(0.0),
+        shadow: Vec4::new(-1.0, 0.0, 0.0, 0.0),
+        bias: bias_params(&bias),
+        ..SunUniform::zeroed()
+    };
+    for (i, l) in map.layers.iter().take(MAX_CASCADES).enumerate() {
+        sun.view_proj[i] = l.view_proj;
+        sun.far[i] = l.far;
+        sun.blend[i] = l.blend;
+        sun.texel[i] = l.texel.x;
+    }
+    if let Some(first) = map.layers.first() {
+        sun.shadow = Vec4::new(first.layer as f32, map.layers.len().min(MAX_CASCADES) as f32, 0.0, 0.0);
+    }
+    sun
+}
+
+fn spot_uniform(light: &SpotLight, t: &Transform, map: &ShadowMap, bias: ShadowBias, cookie: Option<&Cookie>) -> SpotUniform {
+    let outer = light.outer_angle.clamp(0.0, 1.55);
+    let inner = light.inner_angle.clamp(0.0, outer);
+    let (layer, texel) = map.layers.first().map_or((-1.0, 0.0), |l| (l.layer as f32, l.texel.y));
+    // The cookie is projected through the same frustum as the shadow map, shadowed or not.
+    let fit = spot_projection(t.translation, t.forward(), light.outer_angle, light.range, 1);
+    SpotUniform {
+        position: t.translation.extend(light.range.max(1e-3)),
+        direction: t.forward().extend(outer.cos()),
+        color: (light.color * light.intensity).extend(inner.cos().max(outer.cos() + 1e-4)),
+        view_proj: fit.view_proj,
+        shadow: Vec4::new(layer, texel, cookie.map_or(-1.0, |c| c.layer() as f32), 0.0),
+        bias: bias_params(&bias),
+    }
 }
 
 /// Reads the world into the data one frame needs. Without a camera nothing is drawn.
 pub fn extract(world: &mut World) -> FrameData {
     let settings = world.resource::<Settings>().clone();
     let aspect = world.resource::<Viewport>().aspect();
-    let (camera_view_proj, eye) = world
+    let (camera_view_proj, eye, forward) = world
         .query::<(&Camera, &Transform)>()
         .iter(world)
         .next()
-        .map_or((Mat4::ZERO, Vec3::ZERO), |(c, t)| (c.view_proj(t, aspect), t.translation));
+        .map_or((Mat4::ZERO, Vec3::ZERO, Vec3::NEG_Z), |(c, t)| (c.view_proj(t, aspect), t.translation, t.forward()));
 
-    let mut layers = Vec::new();
-    let mut put_layer = |m: Option<&ShadowMap>| {
-        if let Some(m) = m {
-            let i = m.layer as usize;
-            if layers.len() <= i {
-                layers.resize(i + 1, Mat4::IDENTITY);
-            }
-            layers[i] = m.view_proj;
-        }
-    };
-
-    let mut sun = SunUniform::zeroed();
-    let mut suns = 0;
-    if let Some((light, map)) = world.query::<(&DirectionalLight, Option<&ShadowMap>)>().iter(world).next() {
-        put_layer(map);
-        sun = SunUniform {
-            direction: light.direction.normalize_or(Vec3::NEG_Y).extend(0.0),
-            color: (light.color * light.intensity).extend(0.0),
-            view_proj: map.map_or(Mat4::IDENTITY, |m| m.view_proj),
-            shadow: shadow_params(map),
-        };
-        suns = 1;
-    }
-
-    let mut spots = [SpotUniform::zeroed(); MAX_SPOTS];
-    let mut spot_count = 0;
-    for (light, t, map) in world.query::<(&SpotLight, &Transform, Option<&ShadowMap>)>().iter(world).take(MAX_SPOTS) {
-        put_layer(map);
-        let outer = light.outer_angle.clamp(0.0, 1.55);
-        let inner = light.inner_angle.clamp(0.0, outer);
-        spots[spot_count] = SpotUniform {
-            position: t.translation.extend(light.range.max(1e-3)),
-            direction: t.forward().extend(outer.cos()),
-            color: (light.color * light.intensity).extend(inner.cos().max(outer.cos() + 1e-4)),
-            view_proj: map.map_or(Mat4::IDENTITY, |m| m.view_proj),
-            shadow: shadow_params(map),
-        };
-        spot_count += 1;
-    }
-
-    let items = world
-        .query::<(&Mesh, &Transform, Option<&Material>, Has<ShadowCaster>, Has<ShadowReceiver>)>()
+    let items: Vec<(DrawItem, Aabb)> = world
+        .query::<(&Mesh, &Transform, &WorldBounds, Option<&Material>, Has<ShadowCaster>, Has<ShadowReceiver>)>()
         .iter(world)
-        .map(|(mesh, t, material, caster, receiver)| {
+        .map(|(mesh, t, bounds, material, caster, receiver)| {
             let m = material.copied().unwrap_or(Material::color(0.8, 0.8, 0.8));
             let model = t.matrix();
             let object = ObjectUniform {
@@ -144,19 +200,45 @@ pub fn extract(world: &mut World) -> FrameData {
                 color: m.base_color.extend(receiver as u32 as f32),
                 phong: Vec4::new(m.specular, m.shininess.max(1.0), 0.0, 0.0),
             };
-            DrawItem { mesh: *mesh, object, caster }
+            (DrawItem { mesh: *mesh, object, caster }, bounds.0)
         })
         .collect();
 
+    let mut layers = Vec::new();
+    let mut sun = SunUniform::zeroed();
+    let mut suns = 0;
+    let no_map = ShadowMap::default();
+    let mut sun_query = world.query::<(&DirectionalLight, Option<&ShadowMap>, Option<&ShadowBias>)>();
+    if let Some((light, map, bias)) = sun_query.iter(world).next() {
+        let map = map.unwrap_or(&no_map);
+        layers.extend(layer_draws(LightId::Sun, map, &items));
+        sun = sun_uniform(light, map, bias.copied().unwrap_or_default());
+        suns = 1;
+    }
+
+    let mut spots = [SpotUniform::zeroed(); MAX_SPOTS];
+    let mut spot_count = 0;
+    let mut spot_query =
+        world.query::<(&SpotLight, &Transform, Option<&ShadowMap>, Option<&ShadowBias>, Option<&Cookie>)>();
+    for (light, t, map, bias, cookie) in spot_query.iter(world).take(MAX_SPOTS) {
+        let map = map.unwrap_or(&no_map);
+        layers.extend(layer_draws(LightId::Spot(spot_count), map, &items));
+        spots[spot_count] = spot_uniform(light, t, map, bias.copied().unwrap_or_default(), cookie);
+        spot_count += 1;
+    }
+
+    let fade_start = settings.shadow_distance * (1.0 - SHADOW_FADE);
     let frame = FrameUniform {
         view_proj: camera_view_proj,
         camera_position: eye.extend(1.0),
+        camera_forward: forward.extend(settings.shadow_distance),
         sun,
         spots,
         counts: [suns, spot_count as u32, 0, 0],
-        shadow: Vec4::new(settings.shadow_strength, settings.depth_bias, settings.slope_bias, settings.normal_bias),
-        misc: Vec4::new(settings.ambient, settings.shadows as u32 as f32, 0.0, 0.0),
+        shadow: Vec4::new(settings.shadow_strength, fade_start, 0.0, 0.0),
+        misc: Vec4::new(settings.ambient, settings.shadows as u32 as f32, settings.cascade_debug as u32 as f32, 0.0),
     };
+    let items = items.into_iter().map(|(item, _)| item).collect();
     FrameData { frame, items, layers, camera_view_proj }
 }
 
@@ -166,12 +248,12 @@ mod tests {
 
     #[test]
     fn uniform_sizes_match_the_wgsl_layout() {
-        // WGSL: Object = 2 mat4 + 2 vec4; Frame = mat4 + vec4 + Sun(2 vec4 + mat4 + vec4)
-        // + 8 Spot(3 vec4 + mat4 + vec4) + 3 vec4.
+        // WGSL: Object = 2 mat4 + 2 vec4; Sun = 2 vec4 + 4 mat4 + 5 vec4; Spot = 3 vec4 + mat4 +
+        // 2 vec4; Frame = mat4 + 2 vec4 + Sun + 8 Spot + 3 vec4.
         assert_eq!(std::mem::size_of::<ObjectUniform>(), 160);
-        assert_eq!(std::mem::size_of::<SunUniform>(), 112);
-        assert_eq!(std::mem::size_of::<SpotUniform>(), 128);
-        assert_eq!(std::mem::size_of::<FrameUniform>(), 64 + 16 + 112 + 8 * 128 + 48);
+        assert_eq!(std::mem::size_of::<SunUniform>(), 32 + 256 + 80);
+        assert_eq!(std::mem::size_of::<SpotUniform>(), 144);
+        assert_eq!(std::mem::size_of::<FrameUniform>(), 64 + 32 + 368 + 8 * 144 + 48);
     }
 
     #[test]
@@ -182,8 +264,29 @@ mod tests {
         let ground = data.items.iter().filter(|i| !i.caster).count();
         assert_eq!(ground, 1, "only the ground is not a caster");
         assert!(data.items.iter().all(|i| i.object.color.w == 1.0), "all sample surfaces receive");
-        assert_eq!(data.layers.len(), 2, "one layer for the sun, one for the spot");
-        assert_eq!(data.frame.counts[..2], [1, 1]);
+        let cascades = Settings::default().cascades as usize;
+        assert_eq!(data.layers.len(), cascades + 2, "the sun's cascades, then one layer per spot");
+        let order: Vec<u32> = data.layers.iter().map(|l| l.layer).collect();
+        assert_eq!(order, (0..cascades as u32 + 2).collect::<Vec<_>>());
+        assert_eq!(data.frame.counts[..2], [1, 2]);
         assert_ne!(data.camera_view_proj, Mat4::ZERO);
+    }
+
+    #[test]
+    fn each_layer_draws_only_the_casters_inside_its_volume() {
+        let mut app = crate::App::new(Settings::default()).unwrap();
+        app.set_time(0.0);
+        let bounds: Vec<Aabb> = app.world.query::<(&Mesh, &WorldBounds)>().iter(&app.world).map(|(_, b)| b.0).collect();
+        let data = extract(&mut app.world);
+        for layer in &data.layers {
+            for (i, item) in data.items.iter().enumerate() {
+                let inside = item.caster && intersects_clip_volume(&layer.view_proj, &bounds[i]);
+                assert_eq!(layer.casters.contains(&i), inside, "{} layer {} item {i}", layer.light, layer.layer);
+            }
+        }
+        // The spot lights see only part of the scene: culling leaves casters out of their layers.
+        let casters = data.items.iter().filter(|i| i.caster).count();
+        let spot = data.layers.iter().find(|l| l.light == LightId::Spot(0)).unwrap();
+        assert!(!spot.casters.is_empty() && spot.casters.len() < casters, "{} of {casters}", spot.casters.len());
     }
 }

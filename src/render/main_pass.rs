@@ -4,6 +4,8 @@ use super::extract::{FrameData, FrameUniform};
 use super::renderer::{GpuMesh, vertex_layout};
 use super::shadow_pass::ShadowMaps;
 use super::uniform_array::UniformArray;
+use crate::assets::{COOKIE_SIZE, cookie_image};
+use crate::components::Cookie;
 
 /// Depth format of the camera's depth buffer.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -13,10 +15,31 @@ const SKY: wgpu::Color = wgpu::Color { r: 0.38, g: 0.55, b: 0.78, a: 1.0 };
 /// Pipeline, frame uniform and the bind group that ties in the shadow maps.
 pub struct MainPass {
     pipeline: wgpu::RenderPipeline,
-    frame_layout: wgpu::BindGroupLayout,
-    frame_buffer: wgpu::Buffer,
-    sampler: wgpu::Sampler,
+    frame: FrameResources,
     bind_group: wgpu::BindGroup,
+}
+
+/// What bind group 0 holds besides the shadow maps, which are re-created when they grow.
+struct FrameResources {
+    layout: wgpu::BindGroupLayout,
+    buffer: wgpu::Buffer,
+    shadow_sampler: wgpu::Sampler,
+    cookies: wgpu::Buffer,
+}
+
+impl FrameResources {
+    fn bind(&self, device: &wgpu::Device, maps: &ShadowMaps) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: self.buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&maps.array_view) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
+                wgpu::BindGroupEntry { binding: 3, resource: self.cookies.as_entire_binding() },
+            ],
+        })
+    }
 }
 
 impl MainPass {
@@ -56,6 +79,16 @@ impl MainPass {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
                     count: None,
                 },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
             ],
         });
         let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
@@ -75,6 +108,7 @@ impl MainPass {
         let source = concat!(
             include_str!("../../shaders/common.wgsl"),
             include_str!("../../shaders/shadow_sampling.wgsl"),
+            include_str!("../../shaders/cascades.wgsl"),
             include_str!("../../shaders/main.wgsl")
         );
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -113,31 +147,15 @@ impl MainPass {
             multiview_mask: None,
             cache: None,
         });
-        let bind_group = Self::bind(device, &frame_layout, &frame_buffer, &sampler, maps);
-        MainPass { pipeline, frame_layout, frame_buffer, sampler, bind_group }
-    }
-
-    fn bind(
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-        buffer: &wgpu::Buffer,
-        sampler: &wgpu::Sampler,
-        maps: &ShadowMaps,
-    ) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("frame"),
-            layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&maps.array_view) },
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(sampler) },
-            ],
-        })
+        let cookies = cookie_buffer(device);
+        let frame = FrameResources { layout: frame_layout, buffer: frame_buffer, shadow_sampler: sampler, cookies };
+        let bind_group = frame.bind(device, maps);
+        MainPass { pipeline, frame, bind_group }
     }
 
     /// Points the pass at new shadow maps after they were re-created.
     pub fn rebind(&mut self, device: &wgpu::Device, maps: &ShadowMaps) {
-        self.bind_group = Self::bind(device, &self.frame_layout, &self.frame_buffer, &self.sampler, maps);
+        self.bind_group = self.frame.bind(device, maps);
     }
 
     /// Draws every object into `color` (cleared to the sky) with depth testing against `depth`.
@@ -152,7 +170,7 @@ impl MainPass {
         meshes: &[Option<GpuMesh>],
         objects: &UniformArray,
     ) {
-        queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&data.frame));
+        queue.write_buffer(&self.frame.buffer, 0, bytemuck::bytes_of(&data.frame));
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("main pass"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -179,4 +197,20 @@ impl MainPass {
             }
         }
     }
+}
+
+/// Every cookie image, a byte per texel, packed four to a word in one uniform buffer.
+///
+/// The images are small enough for a uniform buffer, which needs no sampler, and the shader
+/// filters them itself.
+fn cookie_buffer(device: &wgpu::Device) -> wgpu::Buffer {
+    // main.wgsl declares the buffer as 512 words of 16 bytes.
+    const _: () = assert!(Cookie::ALL.len() * (COOKIE_SIZE * COOKIE_SIZE) as usize == 512 * 16);
+    use wgpu::util::DeviceExt;
+    let bytes: Vec<u8> = Cookie::ALL.iter().flat_map(|c| cookie_image(*c, COOKIE_SIZE)).collect();
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("cookies"),
+        contents: &bytes,
+        usage: wgpu::BufferUsages::UNIFORM,
+    })
 }

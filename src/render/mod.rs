@@ -1,8 +1,9 @@
 //! The renderer: wgpu only. It reads components, draws the shadow pass, then the main pass.
 //!
 //! Sections follow the data flow: [`gpu`] opens a device, [`extract`] turns the world into GPU
-//! structs, [`shadow_pass`] fills one depth layer per shadowed light, [`main_pass`] lights the
-//! scene, and [`readback`] brings a frame back to the CPU for headless use.
+//! structs and culls casters per layer, [`shadow_pass`] draws the layers of dirty lights (one per
+//! spot, one per sun cascade), [`main_pass`] lights the scene, and [`readback`] brings a frame
+//! back to the CPU for headless use.
 
 mod extract;
 mod gpu;
@@ -12,10 +13,11 @@ mod renderer;
 mod shadow_pass;
 mod uniform_array;
 
-pub use extract::{DrawItem, FrameData, MAX_SPOTS, extract};
+pub use extract::{DrawItem, FrameData, LayerDraw, LightId, MAX_SPOTS, SHADOW_FADE, extract};
 pub use gpu::{Gpu, instance};
 pub use readback::{HEADLESS_FORMAT, Image, render_headless, render_png};
 pub use renderer::Renderer;
+pub use shadow_pass::{LightPasses, ShadowStats};
 
 /// Everything that can go wrong between the world and a finished frame.
 #[derive(Debug, thiserror::Error)]

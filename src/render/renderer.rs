@@ -2,7 +2,7 @@
 
 use super::extract::{ObjectUniform, extract};
 use super::main_pass::{DEPTH_FORMAT, MainPass};
-use super::shadow_pass::ShadowPass;
+use super::shadow_pass::{ShadowPass, ShadowStats};
 use super::uniform_array::UniformArray;
 use super::{Gpu, RenderError};
 use crate::assets::{MeshLibrary, Vertex};
@@ -75,7 +75,8 @@ impl Renderer {
         Ok(Renderer { objects, meshes: Vec::new(), shadow, main, depth: None })
     }
 
-    /// Renders the world as it is now into `target` (`width` x `height` pixels).
+    /// Renders the world as it is now into `target` (`width` x `height` pixels), drawing only the
+    /// shadow maps that are dirty, and leaves what the shadow pass did in [`ShadowStats`].
     pub fn render(
         &mut self,
         gpu: &Gpu,
@@ -93,18 +94,23 @@ impl Renderer {
         self.upload_new_meshes(device, world.resource::<MeshLibrary>());
         let depth = self.ensure_depth(device, width, height);
         let data = extract(world);
-        if self.shadow.ensure_maps(device, settings.shadow_map_size, data.layers.len()) {
+        let layer_count = data.layers.iter().map(|l| l.layer as usize + 1).max().unwrap_or(0);
+        if self.shadow.ensure_maps(device, settings.shadow_map_size, layer_count) {
             self.main.rebind(device, &self.shadow.maps);
         }
         let objects: Vec<ObjectUniform> = data.items.iter().map(|i| i.object).collect();
         self.objects.write(device, queue, &objects);
 
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-        if settings.shadows {
-            self.shadow.encode(device, queue, &mut encoder, &data, &self.meshes, &self.objects);
-        }
+        let stats = if settings.shadows {
+            let reuse = settings.reuse_shadow_maps;
+            self.shadow.encode(device, queue, &mut encoder, &data, &self.meshes, &self.objects, reuse)
+        } else {
+            ShadowStats::default()
+        };
         self.main.encode(queue, &mut encoder, target, &depth, &data, &self.meshes, &self.objects);
         queue.submit([encoder.finish()]);
+        world.insert_resource(stats);
         gpu.check_errors()
     }
 

@@ -1,8 +1,12 @@
-//! The shadow pass: depth only, one layer of a 2D array texture per shadowed light.
+//! The shadow pass: depth only, one layer of a 2D array texture per spot light or sun cascade.
+//!
+//! A layer's map is kept from frame to frame and drawn again only when the version the world
+//! gives it differs from the one it was drawn at (its light was dirty).
 
-use super::extract::FrameData;
+use super::extract::{FrameData, LayerDraw, LightId};
 use super::renderer::{GpuMesh, vertex_layout};
 use super::uniform_array::UniformArray;
+use bevy_ecs::prelude::*;
 use glam::Mat4;
 
 /// Depth format of the shadow maps.
@@ -12,7 +16,7 @@ pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float
 pub struct ShadowMaps {
     /// Width and height of each layer.
     pub size: u32,
-    /// Number of layers (at least 2: GL cannot view a single-layer texture as an array).
+    /// Number of layers (see [`array_layers`]).
     pub layers: u32,
     /// One render view per layer.
     layer_views: Vec<wgpu::TextureView>,
@@ -26,6 +30,56 @@ pub struct ShadowPass {
     layer_uniforms: UniformArray,
     /// The current shadow maps.
     pub maps: ShadowMaps,
+    /// The version each layer of `maps` was last drawn at.
+    drawn: Vec<Option<u64>>,
+}
+
+/// Shadow passes of one frame: per light, how many layers were drawn and how many kept.
+#[derive(Resource, Clone, Debug, Default, PartialEq, Eq)]
+pub struct ShadowStats {
+    /// One entry per light, in layer order.
+    pub lights: Vec<LightPasses>,
+}
+
+/// One light's shadow passes in a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LightPasses {
+    /// Which light.
+    pub light: LightId,
+    /// Layers drawn this frame.
+    pub drawn: u32,
+    /// Layers whose map was kept from an earlier frame.
+    pub kept: u32,
+}
+
+impl ShadowStats {
+    /// Layers drawn this frame, all lights together.
+    pub fn drawn(&self) -> u32 {
+        self.lights.iter().map(|l| l.drawn).sum()
+    }
+
+    /// Layers kept this frame, all lights together.
+    pub fn kept(&self) -> u32 {
+        self.lights.iter().map(|l| l.kept).sum()
+    }
+
+    fn count(&mut self, light: LightId, drawn: bool) {
+        if self.lights.last().is_none_or(|l| l.light != light) {
+            self.lights.push(LightPasses { light, drawn: 0, kept: 0 });
+        }
+        let entry = self.lights.last_mut().expect("pushed above");
+        if drawn { entry.drawn += 1 } else { entry.kept += 1 }
+    }
+}
+
+impl std::fmt::Display for ShadowStats {
+    /// "sun 1/3 · spot 1 0/1": layers drawn / kept, per light.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for (i, l) in self.lights.iter().enumerate() {
+            write!(f, "{}{} {}/{}", if i > 0 { " · " } else { "" }, l.light, l.drawn, l.kept)?;
+        }
+        Ok(())
+    }
 }
 
 impl ShadowPass {
@@ -66,20 +120,29 @@ impl ShadowPass {
             cache: None,
         });
         let maps = ShadowMaps::new(device, size, 2);
-        ShadowPass { pipeline, layer_uniforms, maps }
+        ShadowPass { pipeline, layer_uniforms, maps, drawn: vec![None; 2] }
     }
 
-    /// Makes sure the maps are `size` texels and hold `layers`; true if they were re-created.
+    /// Makes sure the maps are `size` texels and hold `layers`; true if they were re-created
+    /// (then every layer must be drawn again).
     pub fn ensure_maps(&mut self, device: &wgpu::Device, size: u32, layers: usize) -> bool {
-        let layers = (layers as u32).max(2);
+        let layers = array_layers(layers);
         if self.maps.size == size && self.maps.layers >= layers {
             return false;
         }
         self.maps = ShadowMaps::new(device, size, layers);
+        self.drawn = vec![None; layers as usize];
         true
     }
 
-    /// Renders every layer: cleared to far, then the casters drawn from the light.
+    /// True when `layer` must be drawn: it was never drawn at its version, or nothing is reused.
+    fn needs_drawing(&self, layer: &LayerDraw, reuse: bool) -> bool {
+        !reuse || self.drawn.get(layer.layer as usize).copied().flatten() != Some(layer.version)
+    }
+
+    /// Draws the layers that need it (all of them unless `reuse`), each cleared to far and then
+    /// given the casters inside its volume; the others keep their maps. Returns what it did.
+    #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &mut self,
         device: &wgpu::Device,
@@ -88,9 +151,22 @@ impl ShadowPass {
         data: &FrameData,
         meshes: &[Option<GpuMesh>],
         objects: &UniformArray,
-    ) {
-        self.layer_uniforms.write::<Mat4>(device, queue, &data.layers);
-        for (layer, view) in self.maps.layer_views.iter().enumerate().take(data.layers.len()) {
+        reuse: bool,
+    ) -> ShadowStats {
+        let mut stats = ShadowStats::default();
+        let todo: Vec<&LayerDraw> = data
+            .layers
+            .iter()
+            .filter(|l| {
+                let draw = self.needs_drawing(l, reuse);
+                stats.count(l.light, draw);
+                draw
+            })
+            .collect();
+        let matrices: Vec<Mat4> = todo.iter().map(|l| l.view_proj).collect();
+        self.layer_uniforms.write::<Mat4>(device, queue, &matrices);
+        for (slot, layer) in todo.iter().enumerate() {
+            let Some(view) = self.maps.layer_views.get(layer.layer as usize) else { continue };
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow pass"),
                 color_attachments: &[],
@@ -104,15 +180,27 @@ impl ShadowPass {
                 multiview_mask: None,
             });
             pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &self.layer_uniforms.bind_group, &[self.layer_uniforms.offset(layer)]);
-            for (i, item) in data.items.iter().enumerate().filter(|(_, item)| item.caster) {
-                if let Some(Some(mesh)) = meshes.get(item.mesh.0) {
+            pass.set_bind_group(0, &self.layer_uniforms.bind_group, &[self.layer_uniforms.offset(slot)]);
+            for &i in &layer.casters {
+                if let Some(Some(mesh)) = data.items.get(i).and_then(|item| meshes.get(item.mesh.0)) {
                     pass.set_bind_group(1, &objects.bind_group, &[objects.offset(i)]);
                     mesh.draw(&mut pass);
                 }
             }
+            drop(pass);
+            if let Some(drawn) = self.drawn.get_mut(layer.layer as usize) {
+                *drawn = Some(layer.version);
+            }
         }
+        stats
     }
+}
+
+/// Layers to allocate for `needed`: at least 2 (GL cannot view a single-layer texture as an
+/// array) and never a multiple of 6, which the GL backend takes for a cube map or cube array.
+fn array_layers(needed: usize) -> u32 {
+    let layers = (needed as u32).max(2);
+    if layers % 6 == 0 { layers + 1 } else { layers }
 }
 
 impl ShadowMaps {
@@ -144,5 +232,19 @@ impl ShadowMaps {
             ..Default::default()
         });
         ShadowMaps { size, layers, layer_views, array_view }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::array_layers;
+
+    #[test]
+    fn layer_counts_avoid_what_gl_takes_for_cube_maps() {
+        assert_eq!(array_layers(0), 2);
+        assert_eq!(array_layers(1), 2);
+        assert_eq!(array_layers(5), 5);
+        assert_eq!(array_layers(6), 7);
+        assert_eq!(array_layers(12), 13);
     }
 }

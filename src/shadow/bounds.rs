@@ -86,6 +86,21 @@ pub fn frustum_corners(view_proj: &Mat4) -> [Vec3; 8] {
     out
 }
 
+/// True unless the box lies wholly outside one plane of the clip volume of `view_proj` (x and y in
+/// -w..w, depth in 0..w): a conservative test, exact for boxes that are small against the volume.
+///
+/// Works in homogeneous coordinates, so corners behind a perspective light are handled without a
+/// divide. Used to cull casters per shadow-map layer and to find which layers a moved caster dirties.
+pub fn intersects_clip_volume(view_proj: &Mat4, b: &Aabb) -> bool {
+    if b.is_empty() {
+        return false;
+    }
+    let clip = b.corners().map(|c| *view_proj * c.extend(1.0));
+    let planes: [fn(glam::Vec4) -> f32; 6] =
+        [|c| c.w - c.x, |c| c.w + c.x, |c| c.w - c.y, |c| c.w + c.y, |c| c.z, |c| c.w - c.z];
+    planes.iter().all(|plane| clip.iter().any(|c| plane(*c) >= 0.0))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -118,6 +133,23 @@ mod tests {
             let p = m.transform_point3(c);
             assert!(p.cmpge(t.min - 1e-5).all() && p.cmple(t.max + 1e-5).all());
         }
+    }
+
+    #[test]
+    fn clip_volume_test_keeps_what_is_inside_and_drops_what_is_beside_or_behind() {
+        let ortho = glam::camera::rh::proj::directx::orthographic(-2.0, 2.0, -2.0, 2.0, 1.0, 10.0);
+        let inside = Aabb::new(Vec3::new(-0.5, -0.5, -3.0), Vec3::new(0.5, 0.5, -2.0));
+        let straddling = Aabb::new(Vec3::new(1.5, -0.5, -3.0), Vec3::new(4.0, 0.5, -2.0));
+        let beside = Aabb::new(Vec3::new(2.5, -0.5, -3.0), Vec3::new(4.0, 0.5, -2.0));
+        let behind = Aabb::new(Vec3::new(-0.5, -0.5, 1.0), Vec3::new(0.5, 0.5, 3.0));
+        assert!(intersects_clip_volume(&ortho, &inside));
+        assert!(intersects_clip_volume(&ortho, &straddling));
+        assert!(!intersects_clip_volume(&ortho, &beside));
+        assert!(!intersects_clip_volume(&ortho, &behind));
+        assert!(!intersects_clip_volume(&ortho, &Aabb::EMPTY));
+        let persp = glam::camera::rh::proj::directx::perspective(1.0, 1.0, 0.1, 10.0);
+        assert!(intersects_clip_volume(&persp, &inside));
+        assert!(!intersects_clip_volume(&persp, &behind), "behind a perspective light is outside");
     }
 
     #[test]

@@ -1,6 +1,5 @@
-//! Fitting light projections: the sun's box around the camera's view, the spot's cone.
+//! Light views and the spot light's projection (the sun's cascades are in `cascade`).
 
-use super::bounds::Aabb;
 use glam::camera::rh::{proj::directx, view::look_to_mat4};
 use glam::{Mat4, Vec3};
 
@@ -31,42 +30,6 @@ pub fn light_view(eye: Vec3, dir: Vec3) -> Mat4 {
     let dir = dir.try_normalize().unwrap_or(Vec3::NEG_Y);
     let up = if dir.y.abs() > 0.9 { Vec3::Z } else { Vec3::Y };
     look_to_mat4(eye, dir, up)
-}
-
-/// The sun's orthographic projection, fitted around the view volume `corners`.
-///
-/// The box is bounded in light space around the corners; its near plane is then pulled towards the
-/// light to keep every caster in `casters` whose footprint overlaps the box, so something between
-/// the light and the view (a tall pillar behind the camera) still casts its shadow. The far plane
-/// stops at the view volume: nothing beyond it is seen.
-pub fn fit_directional(
-    direction: Vec3,
-    corners: &[Vec3; 8],
-    casters: &[Aabb],
-    resolution: u32,
-) -> LightProjection {
-    let view = light_view(Vec3::ZERO, direction);
-    let slice = Aabb::from_points(corners.iter().map(|c| view.transform_point3(*c)));
-    // Light space looks down -Z: a larger z is closer to the light.
-    let mut near_z = slice.max.z;
-    for caster in casters {
-        let b = caster.transformed(&view);
-        let overlaps = b.min.x <= slice.max.x
-            && b.max.x >= slice.min.x
-            && b.min.y <= slice.max.y
-            && b.max.y >= slice.min.y;
-        if overlaps {
-            near_z = near_z.max(b.max.z);
-        }
-    }
-    // A little slack so geometry lying exactly on a plane is not clipped by rounding.
-    let (min, max) = (slice.min, slice.max);
-    let extent = (max - min).max(Vec3::splat(1e-3));
-    let slack = 1e-3 * extent.max_element() + 1e-3;
-    let (near, far) = (-(near_z + slack), -(min.z - slack));
-    let proj = directx::orthographic(min.x, min.x + extent.x, min.y, min.y + extent.y, near, far);
-    let texel = extent.x.max(extent.y) / resolution.max(1) as f32;
-    LightProjection { view, proj, view_proj: proj * view, texel: glam::Vec2::new(texel, 0.0) }
 }
 
 /// A spot light's perspective projection: the cone's outer angle, near/far from its range.
@@ -118,32 +81,6 @@ mod tests {
         // A point ahead along the direction sits on the -Z axis of light space.
         let p = v.transform_point3(d * 5.0);
         assert!((p - Vec3::new(0.0, 0.0, -5.0)).length() < 1e-5);
-    }
-
-    #[test]
-    fn directional_fit_holds_the_view_volume() {
-        let corners = Aabb::new(Vec3::splat(-3.0), Vec3::splat(3.0)).corners();
-        let dir = Vec3::new(0.4, -1.0, 0.3);
-        let fit = fit_directional(dir, &corners, &[], 1024);
-        for c in corners {
-            assert!(in_clip(&fit.view_proj, c), "{c:?}");
-        }
-    }
-
-    #[test]
-    fn directional_fit_keeps_a_caster_between_light_and_view() {
-        let corners = Aabb::new(Vec3::new(-2.0, 0.0, -2.0), Vec3::new(2.0, 1.0, 2.0)).corners();
-        let tall = Aabb::new(Vec3::new(-0.5, 0.0, -0.5), Vec3::new(0.5, 40.0, 0.5));
-        let fit = fit_directional(Vec3::NEG_Y, &corners, &[tall], 1024);
-        for c in tall.corners() {
-            let n = fit.view_proj.project_point3(c);
-            assert!((-1e-4..=1.0 + 1e-4).contains(&n.z), "{c:?} -> {n:?}");
-        }
-        // A caster entirely outside the footprint does not stretch the depth range.
-        let far_away = Aabb::new(Vec3::new(50.0, 0.0, 50.0), Vec3::new(51.0, 100.0, 51.0));
-        let fit2 = fit_directional(Vec3::NEG_Y, &corners, &[far_away], 1024);
-        let without = fit_directional(Vec3::NEG_Y, &corners, &[], 1024);
-        assert_eq!(fit2.view_proj, without.view_proj);
     }
 
     #[test]

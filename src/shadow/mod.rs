@@ -1,10 +1,14 @@
-//! Shadow math with no GPU in it: bounds, frusta and light-space fitting.
+//! Shadow math with no GPU in it: bounds, frusta, cascades and light-space fitting.
 //!
 //! Everything here is a pure function of its arguments so it can be tested exhaustively and
-//! reused by the renderer, the ECS systems and (later) the evaluation harness alike.
+//! reused by the renderer, the ECS systems and the evaluation harness alike.
 
 mod bounds;
+mod cascade;
 mod fit;
 
-pub use bounds::{Aabb, frustum_corners};
-pub use fit::{LightProjection, fit_directional, light_view, spot_projection};
+pub use bounds::{Aabb, frustum_corners, intersects_clip_volume};
+pub use cascade::{
+    FitMode, MAX_CASCADES, SceneBounds, ViewFrustum, blend_bands, depth_step, fit_cascade, split_depths,
+};
+pub use fit::{LightProjection, light_view, spot_projection};

@@ -1,12 +1,20 @@
-//! Light matrices: world bounds of casters, then each shadowed light's projection.
+//! Light matrices and dirty flags: world bounds of meshes, which casters changed, then each
+//! shadowed light's layers (the sun's cascades, a spot's cone), each marked dirty when its map
+//! must be drawn again.
 
 use crate::assets::MeshLibrary;
 use crate::components::{
-    Camera, DirectionalLight, Mesh, ShadowCaster, ShadowMap, SpotLight, Transform, Viewport, WorldBounds,
+    Camera, DirectionalLight, Mesh, ShadowBias, ShadowCaster, ShadowLayer, ShadowMap, SpotLight, Transform, Viewport,
+    WorldBounds,
 };
 use crate::settings::Settings;
-use crate::shadow::{Aabb, fit_directional, frustum_corners, spot_projection};
+use crate::shadow::{
+    Aabb, LightProjection, SceneBounds, ViewFrustum, blend_bands, fit_cascade, intersects_clip_volume, spot_projection,
+    split_depths,
+};
 use bevy_ecs::prelude::*;
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Recomputes the world bounds of every mesh entity that moved or changed mesh.
 pub fn update_bounds(
@@ -19,42 +27,140 @@ pub fn update_bounds(
     }
 }
 
-/// Assigns shadow-map layers and recomputes every shadowed light's view-projection.
+/// Bounds of the casters that changed in this update, before and after: a caster that moved,
+/// changed mesh or pose gives both boxes, one added or removed gives its one box.
+#[derive(Resource, Clone, Debug, Default, PartialEq)]
+pub struct CasterChanges(pub Vec<Aabb>);
+
+/// Finds the casters that changed since the last update and lists their old and new bounds.
 ///
-/// The sun's box is fitted to the camera's view out to the shadow distance and stretched towards
-/// the light to hold the casters in front of it; a spot light's frustum follows its cone.
+/// Bounds are compared by value, so a system that rewrites a transform with the same value (an
+/// animation at an unchanged time) dirties nothing.
+pub fn track_casters(
+    mut known: Local<HashMap<Entity, Aabb>>,
+    mut changes: ResMut<CasterChanges>,
+    casters: Query<(Entity, &WorldBounds), (With<ShadowCaster>, Or<(Changed<WorldBounds>, Added<ShadowCaster>)>)>,
+    mut removed: RemovedComponents<ShadowCaster>,
+) {
+    changes.0.clear();
+    for entity in removed.read() {
+        changes.0.extend(known.remove(&entity));
+    }
+    for (entity, bounds) in &casters {
+        match known.insert(entity, bounds.0) {
+            Some(old) if old == bounds.0 => {}
+            old => changes.0.extend(old.into_iter().chain([bounds.0])),
+        }
+    }
+}
+
+/// Assigns shadow-map layers, recomputes every shadowed light's projections and sets dirty flags.
+///
+/// The first sun gets one layer per cascade, fitted to its slice of the camera's view; each spot
+/// light gets one layer from its cone. A layer is dirty when it is new, moved to another layer,
+/// its matrix changed (in stable mode only when the cascade snaps to a new texel or its split
+/// changes), its light changed (direction, cone, range, pose, bias), the map size changed, or a
+/// caster that changed this update overlaps its volume, before or after the change.
+#[allow(clippy::type_complexity)]
 pub fn update_light_matrices(
     settings: Res<Settings>,
     viewport: Res<Viewport>,
+    changes: Res<CasterChanges>,
+    mut last_size: Local<u32>,
     cameras: Query<(&Camera, &Transform)>,
     casters: Query<&WorldBounds, With<ShadowCaster>>,
-    mut suns: Query<(&DirectionalLight, &mut ShadowMap), Without<SpotLight>>,
-    mut spots: Query<(&SpotLight, &Transform, &mut ShadowMap), Without<DirectionalLight>>,
+    visible: Query<&WorldBounds, With<Mesh>>,
+    mut suns: Query<(Ref<DirectionalLight>, Ref<ShadowBias>, &mut ShadowMap), Without<SpotLight>>,
+    mut spots: Query<(Ref<SpotLight>, Ref<Transform>, Ref<ShadowBias>, &mut ShadowMap), Without<DirectionalLight>>,
 ) {
-    let size = settings.shadow_map_size;
-    let mut layer = 0;
-    if let Some((camera, transform)) = cameras.iter().next() {
-        let view_camera = Camera { far: camera.far.min(settings.shadow_distance).max(camera.near * 2.0), ..*camera };
-        let corners = frustum_corners(&view_camera.view_proj(transform, viewport.aspect()));
-        let caster_bounds: Vec<Aabb> = casters.iter().map(|b| b.0).filter(|b| !b.is_empty()).collect();
-        for (sun, mut map) in &mut suns {
-            let fit = fit_directional(sun.direction, &corners, &caster_bounds, size);
-            *map = ShadowMap { view_proj: fit.view_proj, texel: fit.texel, layer };
-            layer += 1;
-        }
+    let resized = std::mem::replace(&mut *last_size, settings.shadow_map_size) != settings.shadow_map_size;
+    let caster_boxes: Vec<Aabb> = casters.iter().map(|b| b.0).collect();
+    let seen_boxes: Vec<Aabb> = visible.iter().map(|b| b.0).collect();
+    let scene = SceneBounds { casters: &caster_boxes, receivers: &seen_boxes };
+    let camera = cameras.iter().next().map(|(c, t)| (*c, *t));
+    let mut next_layer = 0;
+    for (i, (sun, bias, mut map)) in suns.iter_mut().enumerate() {
+        let fits = match camera {
+            Some((c, t)) if i == 0 => cascades(sun.direction, &c, &t, viewport.aspect(), &settings, scene),
+            _ => Vec::new(),
+        };
+        let forced = resized || sun.is_changed() || bias.is_changed();
+        refresh_layers(&mut map, &fits, &mut next_layer, forced, &changes.0);
     }
-    for (spot, transform, mut map) in &mut spots {
+    for (spot, transform, bias, mut map) in &mut spots {
+        let size = settings.shadow_map_size;
         let fit = spot_projection(transform.translation, transform.forward(), spot.outer_angle, spot.range, size);
-        *map = ShadowMap { view_proj: fit.view_proj, texel: fit.texel, layer };
-        layer += 1;
+        let forced = resized || spot.is_changed() || transform.is_changed() || bias.is_changed();
+        refresh_layers(&mut map, &[(fit, f32::INFINITY, 0.0)], &mut next_layer, forced, &changes.0);
+    }
+}
+
+/// The sun's cascades for the camera: each projection with the view depth where it ends and the
+/// width of its blend band.
+fn cascades(
+    direction: glam::Vec3,
+    camera: &Camera,
+    transform: &Transform,
+    aspect: f32,
+    settings: &Settings,
+    scene: SceneBounds<'_>,
+) -> Vec<(LightProjection, f32, f32)> {
+    let frustum = ViewFrustum { position: transform.translation, rotation: transform.rotation, fov_y: camera.fov_y, aspect };
+    let far = settings.shadow_distance.min(camera.far).max(camera.near * 2.0);
+    let depths = split_depths(camera.near, far, settings.cascades as usize, settings.split_lambda);
+    let bands = blend_bands(&depths, settings.cascade_blend);
+    (0..bands.len())
+        .map(|i| {
+            // A cascade starts inside the previous one's blend band, so both cover the band.
+            let start = if i == 0 { depths[0] } else { depths[i] - bands[i - 1] };
+            let fit = fit_cascade(direction, &frustum, start, depths[i + 1], settings.fit_mode, scene, settings.shadow_map_size);
+            (fit, depths[i + 1], bands[i])
+        })
+        .collect()
+}
+
+/// A number never handed out before in this process: the version of a layer's new contents.
+fn next_version() -> u64 {
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    NEXT.fetch_add(1, Ordering::Relaxed)
+}
+
+/// Replaces a light's layers with `fits`, numbering them from `next_layer`; each layer keeps its
+/// version unless it is dirty.
+fn refresh_layers(
+    map: &mut ShadowMap,
+    fits: &[(LightProjection, f32, f32)],
+    next_layer: &mut u32,
+    forced: bool,
+    changes: &[Aabb],
+) {
+    let layers = fits
+        .iter()
+        .enumerate()
+        .map(|(i, (fit, far, blend))| {
+            let layer = *next_layer + i as u32;
+            let old = map.layers.get(i).filter(|o| o.view_proj == fit.view_proj && o.layer == layer);
+            let touched = changes.iter().any(|b| intersects_clip_volume(&fit.view_proj, b));
+            let dirty = forced || touched || old.is_none();
+            let version = match old {
+                Some(o) if !dirty => o.version,
+                _ => next_version(),
+            };
+            ShadowLayer { view_proj: fit.view_proj, texel: fit.texel, layer, far: *far, blend: *blend, dirty, version }
+        })
+        .collect();
+    *next_layer += fits.len() as u32;
+    // Writing only on a difference keeps `Changed<ShadowMap>` meaningful.
+    if map.layers != layers {
+        map.layers = layers;
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use bevy_ecs::system::RunSystemOnce;
     use crate::assets::cube;
+    use bevy_ecs::system::RunSystemOnce;
     use glam::{Mat4, Vec3};
 
     fn world() -> World {
@@ -62,6 +168,7 @@ mod tests {
         world.insert_resource(Settings::default());
         world.insert_resource(Viewport { width: 320, height: 240 });
         world.insert_resource(MeshLibrary::default());
+        world.insert_resource(CasterChanges::default());
         world
     }
 
@@ -76,30 +183,56 @@ mod tests {
     }
 
     #[test]
-    fn sun_matrix_is_recalculated_when_the_camera_moves() {
+    fn caster_changes_hold_old_and_new_bounds_and_removals() {
+        let mut world = world();
+        let mut schedule = Schedule::default();
+        schedule.add_systems(track_casters);
+        let a = Aabb::new(Vec3::ZERO, Vec3::ONE);
+        let e = world.spawn((WorldBounds(a), ShadowCaster)).id();
+        schedule.run(&mut world);
+        assert_eq!(world.resource::<CasterChanges>().0, vec![a], "an added caster");
+        schedule.run(&mut world);
+        assert!(world.resource::<CasterChanges>().0.is_empty(), "nothing changed");
+        world.get_mut::<WorldBounds>(e).unwrap().0 = a; // same value, written again
+        schedule.run(&mut world);
+        assert!(world.resource::<CasterChanges>().0.is_empty(), "rewritten with the same value");
+        let b = Aabb::new(Vec3::ONE, Vec3::splat(2.0));
+        world.get_mut::<WorldBounds>(e).unwrap().0 = b;
+        schedule.run(&mut world);
+        assert_eq!(world.resource::<CasterChanges>().0, vec![a, b], "moved: before and after");
+        world.despawn(e);
+        schedule.run(&mut world);
+        assert_eq!(world.resource::<CasterChanges>().0, vec![b], "removed");
+    }
+
+    #[test]
+    fn sun_cascades_are_recalculated_when_the_camera_moves() {
         let mut world = world();
         let cam = world.spawn((Camera::default(), Transform::from_xyz(0.0, 2.0, 5.0))).id();
         let sun = DirectionalLight { direction: Vec3::new(0.3, -1.0, 0.2), color: Vec3::ONE, intensity: 1.0 };
         let light = world.spawn((sun, ShadowMap::default())).id();
         world.run_system_once(update_light_matrices).unwrap();
-        let before = world.get::<ShadowMap>(light).unwrap().view_proj;
-        assert_ne!(before, Mat4::IDENTITY);
+        let before = world.get::<ShadowMap>(light).unwrap().layers.clone();
+        assert_eq!(before.len(), Settings::default().cascades as usize);
+        assert!(before.iter().all(|l| l.view_proj != Mat4::IDENTITY && l.view_proj.is_finite()));
         world.get_mut::<Transform>(cam).unwrap().translation.x += 10.0;
         world.run_system_once(update_light_matrices).unwrap();
-        let after = world.get::<ShadowMap>(light).unwrap().view_proj;
-        assert_ne!(before, after);
+        let after = &world.get::<ShadowMap>(light).unwrap().layers;
+        assert!(before.iter().zip(after).all(|(b, a)| b.view_proj != a.view_proj));
     }
 
     #[test]
-    fn layers_are_given_sun_first_then_spots() {
+    fn layers_are_given_sun_cascades_first_then_spots() {
         let mut world = world();
+        world.resource_mut::<Settings>().cascades = 3;
         world.spawn((Camera::default(), Transform::default()));
         let spot = SpotLight { color: Vec3::ONE, intensity: 1.0, range: 10.0, inner_angle: 0.2, outer_angle: 0.3 };
         let s = world.spawn((spot, Transform::from_xyz(0.0, 4.0, 0.0), ShadowMap::default())).id();
         let sun = DirectionalLight { direction: Vec3::NEG_Y, color: Vec3::ONE, intensity: 1.0 };
         let d = world.spawn((sun, ShadowMap::default())).id();
         world.run_system_once(update_light_matrices).unwrap();
-        assert_eq!(world.get::<ShadowMap>(d).unwrap().layer, 0);
-        assert_eq!(world.get::<ShadowMap>(s).unwrap().layer, 1);
+        let layers = |e| world.get::<ShadowMap>(e).unwrap().layers.iter().map(|l| l.layer).collect::<Vec<_>>();
+        assert_eq!(layers(d), vec![0, 1, 2]);
+        assert_eq!(layers(s), vec![3]);
     }
 }

@@ -1,0 +1,254 @@
+//! Cascaded shadow maps for the sun: where the camera's view is split, and how each slice gets an
+//! orthographic box (stable or tight) with a depth range fitted to the casters that can shade it.
+
+use super::bounds::{Aabb, frustum_corners};
+use super::fit::{LightProjection, light_view};
+use glam::camera::rh::proj::directx;
+use glam::{Mat4, Quat, Vec2, Vec3};
+
+/// Most cascades one directional light may have.
+pub const MAX_CASCADES: usize = 4;
+
+/// How a cascade's box is fitted around its slice of the view.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum FitMode {
+    /// A bounding sphere of the slice, its origin snapped to whole texels: the box keeps its size
+    /// whatever the camera's rotation and moves in texel steps, so the shadow does not shimmer.
+    #[default]
+    Stable,
+    /// The smallest light-space box around the slice: more texels on screen, but it shimmers.
+    Tight,
+}
+
+impl FitMode {
+    /// The other mode.
+    pub fn toggled(self) -> FitMode {
+        match self {
+            FitMode::Stable => FitMode::Tight,
+            FitMode::Tight => FitMode::Stable,
+        }
+    }
+
+    /// The mode's name as the command line spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            FitMode::Stable => "stable",
+            FitMode::Tight => "tight",
+        }
+    }
+}
+
+impl std::str::FromStr for FitMode {
+    type Err = String;
+    fn from_str(s: &str) -> Result<FitMode, String> {
+        match s {
+            "stable" => Ok(FitMode::Stable),
+            "tight" => Ok(FitMode::Tight),
+            _ => Err(format!("`{s}` is not a fit mode: give `stable` or `tight`")),
+        }
+    }
+}
+
+/// View depths that split `[near, far]` into `count` cascades by the practical scheme.
+///
+/// Each split is `lambda * logarithmic + (1 - lambda) * uniform`; the result holds `count + 1`
+/// increasing depths from exactly `near` to exactly `far`. `count` is clamped to 1..=4.
+pub fn split_depths(near: f32, far: f32, count: usize, lambda: f32) -> Vec<f32> {
+    let count = count.clamp(1, MAX_CASCADES);
+    let near = if near.is_finite() { near.max(1e-4) } else { 0.1 };
+    let far = if far.is_finite() { far.max(near * 1.01) } else { near * 1000.0 };
+    let lambda = if lambda.is_finite() { lambda.clamp(0.0, 1.0) } else { 0.0 };
+    let mut depths: Vec<f32> = (0..=count)
+        .map(|i| {
+            let s = i as f32 / count as f32;
+            lambda * near * (far / near).powf(s) + (1.0 - lambda) * (near + (far - near) * s)
+        })
+        .collect();
+    (depths[0], depths[count]) = (near, far);
+    depths
+}
+
+/// Width of the band at the end of each cascade over which it blends into the next one:
+/// `blend` (a fraction, 0..0.5) of the cascade's length, and none after the last.
+pub fn blend_bands(depths: &[f32], blend: f32) -> Vec<f32> {
+    let blend = if blend.is_finite() { blend.clamp(0.0, 0.5) } else { 0.0 };
+    let n = depths.len().saturating_sub(1);
+    (0..n).map(|i| if i + 1 < n { blend * (depths[i + 1] - depths[i]) } else { 0.0 }).collect()
+}
+
+/// The camera as cascade fitting sees it: a pose and a perspective frustum.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewFrustum {
+    /// Eye position.
+    pub position: Vec3,
+    /// Orientation; the camera looks along its -Z.
+    pub rotation: Quat,
+    /// Vertical field of view in radians.
+    pub fov_y: f32,
+    /// Width over height.
+    pub aspect: f32,
+}
+
+impl ViewFrustum {
+    /// World corners of the part of the view between view depths `a` and `b`.
+    pub fn slice_corners(&self, a: f32, b: f32) -> [Vec3; 8] {
+        let proj = directx::perspective(self.fov_y, self.aspect.max(1e-3), a, b.max(a * 1.0001));
+        let view = Mat4::from_rotation_translation(self.rotation, self.position).inverse();
+        frustum_corners(&(proj * view))
+    }
+
+    /// The smallest sphere around the slice between view depths `a` and `b`: its centre in the
+    /// world and its radius. The radius depends only on the depths, field of view and aspect, so
+    /// it is the same, bit for bit, however the camera is turned or moved.
+    pub fn slice_sphere(&self, a: f32, b: f32) -> (Vec3, f32) {
+        let t = (self.fov_y * 0.5).tan();
+        // Squared half diagonal of the slice's cross-section per metre of depth.
+        let k2 = t * t * (1.0 + self.aspect * self.aspect);
+        let z = 0.5 * (a + b) * (1.0 + k2);
+        let (z, r) = if z >= b { (b, b * k2.sqrt()) } else { (z, ((z - a) * (z - a) + a * a * k2).sqrt()) };
+        (self.position + self.rotation * Vec3::NEG_Z * z, r)
+    }
+}
+
+/// Shadow-casting and shadow-receiving boxes of the scene, in world space.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneBounds<'a> {
+    /// Boxes of everything drawn into shadow maps.
+    pub casters: &'a [Aabb],
+    /// Boxes of everything that can be seen (and so must lie inside the depth range).
+    pub receivers: &'a [Aabb],
+}
+
+/// Depth steps a stable cascade's near and far planes are rounded out to: an eighth of its radius.
+pub fn depth_step(radius: f32) -> f32 {
+    (radius / 8.0).max(1e-3)
+}
+
+/// The sun's orthographic projection for the slice of `frustum` between view depths `a` and `b`.
+///
+/// The box covers the slice across (a snapped sphere in [`FitMode::Stable`], a tight box in
+/// [`FitMode::Tight`]). Its depth range is fitted to the scene, not to fixed numbers: the near
+/// plane is pulled towards the light just far enough to hold every caster whose light-space
+/// footprint overlaps the box (a tall pillar behind the camera still shadows the view), and the
+/// far plane stops at the slice or at the farthest overlapping object, whichever is nearer.
+pub fn fit_cascade(
+    direction: Vec3,
+    frustum: &ViewFrustum,
+    a: f32,
+    b: f32,
+    mode: FitMode,
+    scene: SceneBounds<'_>,
+    resolution: u32,
+) -> LightProjection {
+    let view = light_view(Vec3::ZERO, direction);
+    let res = resolution.max(1) as f32;
+    let (min, max, slice_far, texel, step) = match mode {
+        FitMode::Stable => {
+            let (center, r) = frustum.slice_sphere(a, b);
+            let texel = 2.0 * r / res;
+            let c = view.transform_point3(center);
+            // Whole-texel steps keep every texel on the same world grid from frame to frame.
+            let snapped = (c.truncate() / texel).round() * texel;
+            (snapped - r, snapped + r, c.z - r, texel, Some(depth_step(r)))
+        }
+        FitMode::Tight => {
+            let slice = Aabb::from_points(frustum.slice_corners(a, b).map(|p| view.transform_point3(p)));
+            let extent = (slice.max - slice.min).truncate().max(Vec2::splat(1e-3));
+            let (min, max) = (slice.min.truncate(), slice.min.truncate() + extent);
+            (min, max, slice.min.z, extent.max_element() / res, None)
+        }
+    };
+    let (near_z, far_z) = depth_range(&view, min, max, slice_far, scene, step);
+    let proj = directx::orthographic(min.x, max.x, min.y, max.y, -near_z, -far_z);
+    LightProjection { view, proj, view_proj: proj * view, texel: Vec2::new(texel, 0.0) }
+}
+
+/// Light-space z of the near and far planes (z grows towards the light) for the footprint
+/// `min..max`; with a `step`, both are rounded outwards to whole steps so they do not creep.
+fn depth_range(view: &Mat4, min: Vec2, max: Vec2, slice_far: f32, scene: SceneBounds<'_>, step: Option<f32>) -> (f32, f32) {
+    let overlapping = |boxes: &'_ [Aabb]| -> Vec<Aabb> {
+        boxes
+            .iter()
+            .filter(|b| !b.is_empty())
+            .map(|b| b.transformed(view))
+            .filter(|l| l.min.x <= max.x && l.max.x >= min.x && l.min.y <= max.y && l.max.y >= min.y)
+            .collect()
+    };
+    let casters = overlapping(scene.casters);
+    let seen = overlapping(scene.receivers);
+    let top = casters.iter().map(|l| l.max.z).fold(f32::NEG_INFINITY, f32::max);
+    let bottom = seen.iter().chain(&casters).map(|l| l.min.z).fold(f32::INFINITY, f32::min);
+    let mut far_z = if bottom.is_finite() { slice_far.max(bottom) } else { slice_far };
+    let mut near_z = if top.is_finite() { top } else { far_z };
+    // A little slack so geometry lying exactly on a plane is not clipped by rounding.
+    let slack = 1e-3 * (max - min).max_element() + 1e-3;
+    near_z = near_z.max(far_z) + slack;
+    far_z -= slack;
+    if let Some(step) = step {
+        near_z = (near_z / step).ceil() * step;
+        far_z = (far_z / step).floor() * step;
+    }
+    (near_z, far_z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frustum() -> ViewFrustum {
+        ViewFrustum { position: Vec3::new(1.0, 2.0, 3.0), rotation: Quat::from_rotation_y(0.4), fov_y: 1.0, aspect: 1.6 }
+    }
+
+    #[test]
+    fn splits_blend_log_and_uniform() {
+        let uniform = split_depths(1.0, 9.0, 2, 0.0);
+        assert_eq!(uniform, vec![1.0, 5.0, 9.0]);
+        let log = split_depths(1.0, 9.0, 2, 1.0);
+        assert!((log[1] - 3.0).abs() < 1e-5);
+        let half = split_depths(1.0, 9.0, 2, 0.5);
+        assert!((half[1] - 4.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn bands_are_a_fraction_of_each_cascade_and_none_after_the_last() {
+        assert_eq!(blend_bands(&[0.0, 10.0, 30.0], 0.1), vec![1.0, 0.0]);
+        assert_eq!(blend_bands(&[0.0, 10.0], 0.3), vec![0.0]);
+    }
+
+    #[test]
+    fn the_slice_sphere_holds_every_corner_and_touches_one() {
+        let f = frustum();
+        for (a, b) in [(0.1, 4.0), (4.0, 20.0), (20.0, 60.0), (0.1, 0.2)] {
+            let (c, r) = f.slice_sphere(a, b);
+            let d: Vec<f32> = f.slice_corners(a, b).iter().map(|p| p.distance(c)).collect();
+            assert!(d.iter().all(|d| *d <= r * (1.0 + 1e-4)), "{a}..{b}: {d:?} vs {r}");
+            assert!(d.iter().any(|d| *d >= r * (1.0 - 1e-3)), "{a}..{b}: the sphere is not the smallest");
+        }
+    }
+
+    #[test]
+    fn a_caster_between_light_and_slice_stays_in_depth_range_and_one_beside_it_does_not_matter() {
+        let f = ViewFrustum { position: Vec3::new(0.0, 2.0, 6.0), rotation: Quat::IDENTITY, fov_y: 1.0, aspect: 1.0 };
+        let ground = [Aabb::new(Vec3::new(-50.0, -0.1, -50.0), Vec3::new(50.0, 0.0, 50.0))];
+        let tall = Aabb::new(Vec3::new(-0.5, 0.0, 1.5), Vec3::new(0.5, 40.0, 2.5));
+        for mode in [FitMode::Stable, FitMode::Tight] {
+            let scene = SceneBounds { casters: &[tall], receivers: &ground };
+            let fit = fit_cascade(Vec3::NEG_Y, &f, 0.1, 8.0, mode, scene, 1024);
+            for c in tall.corners() {
+                let n = fit.view_proj.project_point3(c);
+                assert!((-1e-4..=1.0 + 1e-4).contains(&n.z), "{mode:?}: {c:?} -> {n:?}");
+            }
+            let far_away = [Aabb::new(Vec3::new(80.0, 0.0, 80.0), Vec3::new(81.0, 100.0, 81.0))];
+            let with = fit_cascade(Vec3::NEG_Y, &f, 0.1, 8.0, mode, SceneBounds { casters: &far_away, receivers: &ground }, 1024);
+            let without = fit_cascade(Vec3::NEG_Y, &f, 0.1, 8.0, mode, SceneBounds { casters: &[], receivers: &ground }, 1024);
+            assert_eq!(with.view_proj, without.view_proj, "{mode:?}");
+        }
+    }
+
+    #[test]
+    fn fit_modes_parse_and_toggle() {
+        assert_eq!("tight".parse::<FitMode>(), Ok(FitMode::Tight));
+        assert!("loose".parse::<FitMode>().unwrap_err().contains("loose"));
+        assert_eq!(FitMode::Stable.toggled(), FitMode::Tight);
+    }
+}
