@@ -1,8 +1,8 @@
 //! Playing the scene in a window: winit events in, fixed steps of the app, frames presented.
 
 use crate::components::{Input, Key};
-use crate::render::{Gpu, RenderError, Renderer};
-use crate::App;
+use crate::render::{Gpu, RenderError, Renderer, ShadowStats};
+use crate::{App, Settings};
 use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -93,6 +93,27 @@ fn run(event_loop: EventLoop<()>, app: App, frames: Option<u32>) -> Result<(), P
     player.error.map_or(Ok(()), Err)
 }
 
+/// Changes the setting a key stands for (F: fit mode, C: cascade tints, 1-4: cascades); false
+/// for any other key.
+pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
+    match code {
+        KeyCode::KeyF => settings.fit_mode = settings.fit_mode.toggled(),
+        KeyCode::KeyC => settings.cascade_debug = !settings.cascade_debug,
+        KeyCode::Digit1 => settings.cascades = 1,
+        KeyCode::Digit2 => settings.cascades = 2,
+        KeyCode::Digit3 => settings.cascades = 3,
+        KeyCode::Digit4 => settings.cascades = 4,
+        _ => return false,
+    }
+    true
+}
+
+/// The shadow settings the keys change, in a few words.
+fn settings_line(settings: &Settings) -> String {
+    let tints = if settings.cascade_debug { ", tinted" } else { "" };
+    format!("{} cascades, {} fit{tints}", settings.cascades, settings.fit_mode.name())
+}
+
 /// The sample's key for a physical key, if it has one.
 fn key_for(code: KeyCode) -> Option<Key> {
     Some(match code {
@@ -181,7 +202,13 @@ impl Player {
         let elapsed = self.since.elapsed();
         if elapsed >= Duration::from_secs(1) {
             let fps = self.frames as f64 / elapsed.as_secs_f64();
-            shown.window.set_title(&format!("umbra - {fps:.0} fps - {}", shown.gpu.describe()));
+            let passes = self.app.world.get_resource::<ShadowStats>().cloned().unwrap_or_default();
+            let title = format!(
+                "umbra - {fps:.0} fps - shadow layers drawn/kept: {passes} - {} - {}",
+                settings_line(self.app.settings()),
+                shown.gpu.describe()
+            );
+            shown.window.set_title(&title);
             (self.frames, self.since) = (0, Instant::now());
         }
         Ok(())
@@ -219,6 +246,9 @@ impl ApplicationHandler for Player {
                 if let PhysicalKey::Code(code) = event.physical_key {
                     if code == KeyCode::Escape && down {
                         event_loop.exit();
+                    } else if down && !event.repeat && change_setting(code, &mut self.app.world.resource_mut::<Settings>()) {
+                        let settings = self.app.settings();
+                        println!("{}", settings_line(settings));
                     } else if let Some(key) = key_for(code) {
                         self.app.world.resource_mut::<Input>().set(key, down);
                     }
@@ -257,5 +287,25 @@ impl ApplicationHandler for Player {
         if let Some(shown) = &self.shown {
             shown.window.request_redraw();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shadow::FitMode;
+
+    #[test]
+    fn setting_keys_toggle_and_choose_and_others_do_nothing() {
+        let mut s = Settings::default();
+        assert!(change_setting(KeyCode::KeyF, &mut s));
+        assert_eq!(s.fit_mode, FitMode::Tight);
+        assert!(change_setting(KeyCode::KeyC, &mut s) && s.cascade_debug);
+        assert!(change_setting(KeyCode::Digit2, &mut s));
+        assert_eq!(s.cascades, 2);
+        assert_eq!(settings_line(&s), "2 cascades, tight fit, tinted");
+        let before = s.clone();
+        assert!(!change_setting(KeyCode::KeyW, &mut s));
+        assert_eq!(s, before);
     }
 }

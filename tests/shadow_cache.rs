@@ -1,0 +1,160 @@
+//! The shadow-map cache is invisible: 300 frames of random motion rendered once drawing every
+//! shadow map every frame and once drawing only dirty lights' maps give bit-identical pictures,
+//! and when nothing moves nothing is drawn.
+
+mod common;
+
+use common::gpu;
+use glam::{Quat, Vec3};
+use umbra::assets::{MeshLibrary, cube, plane};
+use umbra::components::*;
+use umbra::render::{HEADLESS_FORMAT, Image, Renderer, ShadowStats, render_headless};
+use umbra::{App, Settings};
+
+const FRAMES: usize = 300;
+const SIZE: u32 = 128;
+
+/// A small deterministic generator (xorshift) so a failure reproduces.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn signed(&mut self) -> f32 {
+        2.0 * self.next() - 1.0
+    }
+}
+
+/// What moves during a stretch of frames.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Stretch {
+    Still,
+    OneCube,
+    Cubes,
+    Lights,
+    Camera,
+    Everything,
+}
+
+/// The motion script: stretches of 8 to 40 frames, each with its own kind of motion, starting
+/// and ending still.
+fn script(rng: &mut Rng) -> Vec<Stretch> {
+    let kinds = [Stretch::Still, Stretch::OneCube, Stretch::Cubes, Stretch::Lights, Stretch::Camera, Stretch::Everything];
+    let mut frames = vec![Stretch::Still; 10];
+    while frames.len() < FRAMES - 20 {
+        let kind = kinds[(rng.next() * kinds.len() as f32) as usize % kinds.len()];
+        let len = 8 + (rng.next() * 32.0) as usize;
+        frames.extend(std::iter::repeat_n(kind, len));
+    }
+    frames.truncate(FRAMES - 20);
+    frames.extend([Stretch::Still; 20]);
+    frames
+}
+
+struct World {
+    app: App,
+    cubes: Vec<bevy_ecs::entity::Entity>,
+}
+
+fn build(reuse: bool) -> World {
+    let settings = Settings { shadow_map_size: 512, cascades: 3, reuse_shadow_maps: reuse, ..Settings::default() };
+    let mut app = App::empty(settings).unwrap();
+    let (ground, block) = {
+        let mut meshes = app.world.resource_mut::<MeshLibrary>();
+        (meshes.add(plane(40.0)), meshes.add(cube(Vec3::splat(0.5))))
+    };
+    app.world.spawn((ground, Material::color(0.6, 0.6, 0.6), ShadowReceiver));
+    let cubes = (0..6)
+        .map(|i| {
+            let at = Transform::from_xyz(-5.0 + 2.0 * i as f32, 1.0, -2.0 + (i % 3) as f32 * 2.0);
+            app.world.spawn((block, at, Material::color(0.8, 0.4, 0.2), ShadowCaster, ShadowReceiver)).id()
+        })
+        .collect();
+    let sun = DirectionalLight { direction: Vec3::new(-0.4, -1.0, -0.3), color: Vec3::ONE, intensity: 1.0 };
+    app.world.spawn((sun, ShadowMap::default()));
+    for (x, cookie) in [(-3.0, Some(Cookie::Window)), (3.0, None)] {
+        let spot = SpotLight { color: Vec3::new(0.4, 0.8, 1.0), intensity: 3.0, range: 14.0, inner_angle: 0.35, outer_angle: 0.45 };
+        let at = Transform::from_xyz(x, 6.0, 0.0).looking_to(Vec3::new(0.2, -1.0, 0.1));
+        let mut light = app.world.spawn((spot, at, ShadowMap::default()));
+        if let Some(c) = cookie {
+            light.insert(c);
+        }
+    }
+    let eye = Vec3::new(0.0, 7.0, 13.0);
+    app.world.spawn((Camera::default(), Transform::from_xyz(eye.x, eye.y, eye.z).looking_to(Vec3::new(0.0, 0.5, 0.0) - eye)));
+    app.resize(SIZE, SIZE);
+    World { app, cubes }
+}
+
+fn apply(w: &mut World, stretch: Stretch, rng: &mut Rng) {
+    let world = &mut w.app.world;
+    let moves_cubes = matches!(stretch, Stretch::Cubes | Stretch::Everything);
+    for (i, e) in w.cubes.iter().enumerate() {
+        if moves_cubes || (stretch == Stretch::OneCube && i == 2) {
+            let mut t = world.get_mut::<Transform>(*e).unwrap();
+            t.translation += Vec3::new(rng.signed(), rng.signed(), rng.signed()) * 0.08;
+            t.translation.y = t.translation.y.clamp(0.6, 3.0);
+            t.rotation = Quat::from_rotation_y(rng.signed() * 0.1) * t.rotation;
+        }
+    }
+    if matches!(stretch, Stretch::Lights | Stretch::Everything) {
+        for mut sun in world.query::<&mut DirectionalLight>().iter_mut(world) {
+            sun.direction = Quat::from_rotation_y(0.01) * sun.direction;
+        }
+        for (_, mut t) in world.query::<(&SpotLight, &mut Transform)>().iter_mut(world) {
+            t.translation += Vec3::new(rng.signed(), 0.0, rng.signed()) * 0.05;
+        }
+    }
+    if matches!(stretch, Stretch::Camera | Stretch::Everything) {
+        let mut q = world.query_filtered::<&mut Transform, bevy_ecs::query::With<Camera>>();
+        let mut t = q.single_mut(world).unwrap();
+        t.translation += Vec3::new(rng.signed() * 0.05, 0.0, rng.signed() * 0.05);
+        t.rotation = Quat::from_rotation_y(rng.signed() * 0.01) * t.rotation;
+    }
+}
+
+/// Plays the script and returns every frame with the shadow passes it took.
+fn play(reuse: bool) -> Vec<(Image, ShadowStats, Stretch)> {
+    let gpu = gpu();
+    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
+    let mut w = build(reuse);
+    let mut rng = Rng(0xc0ffee);
+    let stretches = script(&mut rng);
+    let mut motion = Rng(0xbeef);
+    stretches
+        .into_iter()
+        .map(|stretch| {
+            apply(&mut w, stretch, &mut motion);
+            w.app.set_time(0.0);
+            let image = render_headless(&gpu, &mut renderer, &mut w.app, SIZE, SIZE).expect("no wgpu error");
+            (image, w.app.world.resource::<ShadowStats>().clone(), stretch)
+        })
+        .collect()
+}
+
+#[test]
+fn drawing_only_dirty_shadow_maps_gives_the_same_frames_and_skips_every_layer_when_still() {
+    let every = play(false);
+    let cached = play(true);
+    let layers = 3 + 2;
+    let (mut drawn, mut still_frames) = (0, 0);
+    for (i, ((a, full, stretch), (b, stats, _))) in every.iter().zip(&cached).enumerate() {
+        assert!(a == b, "frame {i} ({stretch:?}) differs between redrawing everything and the cache");
+        assert_eq!(full.drawn(), layers, "frame {i}: without the cache every layer is drawn");
+        assert_eq!(stats.drawn() + stats.kept(), layers, "frame {i}: every layer is drawn or kept");
+        if *stretch == Stretch::Still && i > 0 {
+            still_frames += 1;
+            assert_eq!(stats.kept(), layers, "frame {i}: nothing moved, so every layer is kept");
+        }
+        drawn += stats.drawn();
+    }
+    assert!(still_frames >= 30, "the script has only {still_frames} still frames");
+    let all = layers as usize * FRAMES;
+    assert!(drawn > 0 && (drawn as usize) < all * 3 / 4, "the cache drew {drawn} of {all} layers");
+    // The frames are not all alike: something really moved.
+    assert!(every.windows(2).filter(|w| w[0].0 != w[1].0).count() > FRAMES / 3);
+}
