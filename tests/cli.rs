@@ -48,8 +48,12 @@ fn without_a_display_play_renders_umbra_png() {
 #[test]
 fn bad_arguments_are_named_and_fail() {
     let dir = scratch("bad");
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 9] = [
         (&["render", "--width", "-5"], "not a size"),
+        (&["render", "--cascades", "5"], "cascades"),
+        (&["render", "--split-lambda", "2"], "split_lambda"),
+        (&["render", "--fit", "loose"], "not a fit mode"),
+        (&["bench", "--frames", "0"], "--frames"),
         (&["render", "--height", "0"], "not a size"),
         (&["render", "--time", "nan"], "not a time"),
         (&["render", "--frobnicate"], "--frobnicate"),
@@ -63,6 +67,28 @@ fn bad_arguments_are_named_and_fail() {
         assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
     }
     assert!(!dir.join("umbra.png").exists(), "a failed command writes nothing");
+}
+
+#[test]
+fn bench_prints_every_scenario_with_ratios_and_shadow_passes() {
+    let dir = scratch("bench");
+    let out = umbra(&["bench", "--frames", "3", "--width", "64", "--height", "36", "--shadow-map-size", "256"], &dir);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let row = |name: &str| {
+        let line = stdout.lines().find(|l| l.starts_with(&format!("| {name} |"))).unwrap_or_else(|| panic!("{name}: {stdout}"));
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        let passes: Vec<f64> = cells[5].split(" / ").map(|v| v.parse().unwrap()).collect();
+        (cells[4].to_string(), passes[0], passes[1])
+    };
+    // Still with shadows off is the baseline; with shadows on and nothing moving, every layer
+    // (4 cascades and 2 spots) is kept and none drawn; one moving cube redraws only some.
+    assert_eq!(row("still, shadows off").0, "1.000", "{stdout}");
+    assert_eq!(row("still, shadows on"), (row("still, shadows on").0, 0.0, 6.0), "{stdout}");
+    let (_, drawn, kept) = row("one cube moving");
+    assert!(drawn > 0.0 && kept > 0.0, "{stdout}");
+    let (_, drawn, _) = row("everything moving");
+    assert!(drawn > 0.0, "{stdout}");
 }
 
 #[test]

@@ -32,24 +32,38 @@ pub fn update_bounds(
 #[derive(Resource, Clone, Debug, Default, PartialEq)]
 pub struct CasterChanges(pub Vec<Aabb>);
 
+/// What a caster's shadow depends on: where it is, how it is placed and what it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CasterState {
+    bounds: Aabb,
+    model: glam::Mat4,
+    mesh: Mesh,
+}
+
 /// Finds the casters that changed since the last update and lists their old and new bounds.
 ///
-/// Bounds are compared by value, so a system that rewrites a transform with the same value (an
-/// animation at an unchanged time) dirties nothing.
+/// A caster changed when its bounds, transform or mesh differ by value from the last update, so
+/// a system that rewrites a transform with the same value (an animation at an unchanged time)
+/// dirties nothing, while a turn that leaves the bounds as they were still counts.
+#[allow(clippy::type_complexity)]
 pub fn track_casters(
-    mut known: Local<HashMap<Entity, Aabb>>,
+    mut known: Local<HashMap<Entity, CasterState>>,
     mut changes: ResMut<CasterChanges>,
-    casters: Query<(Entity, &WorldBounds), (With<ShadowCaster>, Or<(Changed<WorldBounds>, Added<ShadowCaster>)>)>,
+    casters: Query<
+        (Entity, &WorldBounds, &Transform, &Mesh),
+        (With<ShadowCaster>, Or<(Changed<WorldBounds>, Changed<Transform>, Changed<Mesh>, Added<ShadowCaster>)>),
+    >,
     mut removed: RemovedComponents<ShadowCaster>,
 ) {
     changes.0.clear();
     for entity in removed.read() {
-        changes.0.extend(known.remove(&entity));
+        changes.0.extend(known.remove(&entity).map(|s| s.bounds));
     }
-    for (entity, bounds) in &casters {
-        match known.insert(entity, bounds.0) {
-            Some(old) if old == bounds.0 => {}
-            old => changes.0.extend(old.into_iter().chain([bounds.0])),
+    for (entity, bounds, transform, mesh) in &casters {
+        let state = CasterState { bounds: bounds.0, model: transform.matrix(), mesh: *mesh };
+        match known.insert(entity, state) {
+            Some(old) if old == state => {}
+            old => changes.0.extend(old.map(|o| o.bounds).into_iter().chain([bounds.0])),
         }
     }
 }
@@ -185,24 +199,31 @@ mod tests {
     #[test]
     fn caster_changes_hold_old_and_new_bounds_and_removals() {
         let mut world = world();
+        let mesh = world.resource_mut::<MeshLibrary>().add(cube(Vec3::splat(0.5)));
         let mut schedule = Schedule::default();
-        schedule.add_systems(track_casters);
-        let a = Aabb::new(Vec3::ZERO, Vec3::ONE);
-        let e = world.spawn((WorldBounds(a), ShadowCaster)).id();
+        schedule.add_systems((update_bounds, track_casters).chain());
+        let e = world.spawn((mesh, Transform::default(), ShadowCaster)).id();
+        let a = Aabb::new(Vec3::splat(-0.5), Vec3::splat(0.5));
         schedule.run(&mut world);
         assert_eq!(world.resource::<CasterChanges>().0, vec![a], "an added caster");
         schedule.run(&mut world);
         assert!(world.resource::<CasterChanges>().0.is_empty(), "nothing changed");
-        world.get_mut::<WorldBounds>(e).unwrap().0 = a; // same value, written again
+        world.get_mut::<Transform>(e).unwrap().translation = Vec3::ZERO; // same value, written again
         schedule.run(&mut world);
         assert!(world.resource::<CasterChanges>().0.is_empty(), "rewritten with the same value");
-        let b = Aabb::new(Vec3::ONE, Vec3::splat(2.0));
-        world.get_mut::<WorldBounds>(e).unwrap().0 = b;
+        world.get_mut::<Transform>(e).unwrap().rotation = glam::Quat::from_rotation_y(std::f32::consts::PI);
         schedule.run(&mut world);
-        assert_eq!(world.resource::<CasterChanges>().0, vec![a, b], "moved: before and after");
+        assert_eq!(world.resource::<CasterChanges>().0.len(), 2, "a half turn keeps the box but counts");
+        world.get_mut::<Transform>(e).unwrap().translation = Vec3::ONE;
+        schedule.run(&mut world);
+        // The half turn leaves the box as it was, up to rounding.
+        let near = |x: Aabb, y: Aabb| (x.min - y.min).length() < 1e-5 && (x.max - y.max).length() < 1e-5;
+        let b = Aabb::new(Vec3::splat(0.5), Vec3::splat(1.5));
+        let moved = world.resource::<CasterChanges>().0.clone();
+        assert!(moved.len() == 2 && near(moved[0], a) && near(moved[1], b), "moved: before and after: {moved:?}");
         world.despawn(e);
         schedule.run(&mut world);
-        assert_eq!(world.resource::<CasterChanges>().0, vec![b], "removed");
+        assert_eq!(world.resource::<CasterChanges>().0, vec![moved[1]], "removed");
     }
 
     #[test]

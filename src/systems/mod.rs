@@ -6,4 +6,4 @@ mod lights;
 
 pub use animate::{bob, spin};
 pub use camera::fly_camera;
-pub use lights::{CasterChanges, track_casters, update_bounds, update_light_matrices};
+pub use lights::{CasterChanges, CasterState, track_casters, update_bounds, update_light_matrices};
