@@ -7,6 +7,8 @@ struct Object {
     color: vec4<f32>,
     // x: specular strength, y: Phong exponent.
     phong: vec4<f32>,
+    // x: first matrix of this object's joints in the palette (skinned objects only).
+    skin: vec4<u32>,
 };
 
 @group(1) @binding(0) var<uniform> object: Object;

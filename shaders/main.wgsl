@@ -63,14 +63,25 @@ struct VertexOut {
     @location(1) normal: vec3<f32>,
 };
 
-@vertex
-fn vs_main(v: VertexIn) -> VertexOut {
-    let world = object.model * vec4<f32>(v.position, 1.0);
+// A vertex at model-space `position` with `normal`, placed by the object's model matrix.
+fn place(position: vec4<f32>, normal: vec3<f32>) -> VertexOut {
+    let world = object.model * position;
     var out: VertexOut;
     out.clip = frame.view_proj * world;
     out.world = world.xyz;
-    out.normal = (object.normal_matrix * vec4<f32>(v.normal, 0.0)).xyz;
+    out.normal = (object.normal_matrix * vec4<f32>(normal, 0.0)).xyz;
     return out;
+}
+
+@vertex
+fn vs_main(v: VertexIn) -> VertexOut {
+    return place(vec4<f32>(v.position, 1.0), v.normal);
+}
+
+@vertex
+fn vs_main_skinned(v: VertexIn, s: SkinIn) -> VertexOut {
+    let m = skin_matrix(s);
+    return place(m * vec4<f32>(v.position, 1.0), skin_normal(m, v.normal));
 }
 
 // True where shadows are looked up at all: shadows on and the surface receives them.

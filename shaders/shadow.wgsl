@@ -10,3 +10,9 @@ struct Layer {
 fn vs_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
     return layer.view_proj * object.model * vec4<f32>(v.position, 1.0);
 }
+
+// The same for a skinned mesh: the shadow follows the pose.
+@vertex
+fn vs_shadow_skinned(v: VertexIn, s: SkinIn) -> @builtin(position) vec4<f32> {
+    return layer.view_proj * object.model * skin_matrix(s) * vec4<f32>(v.position, 1.0);
+}

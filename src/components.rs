@@ -266,6 +266,52 @@ pub struct Bob {
     pub phase: f32,
 }
 
+/// A loaded model placed in the world by this entity's [`Transform`]; its meshes are separate
+/// entities with a [`ModelPart`].
+#[derive(Component, Clone, Debug)]
+#[require(Transform, Pose)]
+pub struct ModelInstance(pub std::sync::Arc<crate::assets::Model>);
+
+/// Plays one of a model's clips, looping, at `speed` times real time.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Animator {
+    /// The clip, or none for the rest pose.
+    pub clip: Option<usize>,
+    /// Playback rate (1 = as authored).
+    pub speed: f32,
+}
+
+/// Model-space matrices of every node of a model, as its clip has them now.
+#[derive(Component, Clone, Debug, Default, PartialEq)]
+pub struct Pose(pub Vec<Mat4>);
+
+/// One mesh of a model: which model entity and which of its parts.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct ModelPart {
+    /// The entity holding the [`ModelInstance`].
+    pub root: Entity,
+    /// Index into the model's parts.
+    pub part: usize,
+}
+
+/// The joint matrices that skin this entity's mesh (model space: `global joint × inverse bind`);
+/// the vertex shader blends them, and the entity's bounds follow them.
+#[derive(Component, Clone, Debug, Default, PartialEq)]
+pub struct Joints(pub Vec<Mat4>);
+
+/// Walks an entity round a circle on the ground at a steady pace, facing the way it goes.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Walker {
+    /// Centre of the circle (its y is the ground height).
+    pub center: Vec3,
+    /// Radius in metres.
+    pub radius: f32,
+    /// Metres per second along the circle (negative walks the other way).
+    pub speed: f32,
+    /// Angle on the circle at t = 0, radians.
+    pub phase: f32,
+}
+
 /// World-space bounds of a mesh entity, kept up to date by [`crate::systems::update_bounds`].
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct WorldBounds(pub Aabb);

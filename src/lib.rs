@@ -20,6 +20,17 @@ use bevy_ecs::system::ScheduleSystem;
 use components::{Input, Time, Viewport};
 pub use settings::{Settings, SettingsError};
 
+/// Why the sample could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum AppError {
+    /// A setting is out of range.
+    #[error(transparent)]
+    Settings(#[from] SettingsError),
+    /// A model file could not be loaded.
+    #[error(transparent)]
+    Model(#[from] assets::ModelError),
+}
+
 /// The fixed-step update schedule.
 #[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Update;
@@ -27,13 +38,13 @@ pub struct Update;
 /// The ordered stages of one update; gameplay systems go in [`Stage::Gameplay`].
 #[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Stage {
-    /// Scripted animation (cubes).
+    /// Scripted animation: cubes, walkers and model clips.
     Animate,
     /// Camera control from input.
     Camera,
     /// User systems: they see the animated scene and may move anything before lights are fitted.
     Gameplay,
-    /// World bounds, light matrices and shadow-map dirty flags.
+    /// Model parts posed, world bounds, light matrices and shadow-map dirty flags.
     Lights,
 }
 
@@ -45,11 +56,11 @@ pub struct App {
 }
 
 impl App {
-    /// An app holding the sample scene.
-    pub fn new(settings: Settings) -> Result<App, SettingsError> {
+    /// An app holding the sample scene (and the user's model, if the settings name one).
+    pub fn new(settings: Settings) -> Result<App, AppError> {
         let mut app = App::empty(settings)?;
         let settings = app.world.resource::<Settings>().clone();
-        scene::spawn_sample_scene(&mut app.world, &settings);
+        scene::spawn_sample_scene(&mut app.world, &settings)?;
         Ok(app)
     }
 
@@ -65,9 +76,10 @@ impl App {
         world.insert_resource(systems::CasterChanges::default());
         let mut update = Schedule::new(Update);
         update.configure_sets((Stage::Animate, Stage::Camera, Stage::Gameplay, Stage::Lights).chain());
-        update.add_systems((systems::spin, systems::bob).in_set(Stage::Animate));
+        update.add_systems((systems::spin, systems::bob, systems::walk, systems::animate_models).in_set(Stage::Animate));
         update.add_systems(systems::fly_camera.in_set(Stage::Camera));
-        let lights = (systems::update_bounds, systems::track_casters, systems::update_light_matrices);
+        let lights =
+            (systems::pose_parts, systems::update_bounds, systems::track_casters, systems::update_light_matrices);
         update.add_systems(lights.chain().in_set(Stage::Lights));
         Ok(App { world, update })
     }

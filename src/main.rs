@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use umbra::render::{Gpu, render_headless, render_png};
 use umbra::shadow::FitMode;
+use umbra::components::{ModelInstance, Transform};
 use umbra::{App, Settings};
 
 /// umbra: a game sample about real-time shadow mapping.
@@ -68,6 +69,12 @@ struct SceneArgs {
     /// Draw every shadow map every frame instead of only those of dirty lights.
     #[arg(long)]
     redraw_shadows: bool,
+    /// Leave the walking character out.
+    #[arg(long)]
+    no_character: bool,
+    /// Place this glTF model (.gltf or .glb) in the middle of the scene, playing its first clip.
+    #[arg(long, value_name = "PATH")]
+    model: Option<PathBuf>,
 }
 
 #[derive(Args, Default)]
@@ -146,6 +153,8 @@ impl SceneArgs {
             fit_mode: self.fit.unwrap_or(d.fit_mode),
             cascade_debug: self.cascade_debug,
             reuse_shadow_maps: !self.redraw_shadows,
+            character: !self.no_character,
+            model: self.model.clone(),
             ..d
         }
     }
@@ -190,13 +199,34 @@ fn bench(args: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
+/// The sample scene, with what was mended in the user's model (if any) said on stderr.
+fn app(scene: &SceneArgs) -> Result<App> {
+    let mut app = App::new(scene.settings())?;
+    let mut models = app.world.query::<(&ModelInstance, &Transform)>();
+    let user = |m: &ModelInstance| scene.model.as_ref().is_some_and(|p| p.display().to_string() == m.0.name);
+    for (model, placement) in models.iter(&app.world).filter(|(m, _)| user(m)) {
+        for warning in &model.0.warnings {
+            eprintln!("warning: {warning}");
+        }
+        let joints = model.0.skins.iter().map(|s| s.joints.len()).sum::<usize>();
+        let clip = model.0.clips.first().map_or("no animation".to_string(), |c| format!("playing \"{}\"", c.name));
+        println!(
+            "model {}: {} parts, {joints} joints, {clip}, at scale {}",
+            model.0.name,
+            model.0.parts.len(),
+            placement.scale.x
+        );
+    }
+    Ok(app)
+}
+
 fn play(args: PlayArgs) -> Result<()> {
-    let app = App::new(args.scene.settings())?;
+    let app = app(&args.scene)?;
     Ok(umbra::play::play_or_render(app, args.frames, Path::new("umbra.png"))?)
 }
 
 fn render(args: &RenderArgs) -> Result<()> {
-    let mut app = App::new(args.scene.settings())?;
+    let mut app = app(&args.scene)?;
     let (gpu, mut renderer, _) = render_png(&mut app, args.width, args.height, args.time, &args.out)
         .with_context(|| format!("rendering {}", args.out.display()))?;
     if args.repeat == 0 {

@@ -1,18 +1,35 @@
-//! The sample scene: ground, pillars, a wall, animated cubes, a sun and two coloured spot lights.
+//! The sample scene: ground, pillars, a wall, animated cubes, a walking character, a sun and two
+//! coloured spot lights.
 //!
 //! Everything here is a pure function of the settings, so the scene at time t is reproducible.
 
-use crate::assets::{MeshLibrary, cube, plane};
+use crate::assets::character::WALK_SPEED;
+use crate::assets::{MeshLibrary, Model, ModelError, cube, load_model, parse_model, plane};
 use crate::components::*;
 use crate::settings::Settings;
 use bevy_ecs::prelude::*;
 use glam::{Quat, Vec3};
+use std::sync::Arc;
+
+/// The walking character, built into the program so the scene needs no files at run time
+/// (`cargo run --example make_character` writes it from `src/assets/character/`).
+pub const CHARACTER_GLB: &[u8] = include_bytes!("../assets/character.glb");
+
+/// The circle the character walks: round the middle of the scene, inside the ring of cubes,
+/// through both spot lights and the shadows of the cubes above.
+pub fn character_walker() -> Walker {
+    Walker { center: Vec3::new(0.0, 0.0, 0.5), radius: 2.6, speed: WALK_SPEED, phase: 0.0 }
+}
+
+/// Where a user's model stands: the middle of the scene, inside the character's circle.
+pub const MODEL_SPOT: Vec3 = Vec3::new(0.0, 0.0, 0.5);
 
 /// The sample sun's direction of travel: high in the south-east sky.
 pub const SUN_DIRECTION: Vec3 = Vec3::new(-0.45, -1.0, -0.35);
 
-/// Spawns the whole sample scene into `world` (which must hold a [`MeshLibrary`]).
-pub fn spawn_sample_scene(world: &mut World, settings: &Settings) {
+/// Spawns the whole sample scene into `world` (which must hold a [`MeshLibrary`]); fails only
+/// when the user's model (`settings.model`) cannot be loaded.
+pub fn spawn_sample_scene(world: &mut World, settings: &Settings) -> Result<(), ModelError> {
     let (ground, unit_cube) = {
         let mut meshes = world.resource_mut::<MeshLibrary>();
         (meshes.add(plane(80.0)), meshes.add(cube(Vec3::splat(0.5))))
@@ -43,7 +60,51 @@ pub fn spawn_sample_scene(world: &mut World, settings: &Settings) {
         }
     }
 
+    if settings.character {
+        let character = parse_model(CHARACTER_GLB, None, "character.glb")?;
+        let root = spawn_model(world, Arc::new(character), Transform::default(), Some(0));
+        world.entity_mut(root).insert(character_walker());
+    }
+    if let Some(path) = &settings.model {
+        let model = load_model(path)?;
+        if model.parts.is_empty() {
+            let problem = "its scene has no triangle meshes to draw".to_string();
+            return Err(ModelError { path: path.display().to_string(), problem });
+        }
+        let placement = stand_at(&model, MODEL_SPOT);
+        let clip = (!model.clips.is_empty()).then_some(0);
+        spawn_model(world, Arc::new(model), placement, clip);
+    }
+
     world.spawn(default_camera());
+    Ok(())
+}
+
+/// Spawns `model` at `placement` playing `clip`: one entity for the model, one per mesh part
+/// (casting and taking shadows). Returns the model's entity.
+pub fn spawn_model(world: &mut World, model: Arc<Model>, placement: Transform, clip: Option<usize>) -> Entity {
+    let root = world.spawn((ModelInstance(model.clone()), Animator { clip, speed: 1.0 }, placement)).id();
+    for (i, part) in model.parts.iter().enumerate() {
+        let mesh = world.resource_mut::<MeshLibrary>().add(part.mesh.clone());
+        let mut e = world.spawn((mesh, part.material, placement, ModelPart { root, part: i }, ShadowCaster, ShadowReceiver));
+        if part.skin.is_some() {
+            e.insert(Joints::default());
+        }
+    }
+    root
+}
+
+/// A placement that stands `model` on the ground at `spot`, scaled into a 3 m box when it is
+/// bigger than that or smaller than 30 cm (models come in every unit).
+pub fn stand_at(model: &Model, spot: Vec3) -> Transform {
+    let bounds = model.rest_bounds();
+    if bounds.is_empty() {
+        return Transform { translation: spot, ..Default::default() };
+    }
+    let size = (bounds.max - bounds.min).max_element();
+    let scale = if size > 3.0 || size < 0.3 { 3.0 / size.max(1e-6) } else { 1.0 };
+    let foot = Vec3::new(bounds.center().x, bounds.min.y, bounds.center().z) * scale;
+    Transform { translation: spot - foot, scale: Vec3::splat(scale), ..Default::default() }
 }
 
 /// The sample's shadowed spot lights (seed 004 keeps an array of them, each its own colour): a cool
@@ -106,13 +167,31 @@ mod tests {
     fn sample_scene_has_what_the_card_asks_for() {
         let mut world = World::new();
         world.insert_resource(MeshLibrary::default());
-        spawn_sample_scene(&mut world, &Settings::default());
+        spawn_sample_scene(&mut world, &Settings::default()).unwrap();
         let animated = world.query_filtered::<(), (With<Spin>, With<Bob>)>().iter(&world).count();
         assert!(animated >= 8);
         assert_eq!(world.query::<&DirectionalLight>().iter(&world).count(), 1);
         assert_eq!(world.query::<(&SpotLight, &ShadowMap)>().iter(&world).count(), 2);
         assert_eq!(world.query::<(&SpotLight, &Cookie)>().iter(&world).count(), 1);
         assert_eq!(world.query::<&Camera>().iter(&world).count(), 1);
+        let walkers = world.query_filtered::<(), (With<Walker>, With<ModelInstance>)>().iter(&world).count();
+        assert_eq!(walkers, 1, "the walking character");
+        assert!(world.query_filtered::<(), (With<Joints>, With<ShadowCaster>)>().iter(&world).count() >= 1);
+    }
+
+    #[test]
+    fn models_stand_on_the_ground_at_their_spot_in_any_unit() {
+        let model = parse_model(CHARACTER_GLB, None, "character.glb").unwrap();
+        let t = stand_at(&model, Vec3::new(1.0, 0.0, 2.0));
+        assert_eq!(t.scale, Vec3::ONE, "a 1.8 m character keeps its size");
+        let b = model.rest_bounds().transformed(&t.matrix());
+        assert!(b.min.y.abs() < 1e-5 && (b.center().x - 1.0).abs() < 1e-5 && (b.center().z - 2.0).abs() < 1e-5);
+        // The same character a hundred times bigger (authored in centimetres) is brought to 3 m.
+        let mut big = model.clone();
+        big.nodes[0].rest.scale = Vec3::splat(100.0);
+        let t = stand_at(&big, Vec3::ZERO);
+        let b = big.rest_bounds().transformed(&t.matrix());
+        assert!(((b.max - b.min).max_element() - 3.0).abs() < 1e-3, "{b:?}");
     }
 
     #[test]

@@ -36,6 +36,10 @@ pub struct Settings {
     pub ambient: f32,
     /// Number of animated cubes in the sample scene.
     pub cubes: u32,
+    /// The walking character is in the sample scene.
+    pub character: bool,
+    /// A glTF model of the user's to place in the middle of the sample scene.
+    pub model: Option<std::path::PathBuf>,
     /// Fixed simulation step in seconds.
     pub dt: f32,
 }
@@ -58,6 +62,8 @@ impl Default for Settings {
             reuse_shadow_maps: true,
             ambient: 0.12,
             cubes: 10,
+            character: true,
+            model: None,
             dt: 1.0 / 60.0,
         }
     }

@@ -15,22 +15,40 @@ pub struct Vertex {
     pub normal: [f32; 3],
 }
 
+/// Which joints move a vertex of a skinned mesh, and how much (a second vertex stream).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SkinVertex {
+    /// Up to four joints, as indices into the skin's joint list.
+    pub joints: [u16; 4],
+    /// Their weights: non-negative, summing to 1.
+    pub weights: [f32; 4],
+}
+
 /// An indexed triangle list with its object-space bounds.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MeshData {
-    /// Vertices.
+    /// Vertices (for a skinned mesh, in the bind pose).
     pub vertices: Vec<Vertex>,
     /// Three indices per triangle.
     pub indices: Vec<u32>,
     /// Object-space bounds of the vertices.
     pub bounds: Aabb,
+    /// Joint influences, one per vertex, for a skinned mesh.
+    pub skin: Option<Vec<SkinVertex>>,
 }
 
 impl MeshData {
-    /// A mesh from vertices and indices, computing its bounds.
+    /// A rigid mesh from vertices and indices, computing its bounds.
     pub fn new(vertices: Vec<Vertex>, indices: Vec<u32>) -> Self {
         let bounds = Aabb::from_points(vertices.iter().map(|v| Vec3::from(v.position)));
-        MeshData { vertices, indices, bounds }
+        MeshData { vertices, indices, bounds, skin: None }
+    }
+
+    /// A skinned mesh: `skin` holds one entry per vertex.
+    pub fn skinned(vertices: Vec<Vertex>, indices: Vec<u32>, skin: Vec<SkinVertex>) -> Self {
+        debug_assert_eq!(vertices.len(), skin.len());
+        MeshData { skin: Some(skin), ..MeshData::new(vertices, indices) }
     }
 
     /// Number of triangles.

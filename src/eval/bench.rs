@@ -2,18 +2,18 @@
 //! everything moves, with shadows on and off. The scenarios are measured in interleaved rounds
 //! in one run, so their ratios are fair even on a machine whose speed drifts.
 
-use crate::components::{Bob, FlyCamera, Spin};
+use crate::components::{Animator, Bob, FlyCamera, Spin, Walker};
 use crate::render::{Gpu, HEADLESS_FORMAT, RenderError, Renderer, ShadowStats};
-use crate::{App, Settings, SettingsError};
+use crate::{App, AppError, Settings};
 use bevy_ecs::prelude::*;
 use std::time::Instant;
 
 /// Why a bench could not run.
 #[derive(Debug, thiserror::Error)]
 pub enum BenchError {
-    /// A setting is out of range.
+    /// A setting is out of range or a model does not load.
     #[error(transparent)]
-    Settings(#[from] SettingsError),
+    App(#[from] AppError),
     /// Rendering failed.
     #[error(transparent)]
     Render(#[from] RenderError),
@@ -126,12 +126,17 @@ impl Run {
     }
 }
 
-/// Stops every animated cube but the first, so exactly one caster moves.
+/// Stops every animated cube but the first, and the walking character, so exactly one caster
+/// moves.
 fn freeze_all_but_one_cube(world: &mut World) {
     let mut cubes: Vec<Entity> = world.query_filtered::<Entity, With<Spin>>().iter(world).collect();
     cubes.sort();
     for e in cubes.into_iter().skip(1) {
         world.entity_mut(e).remove::<(Spin, Bob)>();
+    }
+    let walkers: Vec<Entity> = world.query_filtered::<Entity, With<Walker>>().iter(world).collect();
+    for e in walkers {
+        world.entity_mut(e).remove::<(Walker, Animator)>();
     }
 }
 
@@ -203,6 +208,7 @@ mod tests {
         let mut app = App::new(Settings::default()).unwrap();
         freeze_all_but_one_cube(&mut app.world);
         assert_eq!(app.world.query::<(&Spin, &Bob)>().iter(&app.world).count(), 1);
+        assert_eq!(app.world.query::<&Walker>().iter(&app.world).count(), 0);
     }
 
     #[test]

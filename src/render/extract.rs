@@ -20,6 +20,8 @@ pub struct ObjectUniform {
     normal_matrix: Mat4,
     color: Vec4,
     phong: Vec4,
+    /// x: the object's first matrix in the joint palette (skinned objects only).
+    skin: [u32; 4],
 }
 
 #[repr(C)]
@@ -69,6 +71,8 @@ pub struct DrawItem {
     pub object: ObjectUniform,
     /// Drawn into shadow maps.
     pub caster: bool,
+    /// Deformed by joint matrices from [`FrameData::joints`].
+    pub skinned: bool,
 }
 
 /// Which light a shadow-map layer belongs to.
@@ -115,6 +119,8 @@ pub struct FrameData {
     pub layers: Vec<LayerDraw>,
     /// The camera's view-projection.
     pub camera_view_proj: Mat4,
+    /// The joint matrices of every skinned object, one after another.
+    pub joints: Vec<Mat4>,
 }
 
 /// Shortest distance over which the sun's shadow fades to nothing at the shadow distance, as a
@@ -188,10 +194,11 @@ pub fn extract(world: &mut World) -> FrameData {
         .next()
         .map_or((Mat4::ZERO, Vec3::ZERO, Vec3::NEG_Z), |(c, t)| (c.view_proj(t, aspect), t.translation, t.forward()));
 
+    let mut joints = Vec::new();
     let items: Vec<(DrawItem, Aabb)> = world
-        .query::<(&Mesh, &Transform, &WorldBounds, Option<&Material>, Has<ShadowCaster>, Has<ShadowReceiver>)>()
+        .query::<(&Mesh, &Transform, &WorldBounds, Option<&Material>, Option<&Joints>, Has<ShadowCaster>, Has<ShadowReceiver>)>()
         .iter(world)
-        .map(|(mesh, t, bounds, material, caster, receiver)| {
+        .map(|(mesh, t, bounds, material, skin, caster, receiver)| {
             let m = material.copied().unwrap_or(Material::color(0.8, 0.8, 0.8));
             let model = t.matrix();
             let object = ObjectUniform {
@@ -199,8 +206,10 @@ pub fn extract(world: &mut World) -> FrameData {
                 normal_matrix: model.inverse().transpose(),
                 color: m.base_color.extend(receiver as u32 as f32),
                 phong: Vec4::new(m.specular, m.shininess.max(1.0), 0.0, 0.0),
+                skin: [joints.len() as u32, 0, 0, 0],
             };
-            (DrawItem { mesh: *mesh, object, caster }, bounds.0)
+            joints.extend(skin.map_or(&[][..], |s| &s.0));
+            (DrawItem { mesh: *mesh, object, caster, skinned: skin.is_some() }, bounds.0)
         })
         .collect();
 
@@ -239,7 +248,7 @@ pub fn extract(world: &mut World) -> FrameData {
         misc: Vec4::new(settings.ambient, settings.shadows as u32 as f32, settings.cascade_debug as u32 as f32, 0.0),
     };
     let items = items.into_iter().map(|(item, _)| item).collect();
-    FrameData { frame, items, layers, camera_view_proj }
+    FrameData { frame, items, layers, camera_view_proj, joints }
 }
 
 #[cfg(test)]
@@ -248,9 +257,9 @@ mod tests {
 
     #[test]
     fn uniform_sizes_match_the_wgsl_layout() {
-        // WGSL: Object = 2 mat4 + 2 vec4; Sun = 2 vec4 + 4 mat4 + 5 vec4; Spot = 3 vec4 + mat4 +
+        // WGSL: Object = 2 mat4 + 3 vec4; Sun = 2 vec4 + 4 mat4 + 5 vec4; Spot = 3 vec4 + mat4 +
         // 2 vec4; Frame = mat4 + 2 vec4 + Sun + 8 Spot + 3 vec4.
-        assert_eq!(std::mem::size_of::<ObjectUniform>(), 160);
+        assert_eq!(std::mem::size_of::<ObjectUniform>(), 176);
         assert_eq!(std::mem::size_of::<SunUniform>(), 32 + 256 + 80);
         assert_eq!(std::mem::size_of::<SpotUniform>(), 144);
         assert_eq!(std::mem::size_of::<FrameUniform>(), 64 + 32 + 368 + 8 * 144 + 48);

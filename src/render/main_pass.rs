@@ -1,9 +1,8 @@
 //! The main pass: Phong lighting from the camera, each light's share scaled by its shadow test.
 
 use super::extract::{FrameData, FrameUniform};
-use super::renderer::{GpuMesh, vertex_layout};
+use super::mesh::{Drawables, JointPalette, PipelineDesc, PipelinePair};
 use super::shadow_pass::ShadowMaps;
-use super::uniform_array::UniformArray;
 use crate::assets::{COOKIE_SIZE, cookie_image};
 use crate::components::Cookie;
 
@@ -14,7 +13,7 @@ const SKY: wgpu::Color = wgpu::Color { r: 0.38, g: 0.55, b: 0.78, a: 1.0 };
 
 /// Pipeline, frame uniform and the bind group that ties in the shadow maps.
 pub struct MainPass {
-    pipeline: wgpu::RenderPipeline,
+    pipelines: PipelinePair,
     frame: FrameResources,
     bind_group: wgpu::BindGroup,
 }
@@ -47,6 +46,7 @@ impl MainPass {
     pub fn new(
         device: &wgpu::Device,
         object_layout: &wgpu::BindGroupLayout,
+        palette: &JointPalette,
         format: wgpu::TextureFormat,
         maps: &ShadowMaps,
     ) -> Self {
@@ -107,6 +107,7 @@ impl MainPass {
         });
         let source = concat!(
             include_str!("../../shaders/common.wgsl"),
+            include_str!("../../shaders/skinning.wgsl"),
             include_str!("../../shaders/shadow_sampling.wgsl"),
             include_str!("../../shaders/cascades.wgsl"),
             include_str!("../../shaders/main.wgsl")
@@ -115,42 +116,26 @@ impl MainPass {
             label: Some("main.wgsl"),
             source: wgpu::ShaderSource::Wgsl(source.into()),
         });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("main"),
-            bind_group_layouts: &[Some(&frame_layout), Some(object_layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("main"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout())],
-            },
-            primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
+        let targets = [Some(format.into())];
+        let desc = PipelineDesc {
+            label: "main",
+            module: &module,
+            vertex: "vs_main",
+            fragment: Some(("fs_main", &targets)),
+            groups: [&frame_layout, object_layout],
+            depth: wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(true),
                 depth_compare: Some(wgpu::CompareFunction::Less),
                 stencil: Default::default(),
                 bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(format.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+            },
+        };
+        let pipelines = PipelinePair::new(device, &desc, palette);
         let cookies = cookie_buffer(device);
         let frame = FrameResources { layout: frame_layout, buffer: frame_buffer, shadow_sampler: sampler, cookies };
         let bind_group = frame.bind(device, maps);
-        MainPass { pipeline, frame, bind_group }
+        MainPass { pipelines, frame, bind_group }
     }
 
     /// Points the pass at new shadow maps after they were re-created.
@@ -159,16 +144,13 @@ impl MainPass {
     }
 
     /// Draws every object into `color` (cleared to the sky) with depth testing against `depth`.
-    #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &self,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        color: &wgpu::TextureView,
-        depth: &wgpu::TextureView,
+        (color, depth): (&wgpu::TextureView, &wgpu::TextureView),
         data: &FrameData,
-        meshes: &[Option<GpuMesh>],
-        objects: &UniformArray,
+        with: Drawables<'_>,
     ) {
         queue.write_buffer(&self.frame.buffer, 0, bytemuck::bytes_of(&data.frame));
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -188,14 +170,8 @@ impl MainPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.bind_group, &[]);
-        for (i, item) in data.items.iter().enumerate() {
-            if let Some(Some(mesh)) = meshes.get(item.mesh.0) {
-                pass.set_bind_group(1, &objects.bind_group, &[objects.offset(i)]);
-                mesh.draw(&mut pass);
-            }
-        }
+        self.pipelines.draw(&mut pass, with, &data.items, 0..data.items.len());
     }
 }
 

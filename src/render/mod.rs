@@ -8,6 +8,7 @@
 mod extract;
 mod gpu;
 mod main_pass;
+mod mesh;
 mod readback;
 mod renderer;
 mod shadow_pass;
@@ -55,6 +56,9 @@ pub enum RenderError {
         /// Device limit.
         max: u32,
     },
+    /// The adapter lacks something umbra needs.
+    #[error("this GPU adapter cannot do {0}; try another backend (WGPU_BACKEND=vulkan|gl) or adapter")]
+    Unsupported(&'static str),
     /// The window surface could not be used.
     #[error("window surface: {0}")]
     Surface(String),

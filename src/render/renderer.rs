@@ -2,57 +2,18 @@
 
 use super::extract::{ObjectUniform, extract};
 use super::main_pass::{DEPTH_FORMAT, MainPass};
+use super::mesh::{Drawables, GpuMesh, JointPalette};
 use super::shadow_pass::{ShadowPass, ShadowStats};
 use super::uniform_array::UniformArray;
 use super::{Gpu, RenderError};
-use crate::assets::{MeshLibrary, Vertex};
+use crate::assets::MeshLibrary;
 use crate::settings::Settings;
 use bevy_ecs::prelude::*;
-use wgpu::util::DeviceExt;
-
-/// A mesh in GPU memory.
-pub struct GpuMesh {
-    vertices: wgpu::Buffer,
-    indices: wgpu::Buffer,
-    index_count: u32,
-}
-
-impl GpuMesh {
-    fn upload(device: &wgpu::Device, vertices: &[Vertex], indices: &[u32]) -> Option<GpuMesh> {
-        if vertices.is_empty() || indices.is_empty() {
-            return None;
-        }
-        let buffer = |label, contents, usage| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
-        };
-        Some(GpuMesh {
-            vertices: buffer("vertices", bytemuck::cast_slice(vertices), wgpu::BufferUsages::VERTEX),
-            indices: buffer("indices", bytemuck::cast_slice(indices), wgpu::BufferUsages::INDEX),
-            index_count: indices.len() as u32,
-        })
-    }
-
-    /// Binds the buffers and draws every triangle.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
-        pass.set_vertex_buffer(0, self.vertices.slice(..));
-        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..self.index_count, 0, 0..1);
-    }
-}
-
-/// How the shaders read a [`Vertex`]: position at location 0, normal at location 1.
-pub fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
-    const ATTRIBUTES: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
-    wgpu::VertexBufferLayout {
-        array_stride: std::mem::size_of::<Vertex>() as u64,
-        step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &ATTRIBUTES,
-    }
-}
 
 /// GPU state that lives across frames: pipelines, meshes, shadow maps and the depth buffer.
 pub struct Renderer {
     objects: UniformArray,
+    joints: JointPalette,
     meshes: Vec<Option<GpuMesh>>,
     shadow: ShadowPass,
     main: MainPass,
@@ -63,16 +24,20 @@ impl Renderer {
     /// Builds the pipelines for a colour target of `format` (an sRGB format for correct output).
     pub fn new(gpu: &Gpu, format: wgpu::TextureFormat) -> Result<Renderer, RenderError> {
         let device = &gpu.device;
+        if !gpu.adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::VERTEX_STORAGE) {
+            return Err(RenderError::Unsupported("storage buffers in vertex shaders, which GPU skinning reads joints from"));
+        }
         let objects = UniformArray::new(
             device,
             "objects",
             std::mem::size_of::<ObjectUniform>() as u64,
             wgpu::ShaderStages::VERTEX_FRAGMENT,
         );
-        let shadow = ShadowPass::new(device, &objects.layout, 16);
-        let main = MainPass::new(device, &objects.layout, format, &shadow.maps);
+        let joints = JointPalette::new(device);
+        let shadow = ShadowPass::new(device, &objects.layout, &joints, 16);
+        let main = MainPass::new(device, &objects.layout, &joints, format, &shadow.maps);
         gpu.check_errors()?;
-        Ok(Renderer { objects, meshes: Vec::new(), shadow, main, depth: None })
+        Ok(Renderer { objects, joints, meshes: Vec::new(), shadow, main, depth: None })
     }
 
     /// Renders the world as it is now into `target` (`width` x `height` pixels), drawing only the
@@ -100,15 +65,17 @@ impl Renderer {
         }
         let objects: Vec<ObjectUniform> = data.items.iter().map(|i| i.object).collect();
         self.objects.write(device, queue, &objects);
+        self.joints.write(device, queue, &data.joints);
 
+        let drawables = Drawables { meshes: &self.meshes, objects: &self.objects, joints: &self.joints };
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let stats = if settings.shadows {
             let reuse = settings.reuse_shadow_maps;
-            self.shadow.encode(device, queue, &mut encoder, &data, &self.meshes, &self.objects, reuse)
+            self.shadow.encode(device, queue, &mut encoder, &data, drawables, reuse)
         } else {
             ShadowStats::default()
         };
-        self.main.encode(queue, &mut encoder, target, &depth, &data, &self.meshes, &self.objects);
+        self.main.encode(queue, &mut encoder, (target, &depth), &data, drawables);
         queue.submit([encoder.finish()]);
         world.insert_resource(stats);
         gpu.check_errors()
@@ -116,7 +83,7 @@ impl Renderer {
 
     fn upload_new_meshes(&mut self, device: &wgpu::Device, library: &MeshLibrary) {
         for mesh in &library.all()[self.meshes.len().min(library.all().len())..] {
-            self.meshes.push(GpuMesh::upload(device, &mesh.vertices, &mesh.indices));
+            self.meshes.push(GpuMesh::upload(device, mesh));
         }
     }
 

@@ -4,7 +4,7 @@
 //! gives it differs from the one it was drawn at (its light was dirty).
 
 use super::extract::{FrameData, LayerDraw, LightId};
-use super::renderer::{GpuMesh, vertex_layout};
+use super::mesh::{Drawables, JointPalette, PipelineDesc, PipelinePair};
 use super::uniform_array::UniformArray;
 use bevy_ecs::prelude::*;
 use glam::Mat4;
@@ -26,7 +26,7 @@ pub struct ShadowMaps {
 
 /// Pipeline, per-layer matrices and the shadow-map array.
 pub struct ShadowPass {
-    pipeline: wgpu::RenderPipeline,
+    pipelines: PipelinePair,
     layer_uniforms: UniformArray,
     /// The current shadow maps.
     pub maps: ShadowMaps,
@@ -83,44 +83,36 @@ impl std::fmt::Display for ShadowStats {
 }
 
 impl ShadowPass {
-    /// Builds the depth-only pipeline; `object_layout` is the per-object bind group layout.
-    pub fn new(device: &wgpu::Device, object_layout: &wgpu::BindGroupLayout, size: u32) -> Self {
+    /// Builds the depth-only pipelines; `object_layout` is the per-object bind group layout.
+    pub fn new(device: &wgpu::Device, object_layout: &wgpu::BindGroupLayout, palette: &JointPalette, size: u32) -> Self {
         let layer_uniforms = UniformArray::new(device, "shadow layers", 64, wgpu::ShaderStages::VERTEX);
-        let source = concat!(include_str!("../../shaders/common.wgsl"), include_str!("../../shaders/shadow.wgsl"));
+        let source = concat!(
+            include_str!("../../shaders/common.wgsl"),
+            include_str!("../../shaders/skinning.wgsl"),
+            include_str!("../../shaders/shadow.wgsl")
+        );
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("shadow.wgsl"),
             source: wgpu::ShaderSource::Wgsl(source.into()),
         });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("shadow"),
-            bind_group_layouts: &[Some(&layer_uniforms.layout), Some(object_layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("shadow"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_shadow"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout())],
-            },
-            primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
+        let desc = PipelineDesc {
+            label: "shadow",
+            module: &module,
+            vertex: "vs_shadow",
+            fragment: None,
+            groups: [&layer_uniforms.layout, object_layout],
+            depth: wgpu::DepthStencilState {
                 format: SHADOW_FORMAT,
                 depth_write_enabled: Some(true),
                 depth_compare: Some(wgpu::CompareFunction::LessEqual),
                 stencil: Default::default(),
                 // Biasing is done when sampling, in texel units, so it works the same on every backend.
                 bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
+            },
+        };
+        let pipelines = PipelinePair::new(device, &desc, palette);
         let maps = ShadowMaps::new(device, size, 2);
-        ShadowPass { pipeline, layer_uniforms, maps, drawn: vec![None; 2] }
+        ShadowPass { pipelines, layer_uniforms, maps, drawn: vec![None; 2] }
     }
 
     /// Makes sure the maps are `size` texels and hold `layers`; true if they were re-created
@@ -149,8 +141,7 @@ impl ShadowPass {
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         data: &FrameData,
-        meshes: &[Option<GpuMesh>],
-        objects: &UniformArray,
+        with: Drawables<'_>,
         reuse: bool,
     ) -> ShadowStats {
         let mut stats = ShadowStats::default();
@@ -179,14 +170,8 @@ impl ShadowPass {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &self.layer_uniforms.bind_group, &[self.layer_uniforms.offset(slot)]);
-            for &i in &layer.casters {
-                if let Some(Some(mesh)) = data.items.get(i).and_then(|item| meshes.get(item.mesh.0)) {
-                    pass.set_bind_group(1, &objects.bind_group, &[objects.offset(i)]);
-                    mesh.draw(&mut pass);
-                }
-            }
+            self.pipelines.draw(&mut pass, with, &data.items, layer.casters.iter().copied());
             drop(pass);
             if let Some(drawn) = self.drawn.get_mut(layer.layer as usize) {
                 *drawn = Some(layer.version);

@@ -4,7 +4,7 @@
 
 use crate::assets::MeshLibrary;
 use crate::components::{
-    Camera, DirectionalLight, Mesh, ShadowBias, ShadowCaster, ShadowLayer, ShadowMap, SpotLight, Transform, Viewport,
+    Camera, DirectionalLight, Joints, Mesh, ShadowBias, ShadowCaster, ShadowLayer, ShadowMap, SpotLight, Transform, Viewport,
     WorldBounds,
 };
 use crate::settings::Settings;
@@ -16,10 +16,12 @@ use bevy_ecs::prelude::*;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// Recomputes the world bounds of every mesh entity that moved or changed mesh.
+/// Recomputes the world bounds of every rigid mesh entity that moved or changed mesh (skinned
+/// ones get theirs from the pose, in [`crate::systems::pose_parts`]).
+#[allow(clippy::type_complexity)]
 pub fn update_bounds(
     meshes: Res<MeshLibrary>,
-    mut query: Query<(&Transform, &Mesh, &mut WorldBounds), Or<(Changed<Transform>, Changed<Mesh>)>>,
+    mut query: Query<(&Transform, &Mesh, &mut WorldBounds), (Without<Joints>, Or<(Changed<Transform>, Changed<Mesh>)>)>,
 ) {
     for (transform, mesh, mut bounds) in &mut query {
         let local = meshes.get(*mesh).map_or(Aabb::EMPTY, |m| m.bounds);
@@ -32,26 +34,40 @@ pub fn update_bounds(
 #[derive(Resource, Clone, Debug, Default, PartialEq)]
 pub struct CasterChanges(pub Vec<Aabb>);
 
-/// What a caster's shadow depends on: where it is, how it is placed and what it is.
+/// What a caster's shadow depends on: where it is, how it is placed, what it is and its pose.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CasterState {
     bounds: Aabb,
     model: glam::Mat4,
     mesh: Mesh,
+    pose: u64,
+}
+
+/// A fingerprint of joint matrices, so a new pose counts as a change and a repeated one does not.
+fn pose_hash(joints: Option<&Joints>) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    for m in joints.map_or(&[][..], |j| &j.0) {
+        m.to_cols_array().map(f32::to_bits).hash(&mut h);
+    }
+    h.finish()
 }
 
 /// Finds the casters that changed since the last update and lists their old and new bounds.
 ///
-/// A caster changed when its bounds, transform or mesh differ by value from the last update, so
-/// a system that rewrites a transform with the same value (an animation at an unchanged time)
-/// dirties nothing, while a turn that leaves the bounds as they were still counts.
+/// A caster changed when its bounds, transform, mesh or pose differ by value from the last
+/// update, so a system that rewrites a transform with the same value (an animation at an
+/// unchanged time) dirties nothing, while a turn that leaves the bounds as they were still counts.
 #[allow(clippy::type_complexity)]
 pub fn track_casters(
     mut known: Local<HashMap<Entity, CasterState>>,
     mut changes: ResMut<CasterChanges>,
     casters: Query<
-        (Entity, &WorldBounds, &Transform, &Mesh),
-        (With<ShadowCaster>, Or<(Changed<WorldBounds>, Changed<Transform>, Changed<Mesh>, Added<ShadowCaster>)>),
+        (Entity, &WorldBounds, &Transform, &Mesh, Option<&Joints>),
+        (
+            With<ShadowCaster>,
+            Or<(Changed<WorldBounds>, Changed<Transform>, Changed<Mesh>, Changed<Joints>, Added<ShadowCaster>)>,
+        ),
     >,
     mut removed: RemovedComponents<ShadowCaster>,
 ) {
@@ -59,8 +75,8 @@ pub fn track_casters(
     for entity in removed.read() {
         changes.0.extend(known.remove(&entity).map(|s| s.bounds));
     }
-    for (entity, bounds, transform, mesh) in &casters {
-        let state = CasterState { bounds: bounds.0, model: transform.matrix(), mesh: *mesh };
+    for (entity, bounds, transform, mesh, joints) in &casters {
+        let state = CasterState { bounds: bounds.0, model: transform.matrix(), mesh: *mesh, pose: pose_hash(joints) };
         match known.insert(entity, state) {
             Some(old) if old == state => {}
             old => changes.0.extend(old.map(|o| o.bounds).into_iter().chain([bounds.0])),

@@ -3,7 +3,9 @@
 mod animate;
 mod camera;
 mod lights;
+mod skeletal;
 
 pub use animate::{bob, spin};
 pub use camera::fly_camera;
 pub use lights::{CasterChanges, CasterState, track_casters, update_bounds, update_light_matrices};
+pub use skeletal::{animate_models, pose_parts, walk};

@@ -1,0 +1,192 @@
+//! Reading accessors with every range checked: a broken offset, stride or count is an error
+//! that says which accessor and by how much, never a panic or an out-of-bounds read.
+
+use gltf::accessor::{DataType, Dimensions};
+
+/// Most elements an accessor without a buffer view (all zeros) may have.
+const MAX_ZERO_ELEMENTS: usize = 1 << 24;
+
+/// Every component of every element as f32; normalized integers map to 0..1 or -1..1.
+pub(super) fn floats(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<f32>, String> {
+    let (ty, normalized) = (acc.data_type(), acc.normalized());
+    decode(acc, buffers, |b| to_f32(b, ty, normalized))
+}
+
+/// Every component of every element as an integer; floats are refused.
+pub(super) fn ints(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
+    let ty = acc.data_type();
+    if ty == DataType::F32 {
+        return Err(format!("accessor {} holds floats where integers are needed", acc.index()));
+    }
+    decode(acc, buffers, |b| to_u32(b, ty))
+}
+
+/// Components per element of an accessor.
+pub(super) fn components(acc: &gltf::Accessor<'_>) -> usize {
+    acc.dimensions().multiplicity()
+}
+
+/// Columns, rows and bytes per column of one element (matrix columns are padded to 4 bytes).
+fn shape(dims: Dimensions, size: usize) -> (usize, usize, usize) {
+    let (cols, rows) = match dims {
+        Dimensions::Mat2 => (2, 2),
+        Dimensions::Mat3 => (3, 3),
+        Dimensions::Mat4 => (4, 4),
+        d => (1, d.multiplicity()),
+    };
+    let column = if cols > 1 { (rows * size).div_ceil(4) * 4 } else { rows * size };
+    (cols, rows, column)
+}
+
+fn decode<T: Copy + Default>(
+    acc: &gltf::Accessor<'_>,
+    buffers: &[Vec<u8>],
+    f: impl Fn(&[u8]) -> T,
+) -> Result<Vec<T>, String> {
+    let i = acc.index();
+    let size = acc.data_type().size();
+    let (cols, rows, column) = shape(acc.dimensions(), size);
+    let element = cols * column;
+    let count = acc.count();
+    let mut out = match acc.view() {
+        Some(view) => {
+            let data = view_bytes(&view, buffers)?;
+            let stride = view.stride().unwrap_or(element);
+            if stride < element {
+                return Err(format!("accessor {i}: its view's stride of {stride} bytes is less than one element ({element})"));
+            }
+            let needed = match count {
+                0 => Some(0),
+                n => stride.checked_mul(n - 1).and_then(|s| s.checked_add(acc.offset())).and_then(|s| s.checked_add(element)),
+            };
+            match needed {
+                Some(n) if n <= data.len() => {}
+                _ => {
+                    return Err(format!(
+                        "accessor {i} is out of range: {count} elements from byte {} need more than the {} bytes of buffer view {}",
+                        acc.offset(),
+                        data.len(),
+                        view.index()
+                    ));
+                }
+            }
+            let mut out = Vec::with_capacity(count * cols * rows);
+            for e in 0..count {
+                let base = acc.offset() + e * stride;
+                for c in 0..cols {
+                    for r in 0..rows {
+                        let at = base + c * column + r * size;
+                        out.push(f(&data[at..at + size]));
+                    }
+                }
+            }
+            out
+        }
+        None if count <= MAX_ZERO_ELEMENTS => vec![T::default(); count * cols * rows],
+        None => return Err(format!("accessor {i} has {count} elements and no data")),
+    };
+    if let Some(sparse) = acc.sparse() {
+        apply_sparse(&sparse, i, count, cols * rows, size, buffers, &f, &mut out)?;
+    }
+    Ok(out)
+}
+
+/// Replaces the elements a sparse accessor lists.
+#[allow(clippy::too_many_arguments)]
+fn apply_sparse<T>(
+    sparse: &gltf::accessor::sparse::Sparse<'_>,
+    i: usize,
+    count: usize,
+    comps: usize,
+    size: usize,
+    buffers: &[Vec<u8>],
+    f: &impl Fn(&[u8]) -> T,
+    out: &mut [T],
+) -> Result<(), String> {
+    let n = sparse.count();
+    let (indices, values) = (sparse.indices(), sparse.values());
+    let index_size = match indices.index_type() {
+        gltf::accessor::sparse::IndexType::U8 => 1,
+        gltf::accessor::sparse::IndexType::U16 => 2,
+        gltf::accessor::sparse::IndexType::U32 => 4,
+    };
+    let index_bytes = view_bytes(&indices.view(), buffers)?;
+    let value_bytes = view_bytes(&values.view(), buffers)?;
+    let fits = |data: &[u8], offset: usize, each: usize| n.checked_mul(each).and_then(|b| b.checked_add(offset)).is_some_and(|end| end <= data.len());
+    if !fits(index_bytes, indices.offset(), index_size) || !fits(value_bytes, values.offset(), comps * size) {
+        return Err(format!("accessor {i}: its sparse indices or values run past their buffer views"));
+    }
+    for k in 0..n {
+        let at = indices.offset() + k * index_size;
+        let mut target = 0usize;
+        for (b, byte) in index_bytes[at..at + index_size].iter().enumerate() {
+            target |= (*byte as usize) << (8 * b);
+        }
+        if target >= count {
+            return Err(format!("accessor {i}: sparse index {target} is past its {count} elements"));
+        }
+        for c in 0..comps {
+            let at = values.offset() + (k * comps + c) * size;
+            out[target * comps + c] = f(&value_bytes[at..at + size]);
+        }
+    }
+    Ok(())
+}
+
+/// The bytes of a buffer view, checked against its buffer.
+fn view_bytes<'a>(view: &gltf::buffer::View<'_>, buffers: &'a [Vec<u8>]) -> Result<&'a [u8], String> {
+    let buffer = &buffers[view.buffer().index()];
+    let end = view.offset().checked_add(view.length());
+    match end {
+        Some(end) if end <= buffer.len() => Ok(&buffer[view.offset()..end]),
+        _ => Err(format!(
+            "buffer view {} ({} bytes from byte {}) runs past the end of buffer {} ({} bytes)",
+            view.index(),
+            view.length(),
+            view.offset(),
+            view.buffer().index(),
+            buffer.len()
+        )),
+    }
+}
+
+fn to_f32(b: &[u8], ty: DataType, normalized: bool) -> f32 {
+    let (v, scale) = match ty {
+        DataType::I8 => (b[0] as i8 as f32, 127.0),
+        DataType::U8 => (b[0] as f32, 255.0),
+        DataType::I16 => (i16::from_le_bytes([b[0], b[1]]) as f32, 32767.0),
+        DataType::U16 => (u16::from_le_bytes([b[0], b[1]]) as f32, 65535.0),
+        DataType::U32 => (u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f32, 1.0),
+        DataType::F32 => return f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+    };
+    if normalized { (v / scale).max(-1.0) } else { v }
+}
+
+fn to_u32(b: &[u8], ty: DataType) -> u32 {
+    match ty {
+        DataType::I8 | DataType::U8 => b[0] as u32,
+        DataType::I16 | DataType::U16 => u16::from_le_bytes([b[0], b[1]]) as u32,
+        _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normalized_integers_map_to_unit_ranges() {
+        assert_eq!(to_f32(&[255], DataType::U8, true), 1.0);
+        assert_eq!(to_f32(&[0x80], DataType::I8, true), -1.0, "-128 clamps to -1");
+        assert_eq!(to_f32(&[0xff, 0x7f], DataType::I16, true), 1.0);
+        assert_eq!(to_f32(&[7, 0], DataType::U16, false), 7.0);
+    }
+
+    #[test]
+    fn matrix_columns_are_padded_to_four_bytes() {
+        assert_eq!(shape(Dimensions::Mat3, 1), (3, 3, 4));
+        assert_eq!(shape(Dimensions::Mat2, 2), (2, 2, 4));
+        assert_eq!(shape(Dimensions::Mat4, 4), (4, 4, 16));
+        assert_eq!(shape(Dimensions::Vec3, 1), (1, 3, 3));
+    }
+}
