@@ -2,6 +2,8 @@
 
 #![allow(dead_code)]
 
+pub mod gltf;
+
 use glam::{Vec2, Vec3};
 use std::sync::{Mutex, MutexGuard, OnceLock};
 use umbra::App;

@@ -3,8 +3,8 @@
 
 use gltf::accessor::{DataType, Dimensions};
 
-/// Most elements an accessor without a buffer view (all zeros) may have.
-const MAX_ZERO_ELEMENTS: usize = 1 << 24;
+/// Most components an accessor without a buffer view (all zeros) may have.
+const MAX_ZERO_COMPONENTS: usize = 1 << 24;
 
 /// Every component of every element as f32; normalized integers map to 0..1 or -1..1.
 pub(super) fn floats(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<f32>, String> {
@@ -82,7 +82,7 @@ fn decode<T: Copy + Default>(
             }
             out
         }
-        None if count <= MAX_ZERO_ELEMENTS => vec![T::default(); count * cols * rows],
+        None if count.saturating_mul(cols * rows) <= MAX_ZERO_COMPONENTS => vec![T::default(); count * cols * rows],
         None => return Err(format!("accessor {i} has {count} elements and no data")),
     };
     if let Some(sparse) = acc.sparse() {

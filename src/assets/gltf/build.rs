@@ -139,6 +139,9 @@ fn part(
         return Err("a POSITION is not finite".into());
     }
     let normals = attribute(p, &Semantic::Normals, 3, Some(n), buffers)?;
+    if normals.as_ref().is_some_and(|v| v.iter().any(|x| !x.is_finite())) {
+        return Err("a NORMAL is not finite".into());
+    }
     let indices = match p.indices() {
         Some(acc) => ints(&acc, buffers).map_err(|e| format!("indices: {e}"))?,
         None => (0..n as u32).collect(),
@@ -282,7 +285,11 @@ fn clip(a: &gltf::Animation<'_>, buffers: &[Vec<u8>], warnings: &mut Vec<String>
         if raw.len() != times.len() * per_key * width || raw.iter().any(|v| !v.is_finite()) {
             return Err(format!("{at}: {} key times need {} finite values, found {}", times.len(), times.len() * per_key, raw.len() / width));
         }
-        let values = raw.chunks_exact(width).map(|v| if width == 4 { Vec4::from_slice(v) } else { Vec3::from_slice(v).extend(0.0) }).collect();
+        let values: Vec<Vec4> = raw.chunks_exact(width).map(|v| if width == 4 { Vec4::from_slice(v) } else { Vec3::from_slice(v).extend(0.0) }).collect();
+        let keys = values.iter().skip(per_key / 2).step_by(per_key);
+        if property == Property::Rotation && keys.clone().any(|q| q.length() < 1e-6) {
+            return Err(format!("{at}: a rotation key is not a quaternion (its length is 0)"));
+        }
         channels.push(Channel { node: c.target().node().index(), property, interpolation, times, values });
     }
     let duration = channels.iter().filter_map(|c| c.times.last()).fold(0.0f32, |a, &b| a.max(b));

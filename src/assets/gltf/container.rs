@@ -34,9 +34,35 @@ pub(super) fn open(bytes: &[u8], dir: Option<&Path>) -> Result<Source, String> {
         return Err(format!("it requires the extension {ext}, which umbra does not support"));
     }
     root.extensions_required.clear();
+    check_unchecked(&root)?;
     let doc = gltf::Document::from_json(root).map_err(|e| format!("invalid glTF: {e}"))?;
     let buffers = doc.buffers().map(|b| load_buffer(&b, blob, dir)).collect::<Result<_, _>>()?;
     Ok(Source { doc, buffers })
+}
+
+/// What the gltf crate's validation leaves unchecked or would index unchecked: animation channel
+/// targets, and the POSITION accessor of each primitive.
+fn check_unchecked(root: &gltf::json::Root) -> Result<(), String> {
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let position = primitive.attributes.get(&gltf::json::validation::Checked::Valid(gltf::Semantic::Positions));
+            if let Some(i) = position.map(|i| i.value()).filter(|&i| i >= root.accessors.len()) {
+                return Err(format!("mesh {m} primitive {p}: POSITION is accessor {i}, but there are {} accessors", root.accessors.len()));
+            }
+        }
+    }
+    for (a, animation) in root.animations.iter().enumerate() {
+        for (c, channel) in animation.channels.iter().enumerate() {
+            let at = format!("animation {a} channel {c}");
+            if channel.target.node.value() >= root.nodes.len() {
+                return Err(format!("{at} targets node {}, but there are {} nodes", channel.target.node.value(), root.nodes.len()));
+            }
+            if matches!(channel.target.path, gltf::json::validation::Checked::Invalid) {
+                return Err(format!("{at} targets an unknown property"));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn u32_at(bytes: &[u8], at: usize) -> Option<u32> {
