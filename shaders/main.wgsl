@@ -100,7 +100,7 @@ fn spot_visibility(s: Spot, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f
         return 1.0;
     }
     let bias = Bias(s.bias.x, s.bias.y, s.bias.z);
-    return strengthen(shadow_visibility(s.view_proj, i32(s.shadow.x), s.shadow.y * distance, p, n, l, bias));
+    return shadow_visibility(s.view_proj, i32(s.shadow.x), s.shadow.y * distance, p, n, l, bias);
 }
 
 // The spot's cookie at `p`: the image projected through the cone (1 without a cookie).
@@ -150,23 +150,31 @@ fn phong(n: vec3<f32>, l: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>) -> vec3<f3
     return albedo * n_dot_l + vec3<f32>(spec) * step(0.0, dot(n, l));
 }
 
-@fragment
-fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
+// What lighting found at a fragment: its colour, and the shadow visibility (0 shadowed .. 1
+// lit) each light's test gave: x the sun, y z w the first three spots; -1 where a light does not
+// reach the fragment (facing away, outside the cone or range) and no test was made.
+struct Shaded {
+    color: vec3<f32>,
+    visibility: vec4<f32>,
+};
+
+fn shade(in: VertexOut) -> Shaded {
     let n = normalize(in.normal);
     let p = in.world;
     let v = normalize(frame.camera_position.xyz - p);
     let depth = dot(p - frame.camera_position.xyz, frame.camera_forward.xyz);
     let albedo = object.color.rgb;
-    var color = albedo * frame.misc.x;
+    var out = Shaded(albedo * frame.misc.x, vec4<f32>(-1.0));
 
     if (frame.counts.x > 0u) {
         let l = -normalize(frame.sun.direction.xyz);
         if (dot(n, l) > 0.0) {
             var vis = 1.0;
             if (receives_shadows()) {
-                vis = strengthen(sun_visibility(p, n, l, depth));
+                vis = sun_visibility(p, n, l, depth);
             }
-            color += frame.sun.color.rgb * phong(n, l, v, albedo) * vis;
+            out.visibility.x = vis;
+            out.color += frame.sun.color.rgb * phong(n, l, v, albedo) * strengthen(vis);
         }
     }
 
@@ -184,11 +192,41 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         let attenuation = window * window / (1.0 + 0.05 * d * d);
         if (cone * attenuation > 0.0 && dot(n, l) > 0.0) {
             let vis = spot_visibility(spot, d, p, n, l);
-            color += spot.color.rgb * phong(n, l, v, albedo) * (cone * attenuation * vis * cookie(spot, p));
+            if (i < 3u) {
+                out.visibility[i + 1u] = vis;
+            }
+            out.color += spot.color.rgb * phong(n, l, v, albedo) * (cone * attenuation * strengthen(vis) * cookie(spot, p));
         }
     }
     if (frame.misc.z > 0.5) {
-        color *= cascade_tint(depth);
+        out.color *= cascade_tint(depth);
     }
-    return vec4<f32>(color, 1.0);
+    return out;
+}
+
+@fragment
+fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(shade(in).color, 1.0);
+}
+
+// The measuring view of the same fragment (never used for play): where the visible surface is,
+// which way it faces and what each light's shadow test gave. The floats travel as their bits in
+// integer targets, which every backend can render to.
+struct DebugOut {
+    // xyz: world position, w: 1 (the sky stays 0).
+    @location(0) position: vec4<u32>,
+    // xyz: unit world normal, w: view depth.
+    @location(1) normal: vec4<u32>,
+    @location(2) visibility: vec4<u32>,
+};
+
+@fragment
+fn fs_debug(in: VertexOut) -> DebugOut {
+    let shaded = shade(in);
+    let depth = dot(in.world - frame.camera_position.xyz, frame.camera_forward.xyz);
+    return DebugOut(
+        bitcast<vec4<u32>>(vec4<f32>(in.world, 1.0)),
+        bitcast<vec4<u32>>(vec4<f32>(normalize(in.normal), depth)),
+        bitcast<vec4<u32>>(shaded.visibility),
+    );
 }

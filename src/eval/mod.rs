@@ -1,4 +1,6 @@
-//! Measuring the shadows: benchmarks now; ground truth, metrics and charts to come. Never used
-//! while playing.
+//! Measuring the shadows: ground truth by ray casting, metrics, benchmarks and charts. Never
+//! used while playing.
 
 pub mod bench;
+pub mod metrics;
+pub mod truth;

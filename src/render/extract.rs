@@ -184,6 +184,14 @@ fn spot_uniform(light: &SpotLight, t: &Transform, map: &ShadowMap, bias: ShadowB
     }
 }
 
+/// The lights the main pass uses, in the order it uses them: the first sun, then at most
+/// [`MAX_SPOTS`] spot lights (the measuring view reports visibilities in this order).
+pub fn light_order(world: &mut World) -> (Option<Entity>, Vec<Entity>) {
+    let sun = world.query_filtered::<Entity, With<DirectionalLight>>().iter(world).next();
+    let spots = world.query_filtered::<Entity, (With<SpotLight>, With<Transform>)>().iter(world).take(MAX_SPOTS).collect();
+    (sun, spots)
+}
+
 /// Reads the world into the data one frame needs. Without a camera nothing is drawn.
 pub fn extract(world: &mut World) -> FrameData {
     let settings = world.resource::<Settings>().clone();
@@ -215,26 +223,25 @@ pub fn extract(world: &mut World) -> FrameData {
 
     let mut layers = Vec::new();
     let mut sun = SunUniform::zeroed();
-    let mut suns = 0;
     let no_map = ShadowMap::default();
-    let mut sun_query = world.query::<(&DirectionalLight, Option<&ShadowMap>, Option<&ShadowBias>)>();
-    if let Some((light, map, bias)) = sun_query.iter(world).next() {
-        let map = map.unwrap_or(&no_map);
+    let (sun_entity, spot_entities) = light_order(world);
+    if let Some(e) = sun_entity
+        && let Some(light) = world.get::<DirectionalLight>(e)
+    {
+        let map = world.get::<ShadowMap>(e).unwrap_or(&no_map);
         layers.extend(layer_draws(LightId::Sun, map, &items));
-        sun = sun_uniform(light, map, bias.copied().unwrap_or_default());
-        suns = 1;
+        sun = sun_uniform(light, map, world.get::<ShadowBias>(e).copied().unwrap_or_default());
     }
 
     let mut spots = [SpotUniform::zeroed(); MAX_SPOTS];
-    let mut spot_count = 0;
-    let mut spot_query =
-        world.query::<(&SpotLight, &Transform, Option<&ShadowMap>, Option<&ShadowBias>, Option<&Cookie>)>();
-    for (light, t, map, bias, cookie) in spot_query.iter(world).take(MAX_SPOTS) {
-        let map = map.unwrap_or(&no_map);
-        layers.extend(layer_draws(LightId::Spot(spot_count), map, &items));
-        spots[spot_count] = spot_uniform(light, t, map, bias.copied().unwrap_or_default(), cookie);
-        spot_count += 1;
+    for (i, &e) in spot_entities.iter().enumerate() {
+        let (Some(light), Some(t)) = (world.get::<SpotLight>(e), world.get::<Transform>(e)) else { continue };
+        let map = world.get::<ShadowMap>(e).unwrap_or(&no_map);
+        layers.extend(layer_draws(LightId::Spot(i), map, &items));
+        let bias = world.get::<ShadowBias>(e).copied().unwrap_or_default();
+        spots[i] = spot_uniform(light, t, map, bias, world.get::<Cookie>(e));
     }
+    let (suns, spot_count) = (sun_entity.is_some() as u32, spot_entities.len());
 
     let fade_start = settings.shadow_distance * (1.0 - SHADOW_FADE);
     let frame = FrameUniform {

@@ -14,8 +14,26 @@ const SKY: wgpu::Color = wgpu::Color { r: 0.38, g: 0.55, b: 0.78, a: 1.0 };
 /// Pipeline, frame uniform and the bind group that ties in the shadow maps.
 pub struct MainPass {
     pipelines: PipelinePair,
+    /// The measuring pipelines (world position, normal, visibility), built on first use.
+    debug: Option<PipelinePair>,
+    module: wgpu::ShaderModule,
+    object_layout: wgpu::BindGroupLayout,
     frame: FrameResources,
     bind_group: wgpu::BindGroup,
+}
+
+/// Format of the measuring pass's three targets (world position, normal, visibility): 32-bit
+/// floats carried as their bits, since GL cannot render to float targets of that size.
+pub const DEBUG_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+
+fn depth_test() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
 }
 
 /// What bind group 0 holds besides the shadow maps, which are re-created when they grow.
@@ -123,19 +141,31 @@ impl MainPass {
             vertex: "vs_main",
             fragment: Some(("fs_main", &targets)),
             groups: [&frame_layout, object_layout],
-            depth: wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            },
+            depth: depth_test(),
         };
         let pipelines = PipelinePair::new(device, &desc, palette);
         let cookies = cookie_buffer(device);
         let frame = FrameResources { layout: frame_layout, buffer: frame_buffer, shadow_sampler: sampler, cookies };
         let bind_group = frame.bind(device, maps);
-        MainPass { pipelines, frame, bind_group }
+        let object_layout = object_layout.clone();
+        MainPass { pipelines, debug: None, module, object_layout, frame, bind_group }
+    }
+
+    /// Builds the measuring pipelines if they are not built yet.
+    pub fn ensure_debug(&mut self, device: &wgpu::Device, palette: &JointPalette) {
+        if self.debug.is_some() {
+            return;
+        }
+        let targets = [Some(DEBUG_FORMAT.into()), Some(DEBUG_FORMAT.into()), Some(DEBUG_FORMAT.into())];
+        let desc = PipelineDesc {
+            label: "measure",
+            module: &self.module,
+            vertex: "vs_main",
+            fragment: Some(("fs_debug", &targets)),
+            groups: [&self.frame.layout, &self.object_layout],
+            depth: depth_test(),
+        };
+        self.debug = Some(PipelinePair::new(device, &desc, palette));
     }
 
     /// Points the pass at new shadow maps after they were re-created.
@@ -152,15 +182,51 @@ impl MainPass {
         data: &FrameData,
         with: Drawables<'_>,
     ) {
+        self.encode_into(queue, encoder, &[(color, SKY)], depth, data, with, &self.pipelines);
+    }
+
+    /// Draws every object's world position, normal and shadow visibilities into `targets`
+    /// (cleared to zero), with the same lighting code as [`MainPass::encode`]; needs
+    /// [`MainPass::ensure_debug`] first.
+    pub fn encode_debug(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        (targets, depth): (&[wgpu::TextureView; 3], &wgpu::TextureView),
+        data: &FrameData,
+        with: Drawables<'_>,
+    ) {
+        let Some(debug) = &self.debug else { return };
+        let clear = targets.each_ref().map(|t| (t, wgpu::Color::TRANSPARENT));
+        self.encode_into(queue, encoder, &clear, depth, data, with, debug);
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn encode_into(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        colors: &[(&wgpu::TextureView, wgpu::Color)],
+        depth: &wgpu::TextureView,
+        data: &FrameData,
+        with: Drawables<'_>,
+        pipelines: &PipelinePair,
+    ) {
         queue.write_buffer(&self.frame.buffer, 0, bytemuck::bytes_of(&data.frame));
+        let attachments: Vec<_> = colors
+            .iter()
+            .map(|(view, clear)| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(*clear), store: wgpu::StoreOp::Store },
+                })
+            })
+            .collect();
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("main pass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: color,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(SKY), store: wgpu::StoreOp::Store },
-            })],
+            color_attachments: &attachments,
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: depth,
                 depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
@@ -171,7 +237,7 @@ impl MainPass {
             multiview_mask: None,
         });
         pass.set_bind_group(0, &self.bind_group, &[]);
-        self.pipelines.draw(&mut pass, with, &data.items, 0..data.items.len());
+        pipelines.draw(&mut pass, with, &data.items, 0..data.items.len());
     }
 }
 

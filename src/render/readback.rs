@@ -1,6 +1,8 @@
 //! Headless rendering: a frame drawn into a texture and copied back to the CPU as RGBA8.
 
+use super::main_pass::DEBUG_FORMAT;
 use super::{Gpu, RenderError, Renderer};
+use glam::Vec4;
 use crate::App;
 use std::path::Path;
 
@@ -99,11 +101,70 @@ pub fn render_headless(
         view_formats: &[],
     });
     renderer.render(gpu, &mut app.world, &texture.create_view(&Default::default()), width, height)?;
-    read_texture(gpu, &texture, width, height)
+    let pixels = read_texture(gpu, &texture, width, height, 4)?;
+    Ok(Image { width, height, pixels })
 }
 
-fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, width: u32, height: u32) -> Result<Image, RenderError> {
-    let row = 4 * width;
+/// One measured frame: for each pixel (rows top to bottom), the visible surface and what each
+/// light's shadow test gave there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DebugFrame {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// xyz: world position of the visible surface; w: 1 where there is one, 0 for the sky.
+    pub position: Vec<Vec4>,
+    /// xyz: its unit normal; w: its view depth in metres.
+    pub normal: Vec<Vec4>,
+    /// Shadow visibility (0 shadowed .. 1 lit) of the sun (x) and the first three spot lights
+    /// (y, z, w); -1 where the light does not reach the surface and no test was made.
+    pub visibility: Vec<Vec4>,
+}
+
+impl DebugFrame {
+    /// True when pixel `i` shows a surface (not the sky).
+    pub fn covered(&self, i: usize) -> bool {
+        self.position[i].w > 0.5
+    }
+}
+
+/// Renders the measuring view of `app` as it is now, `width` x `height`, and reads it back.
+pub fn render_debug_frame(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    app: &mut App,
+    width: u32,
+    height: u32,
+) -> Result<DebugFrame, RenderError> {
+    let max = gpu.device.limits().max_texture_dimension_2d;
+    if width == 0 || height == 0 || width > max || height > max {
+        return Err(RenderError::BadSize { width, height, max });
+    }
+    let textures = [0, 1, 2].map(|_| {
+        gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("measure"),
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEBUG_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        })
+    });
+    let views = textures.each_ref().map(|t| t.create_view(&Default::default()));
+    renderer.render_debug(gpu, &mut app.world, &views, width, height)?;
+    let read = |t: &wgpu::Texture| -> Result<Vec<Vec4>, RenderError> {
+        let bytes = read_texture(gpu, t, width, height, 16)?;
+        Ok(bytes.chunks_exact(16).map(|c| Vec4::from_array(bytemuck::pod_read_unaligned(c))).collect())
+    };
+    Ok(DebugFrame { width, height, position: read(&textures[0])?, normal: read(&textures[1])?, visibility: read(&textures[2])? })
+}
+
+/// The pixels of `texture`, `bytes` per pixel, rows top to bottom without padding.
+fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, width: u32, height: u32, bytes: u32) -> Result<Vec<u8>, RenderError> {
+    let row = bytes * width;
     let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
@@ -137,5 +198,5 @@ fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, width: u32, height: u32) -> 
     drop(mapped);
     buffer.unmap();
     gpu.check_errors()?;
-    Ok(Image { width, height, pixels })
+    Ok(pixels)
 }

@@ -10,6 +10,12 @@ use crate::assets::MeshLibrary;
 use crate::settings::Settings;
 use bevy_ecs::prelude::*;
 
+/// Where a frame goes: a picture, or the measuring targets.
+enum Output<'a> {
+    Picture(&'a wgpu::TextureView),
+    Measure(&'a [wgpu::TextureView; 3]),
+}
+
 /// GPU state that lives across frames: pipelines, meshes, shadow maps and the depth buffer.
 pub struct Renderer {
     objects: UniformArray,
@@ -50,6 +56,24 @@ impl Renderer {
         width: u32,
         height: u32,
     ) -> Result<(), RenderError> {
+        self.draw(gpu, world, (width, height), Output::Picture(target))
+    }
+
+    /// Renders the measuring view of the world into `targets` (world position, normal, shadow
+    /// visibility per light), with the same shadow maps and lighting code as [`Renderer::render`].
+    pub fn render_debug(
+        &mut self,
+        gpu: &Gpu,
+        world: &mut World,
+        targets: &[wgpu::TextureView; 3],
+        width: u32,
+        height: u32,
+    ) -> Result<(), RenderError> {
+        self.main.ensure_debug(&gpu.device, &self.joints);
+        self.draw(gpu, world, (width, height), Output::Measure(targets))
+    }
+
+    fn draw(&mut self, gpu: &Gpu, world: &mut World, (width, height): (u32, u32), output: Output<'_>) -> Result<(), RenderError> {
         let (device, queue) = (&gpu.device, &gpu.queue);
         let settings = world.resource::<Settings>().clone();
         let max = device.limits().max_texture_dimension_2d;
@@ -75,7 +99,10 @@ impl Renderer {
         } else {
             ShadowStats::default()
         };
-        self.main.encode(queue, &mut encoder, (target, &depth), &data, drawables);
+        match output {
+            Output::Picture(target) => self.main.encode(queue, &mut encoder, (target, &depth), &data, drawables),
+            Output::Measure(targets) => self.main.encode_debug(queue, &mut encoder, (targets, &depth), &data, drawables),
+        }
         queue.submit([encoder.finish()]);
         world.insert_resource(stats);
         gpu.check_errors()
