@@ -76,7 +76,8 @@ impl App {
         world.insert_resource(systems::CasterChanges::default());
         let mut update = Schedule::new(Update);
         update.configure_sets((Stage::Animate, Stage::Camera, Stage::Gameplay, Stage::Lights).chain());
-        update.add_systems((systems::spin, systems::bob, systems::walk, systems::animate_models).in_set(Stage::Animate));
+        update
+            .add_systems((systems::spin, systems::bob, systems::walk, systems::animate_models).in_set(Stage::Animate));
         update.add_systems(systems::fly_camera.in_set(Stage::Camera));
         let lights =
             (systems::pose_parts, systems::update_bounds, systems::track_casters, systems::update_light_matrices);

@@ -4,9 +4,9 @@ use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use umbra::components::{ModelInstance, Transform};
 use umbra::render::{Gpu, render_headless, render_png};
 use umbra::shadow::FitMode;
-use umbra::components::{ModelInstance, Transform};
 use umbra::{App, Settings};
 
 /// umbra: a game sample about real-time shadow mapping.

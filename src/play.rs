@@ -71,7 +71,7 @@ pub fn play_or_render(mut app: App, frames: Option<u32>, fallback: &Path) -> Res
 }
 
 /// Scene time of the picture rendered when there is no display.
-pub const FALLBACK_TIME: f64 = 2.0;
+pub const FALLBACK_TIME: f64 = 6.0;
 
 fn run(event_loop: EventLoop<()>, app: App, frames: Option<u32>) -> Result<(), PlayError> {
     let mut player = Player {
@@ -246,7 +246,10 @@ impl ApplicationHandler for Player {
                 if let PhysicalKey::Code(code) = event.physical_key {
                     if code == KeyCode::Escape && down {
                         event_loop.exit();
-                    } else if down && !event.repeat && change_setting(code, &mut self.app.world.resource_mut::<Settings>()) {
+                    } else if down
+                        && !event.repeat
+                        && change_setting(code, &mut self.app.world.resource_mut::<Settings>())
+                    {
                         let settings = self.app.settings();
                         println!("{}", settings_line(settings));
                     } else if let Some(key) = key_for(code) {
@@ -276,10 +279,10 @@ impl ApplicationHandler for Player {
     }
 
     fn device_event(&mut self, _event_loop: &ActiveEventLoop, _id: DeviceId, event: DeviceEvent) {
-        if let DeviceEvent::MouseMotion { delta } = event {
-            if self.looking {
-                self.app.world.resource_mut::<Input>().look_delta += glam::Vec2::new(delta.0 as f32, delta.1 as f32);
-            }
+        if let DeviceEvent::MouseMotion { delta } = event
+            && self.looking
+        {
+            self.app.world.resource_mut::<Input>().look_delta += glam::Vec2::new(delta.0 as f32, delta.1 as f32);
         }
     }
 

@@ -37,7 +37,7 @@ pub fn spawn_sample_scene(world: &mut World, settings: &Settings) -> Result<(), 
     world.spawn((ground, Material::color(0.45, 0.47, 0.42), ShadowReceiver));
 
     let stone = Material::color(0.62, 0.58, 0.52);
-    let pillars = [(-7.0, -5.0), (7.5, -4.0), (-3.0, -9.0), (5.0, 6.5)];
+    let pillars = [(-7.0, -5.0), (7.5, -4.0), (-3.0, -9.0), (7.0, 5.0)];
     for (x, z) in pillars {
         let t = Transform::from_xyz(x, 3.0, z).with_scale(Vec3::new(0.9, 6.0, 0.9));
         world.spawn((unit_cube, t, stone, ShadowCaster, ShadowReceiver));
@@ -50,7 +50,8 @@ pub fn spawn_sample_scene(world: &mut World, settings: &Settings) -> Result<(), 
     }
 
     let bias = ShadowBias { constant: settings.depth_bias, slope: settings.slope_bias, normal: settings.normal_bias };
-    let sun = DirectionalLight { direction: SUN_DIRECTION.normalize(), color: Vec3::new(1.0, 0.95, 0.85), intensity: 1.0 };
+    let sun =
+        DirectionalLight { direction: SUN_DIRECTION.normalize(), color: Vec3::new(1.0, 0.95, 0.85), intensity: 1.0 };
     world.spawn((sun, ShadowMap::default(), bias));
     for (spot, at, target, cookie) in sample_spots() {
         let transform = Transform { translation: at, ..Default::default() }.looking_to(target - at);
@@ -86,7 +87,8 @@ pub fn spawn_model(world: &mut World, model: Arc<Model>, placement: Transform, c
     let root = world.spawn((ModelInstance(model.clone()), Animator { clip, speed: 1.0 }, placement)).id();
     for (i, part) in model.parts.iter().enumerate() {
         let mesh = world.resource_mut::<MeshLibrary>().add(part.mesh.clone());
-        let mut e = world.spawn((mesh, part.material, placement, ModelPart { root, part: i }, ShadowCaster, ShadowReceiver));
+        let mut e =
+            world.spawn((mesh, part.material, placement, ModelPart { root, part: i }, ShadowCaster, ShadowReceiver));
         if part.skin.is_some() {
             e.insert(Joints::default());
         }
@@ -102,7 +104,7 @@ pub fn stand_at(model: &Model, spot: Vec3) -> Transform {
         return Transform { translation: spot, ..Default::default() };
     }
     let size = (bounds.max - bounds.min).max_element();
-    let scale = if size > 3.0 || size < 0.3 { 3.0 / size.max(1e-6) } else { 1.0 };
+    let scale = if !(0.3..=3.0).contains(&size) { 3.0 / size.max(1e-6) } else { 1.0 };
     let foot = Vec3::new(bounds.center().x, bounds.min.y, bounds.center().z) * scale;
     Transform { translation: spot - foot, scale: Vec3::splat(scale), ..Default::default() }
 }
@@ -118,14 +120,19 @@ pub fn sample_spots() -> [(SpotLight, Vec3, Vec3, Option<Cookie>); 2] {
         outer_angle: 24f32.to_radians(),
     };
     [
-        (spot(Vec3::new(0.35, 0.75, 1.0), 4.0), Vec3::new(-5.0, 7.0, 3.0), Vec3::new(-3.0, 0.0, 0.5), Some(Cookie::Window)),
+        (
+            spot(Vec3::new(0.35, 0.75, 1.0), 4.0),
+            Vec3::new(-5.0, 7.0, 3.0),
+            Vec3::new(-3.0, 0.0, 0.5),
+            Some(Cookie::Window),
+        ),
         (spot(Vec3::new(1.0, 0.55, 0.25), 3.5), Vec3::new(6.0, 6.5, 4.0), Vec3::new(4.0, 0.0, 1.0), None),
     ]
 }
 
 /// The camera the sample starts with: south of the scene, looking down at the ring of cubes.
 pub fn default_camera() -> (Camera, FlyCamera, Transform) {
-    let eye = Vec3::new(2.0, 7.5, 17.0);
+    let eye = Vec3::new(2.0, 5.5, 12.5);
     let to = Vec3::new(-0.5, 1.0, 0.0) - eye;
     let fly = FlyCamera::new((-to.x).atan2(-to.z), (to.y / to.length()).asin());
     (Camera::default(), fly, Transform { translation: eye, rotation: fly.rotation(), ..Default::default() })

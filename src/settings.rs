@@ -151,7 +151,8 @@ mod tests {
 
     #[test]
     fn nonsense_is_named() {
-        let cases: [(fn(&mut Settings), &str); 9] = [
+        type Case = (fn(&mut Settings), &'static str);
+        let cases: [Case; 9] = [
             (|s| s.cascades = 5, "cascades"),
             (|s| s.split_lambda = -0.1, "split_lambda"),
             (|s| s.cascade_blend = 0.9, "cascade_blend"),

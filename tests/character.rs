@@ -3,8 +3,8 @@
 
 mod common;
 
-use common::{SIZE, camera_at, gpu};
 use bevy_ecs::entity::Entity;
+use common::{SIZE, camera_at, gpu};
 use glam::{Mat4, Vec2, Vec3};
 use std::sync::Arc;
 use umbra::assets::{MeshLibrary, parse_model, plane};
@@ -120,7 +120,8 @@ fn the_shadow_follows_the_character_as_it_walks() {
     let centroid = |app: &mut App, t: f64| {
         let frame = measure(app, t);
         let shadow = ground_shadow(app, &frame);
-        let points: Vec<Vec3> = (0..shadow.len()).filter(|&i| shadow[i]).map(|i| frame.position[i].truncate()).collect();
+        let points: Vec<Vec3> =
+            (0..shadow.len()).filter(|&i| shadow[i]).map(|i| frame.position[i].truncate()).collect();
         points.iter().sum::<Vec3>() / points.len().max(1) as f32
     };
     let (t0, t1) = (0.0, 2.0);

@@ -1,5 +1,7 @@
 //! The `umbra` command as a user runs it: a valid PNG of the asked size, clear errors otherwise.
 
+mod common;
+
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
@@ -76,7 +78,10 @@ fn bench_prints_every_scenario_with_ratios_and_shadow_passes() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let stdout = String::from_utf8_lossy(&out.stdout);
     let row = |name: &str| {
-        let line = stdout.lines().find(|l| l.starts_with(&format!("| {name} |"))).unwrap_or_else(|| panic!("{name}: {stdout}"));
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(&format!("| {name} |")))
+            .unwrap_or_else(|| panic!("{name}: {stdout}"));
         let cells: Vec<&str> = line.split('|').map(str::trim).collect();
         let passes: Vec<f64> = cells[5].split(" / ").map(|v| v.parse().unwrap()).collect();
         (cells[4].to_string(), passes[0], passes[1])
@@ -89,6 +94,38 @@ fn bench_prints_every_scenario_with_ratios_and_shadow_passes() {
     assert!(drawn > 0.0 && kept > 0.0, "{stdout}");
     let (_, drawn, _) = row("everything moving");
     assert!(drawn > 0.0, "{stdout}");
+}
+
+#[test]
+fn a_users_model_is_placed_in_the_scene_or_named_in_a_clear_error() {
+    let dir = scratch("model");
+    let model = common::gltf::TestModel::new();
+    std::fs::write(dir.join("column.glb"), model.glb()).unwrap();
+    let out = umbra(&["render", "--model", "column.glb", "--out", "m.png", "--width", "64", "--height", "36"], &dir);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("model column.glb: 1 parts, 2 joints, playing \"bend\""), "{stdout}");
+    assert_eq!(png_size(&dir.join("m.png")), (64, 36));
+
+    // Mended problems are warnings; broken files are errors that name the file and write nothing.
+    let mut heavy = model.clone();
+    let weights = heavy.add_floats(&[[2.0f32, 2.0, 0.0, 0.0]; 12].concat(), "VEC4");
+    heavy.json["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = serde_json::json!(weights);
+    std::fs::write(dir.join("heavy.glb"), heavy.glb()).unwrap();
+    let out = umbra(&["render", "--model", "heavy.glb", "--out", "h.png", "--width", "32", "--height", "32"], &dir);
+    assert!(out.status.success());
+    assert!(
+        String::from_utf8_lossy(&out.stderr)
+            .contains("warning: heavy.glb: primitive 0: 12 vertices had weights not summing to 1")
+    );
+    let glb = model.glb();
+    std::fs::write(dir.join("cut.glb"), &glb[..glb.len() - 100]).unwrap();
+    for (file, says) in [("cut.glb", "cut.glb: truncated .glb"), ("missing.glb", "missing.glb: cannot read it")] {
+        let out = umbra(&["render", "--model", file, "--out", "x.png"], &dir);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && stderr.contains(says) && !stderr.contains("panicked"), "{stderr}");
+    }
+    assert!(!dir.join("x.png").exists());
 }
 
 #[test]

@@ -67,7 +67,8 @@ fn new_lights_are_dirty_and_a_still_frame_dirties_nothing() {
 fn moving_one_cube_dirties_exactly_the_layers_whose_volume_holds_it() {
     let mut s = scene();
     let before = s.app.world.get::<WorldBounds>(s.left_cube).unwrap().0;
-    let versions: Vec<u64> = [s.sun, s.left_spot, s.right_spot].iter().flat_map(|l| layers(&s, *l)).map(|l| l.version).collect();
+    let versions: Vec<u64> =
+        [s.sun, s.left_spot, s.right_spot].iter().flat_map(|l| layers(&s, *l)).map(|l| l.version).collect();
     s.app.world.get_mut::<Transform>(s.left_cube).unwrap().translation.x += 0.2;
     s.app.set_time(0.0);
     let after = s.app.world.get::<WorldBounds>(s.left_cube).unwrap().0;

@@ -9,7 +9,10 @@ use umbra::{App, Settings};
 #[derive(Component)]
 struct Follower;
 
-fn follow_camera(camera: Query<&Transform, With<Camera>>, mut followers: Query<&mut Transform, (With<Follower>, Without<Camera>)>) {
+fn follow_camera(
+    camera: Query<&Transform, With<Camera>>,
+    mut followers: Query<&mut Transform, (With<Follower>, Without<Camera>)>,
+) {
     let eye = camera.iter().next().unwrap();
     for mut t in &mut followers {
         t.translation = eye.translation + eye.forward() * 4.0;

@@ -245,7 +245,11 @@ fn weights_not_summing_to_one_are_normalized() {
     let weights = model.add_floats(&[[2.0f32, 2.0, 0.0, 0.0]; 12].concat(), "VEC4");
     model.json["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = json!(weights);
     let loaded = load(&model);
-    assert!(loaded.warnings.iter().any(|w| w.starts_with("test.glb") && w.contains("normalized")), "{:?}", loaded.warnings);
+    assert!(
+        loaded.warnings.iter().any(|w| w.starts_with("test.glb") && w.contains("normalized")),
+        "{:?}",
+        loaded.warnings
+    );
     let skin = loaded.parts[0].mesh.skin.as_ref().unwrap();
     assert!(skin.iter().all(|v| v.weights == [0.5, 0.5, 0.0, 0.0]), "{:?}", skin[0]);
 }
@@ -321,7 +325,8 @@ fn interleaved_attributes_and_matrix_nodes_load() {
         m.bin[at..at + len].to_vec()
     };
     let (positions, normals) = (view(&model, 0), view(&model, 1));
-    let interleaved: Vec<u8> = positions.chunks(12).zip(normals.chunks(12)).flat_map(|(p, n)| [p, n].concat()).collect();
+    let interleaved: Vec<u8> =
+        positions.chunks(12).zip(normals.chunks(12)).flat_map(|(p, n)| [p, n].concat()).collect();
     let at = model.bin.len();
     model.bin.extend(&interleaved);
     model.json["buffers"][0]["byteLength"] = json!(model.bin.len());
@@ -337,7 +342,10 @@ fn interleaved_attributes_and_matrix_nodes_load() {
     model.json["nodes"].as_array_mut().unwrap().push(json!({ "matrix": turn.to_cols_array(), "children": [0] }));
     model.json["scenes"][0]["nodes"] = json!([3, 2]);
     model.json["nodes"][2]["translation"] = json!([5.0, 0.0, 0.0]);
-    let ibm: Vec<f32> = [0.0f32, 1.0].iter().flat_map(|y| (turn * Mat4::from_translation(Vec3::Y * *y)).inverse().to_cols_array()).collect();
+    let ibm: Vec<f32> = [0.0f32, 1.0]
+        .iter()
+        .flat_map(|y| (turn * Mat4::from_translation(Vec3::Y * *y)).inverse().to_cols_array())
+        .collect();
     let ibm = model.add_floats(&ibm, "MAT4");
     model.json["skins"][0]["inverseBindMatrices"] = json!(ibm);
     let loaded = load(&model);

@@ -3,9 +3,7 @@
 
 use glam::{Mat4, Quat, Vec3};
 use umbra::components::{Camera, DirectionalLight, FlyCamera, ShadowCaster, ShadowMap, Transform, WorldBounds};
-use umbra::shadow::{
-    Aabb, FitMode, SceneBounds, ViewFrustum, depth_step, fit_cascade, spot_projection, split_depths,
-};
+use umbra::shadow::{Aabb, FitMode, SceneBounds, ViewFrustum, depth_step, fit_cascade, split_depths, spot_projection};
 use umbra::{App, Settings};
 
 /// A small deterministic generator (xorshift) so failures reproduce.
@@ -46,14 +44,14 @@ fn axes() -> [Vec3; 6] {
 fn random_pose(app: &mut App, rng: &mut Rng) {
     let mut q = app.world.query::<(&mut FlyCamera, &mut Transform)>();
     let (mut fly, mut t) = q.single_mut(&mut app.world).unwrap();
-    fly.yaw = rng.range(-3.14, 3.14);
+    fly.yaw = rng.range(-std::f32::consts::PI, std::f32::consts::PI);
     fly.pitch = rng.range(-1.2, 0.2);
     t.translation = Vec3::new(rng.range(-15.0, 15.0), rng.range(0.5, 12.0), rng.range(-15.0, 15.0));
 }
 
 /// A random camera pose somewhere in and around the scene.
 fn random_frustum(rng: &mut Rng) -> ViewFrustum {
-    let rotation = Quat::from_rotation_y(rng.range(-3.14, 3.14)) * Quat::from_rotation_x(rng.range(-1.5, 1.5));
+    let rotation = Quat::from_rotation_y(rng.range(-std::f32::consts::PI, std::f32::consts::PI)) * Quat::from_rotation_x(rng.range(-1.5, 1.5));
     let position = Vec3::new(rng.range(-30.0, 30.0), rng.range(0.2, 20.0), rng.range(-30.0, 30.0));
     ViewFrustum { position, rotation, fov_y: rng.range(0.3, 2.0), aspect: rng.range(0.5, 2.5) }
 }
@@ -156,14 +154,23 @@ fn a_stable_cascade_ignores_sub_texel_moves_and_keeps_its_texel_size_when_turned
         let (texel, step) = (fit.texel.x, depth_step(r));
         let c = light.transform_point3(centre);
         let far = c.z - r;
-        let target = Vec3::new((c.x / texel).round() * texel, (c.y / texel).round() * texel, c.z + ((far / step).floor() + 0.5) * step - far);
+        let target = Vec3::new(
+            (c.x / texel).round() * texel,
+            (c.y / texel).round() * texel,
+            c.z + ((far / step).floor() + 0.5) * step - far,
+        );
         f.position += light.inverse().transform_vector3(target - c);
         let start = fit_cascade(dir, &f, a, b, FitMode::Stable, scene, 1024);
         for _ in 0..10 {
             let nudge = rng.direction() * 0.25 * texel;
             let moved = ViewFrustum { position: f.position + nudge, ..f };
             let after = fit_cascade(dir, &moved, a, b, FitMode::Stable, scene, 1024);
-            assert_eq!(start.view_proj, after.view_proj, "a {:.3}-texel move changed the cascade", nudge.length() / texel);
+            assert_eq!(
+                start.view_proj,
+                after.view_proj,
+                "a {:.3}-texel move changed the cascade",
+                nudge.length() / texel
+            );
         }
         // Turning the camera changes where the cascade is, never its texel size.
         let turned = ViewFrustum { rotation: Quat::from_rotation_y(rng.range(-3.0, 3.0)) * f.rotation, ..f };
@@ -207,7 +214,8 @@ fn every_caster_in_view_lands_inside_the_cascade_that_covers_it() {
             random_pose(&mut app, &mut rng);
         }
         app.set_time(step as f64 * 0.37);
-        let (camera, transform) = app.world.query::<(&Camera, &Transform)>().single(&app.world).map(|(c, t)| (*c, *t)).unwrap();
+        let (camera, transform) =
+            app.world.query::<(&Camera, &Transform)>().single(&app.world).map(|(c, t)| (*c, *t)).unwrap();
         let sun = app.world.query::<(&DirectionalLight, &ShadowMap)>().single(&app.world).unwrap().1.clone();
         let casters: Vec<Aabb> = app
             .world

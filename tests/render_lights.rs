@@ -72,11 +72,8 @@ fn tint_of(tinted: [u8; 4], plain: [u8; 4]) -> Option<usize> {
         Vec3::new(1.0, 0.9, 0.25),
         Vec3::ONE,
     ];
-    let (best, distance) = tints
-        .iter()
-        .map(|t| (ratio - *t / t.max_element()).length())
-        .enumerate()
-        .min_by(|a, b| a.1.total_cmp(&b.1))?;
+    let (best, distance) =
+        tints.iter().map(|t| (ratio - *t / t.max_element()).length()).enumerate().min_by(|a, b| a.1.total_cmp(&b.1))?;
     (distance < 0.15).then_some(best)
 }
 
@@ -108,8 +105,15 @@ fn the_cascade_debug_view_shows_one_tint_per_cascade() {
 fn a_window_cookie_casts_bars_and_panes_in_the_spot_light() {
     let shot = |intensity, cookie: Option<Cookie>| {
         let mut app = ground_app(Settings::default(), Vec3::new(0.0, 6.0, 3.0), Vec3::ZERO);
-        let spot = SpotLight { color: Vec3::ONE, intensity, range: 10.0, inner_angle: 15f32.to_radians(), outer_angle: 20f32.to_radians() };
-        let mut light = app.world.spawn((spot, Transform::from_xyz(0.0, 4.0, 0.0).looking_to(Vec3::NEG_Y), ShadowMap::default()));
+        let spot = SpotLight {
+            color: Vec3::ONE,
+            intensity,
+            range: 10.0,
+            inner_angle: 15f32.to_radians(),
+            outer_angle: 20f32.to_radians(),
+        };
+        let mut light =
+            app.world.spawn((spot, Transform::from_xyz(0.0, 4.0, 0.0).looking_to(Vec3::NEG_Y), ShadowMap::default()));
         if let Some(c) = cookie {
             light.insert(c);
         }
@@ -127,7 +131,9 @@ fn a_window_cookie_casts_bars_and_panes_in_the_spot_light() {
         assert!((w - d).abs() < 3.0, "the bar at {bar:?} lets light through: {w} vs unlit {d}");
         assert!(o > d + 5.0, "without the cookie the spot lights {bar:?}: {o} vs {d}");
     }
-    for pane in [Vec3::new(0.6, 0.0, 0.6), Vec3::new(-0.6, 0.0, 0.6), Vec3::new(0.6, 0.0, -0.6), Vec3::new(-0.6, 0.0, -0.6)] {
+    for pane in
+        [Vec3::new(0.6, 0.0, 0.6), Vec3::new(-0.6, 0.0, 0.6), Vec3::new(0.6, 0.0, -0.6), Vec3::new(-0.6, 0.0, -0.6)]
+    {
         let (w, o, d) = (at(&mut app, &window, pane), at(&mut app, &open, pane), at(&mut app, &dark, pane));
         assert!(w > d + 20.0, "the pane at {pane:?} is dark: {w} vs unlit {d}");
         assert!((w - o).abs() < 3.0, "the pane at {pane:?} lets all the light through: {w} vs {o}");

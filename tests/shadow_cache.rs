@@ -37,13 +37,22 @@ enum Stretch {
     Cubes,
     Lights,
     Camera,
+    Character,
     Everything,
 }
 
 /// The motion script: stretches of 8 to 40 frames, each with its own kind of motion, starting
 /// and ending still.
 fn script(rng: &mut Rng) -> Vec<Stretch> {
-    let kinds = [Stretch::Still, Stretch::OneCube, Stretch::Cubes, Stretch::Lights, Stretch::Camera, Stretch::Everything];
+    let kinds = [
+        Stretch::Still,
+        Stretch::OneCube,
+        Stretch::Cubes,
+        Stretch::Lights,
+        Stretch::Camera,
+        Stretch::Character,
+        Stretch::Everything,
+    ];
     let mut frames = vec![Stretch::Still; 10];
     while frames.len() < FRAMES - 20 {
         let kind = kinds[(rng.next() * kinds.len() as f32) as usize % kinds.len()];
@@ -58,6 +67,8 @@ fn script(rng: &mut Rng) -> Vec<Stretch> {
 struct World {
     app: App,
     cubes: Vec<bevy_ecs::entity::Entity>,
+    /// Scene time: it runs only while the walking, skinned character moves.
+    clock: f64,
 }
 
 fn build(reuse: bool) -> World {
@@ -77,17 +88,35 @@ fn build(reuse: bool) -> World {
     let sun = DirectionalLight { direction: Vec3::new(-0.4, -1.0, -0.3), color: Vec3::ONE, intensity: 1.0 };
     app.world.spawn((sun, ShadowMap::default()));
     for (x, cookie) in [(-3.0, Some(Cookie::Window)), (3.0, None)] {
-        let spot = SpotLight { color: Vec3::new(0.4, 0.8, 1.0), intensity: 3.0, range: 14.0, inner_angle: 0.35, outer_angle: 0.45 };
+        let spot = SpotLight {
+            color: Vec3::new(0.4, 0.8, 1.0),
+            intensity: 3.0,
+            range: 14.0,
+            inner_angle: 0.35,
+            outer_angle: 0.45,
+        };
         let at = Transform::from_xyz(x, 6.0, 0.0).looking_to(Vec3::new(0.2, -1.0, 0.1));
         let mut light = app.world.spawn((spot, at, ShadowMap::default()));
         if let Some(c) = cookie {
             light.insert(c);
         }
     }
+    let character =
+        std::sync::Arc::new(umbra::assets::parse_model(umbra::scene::CHARACTER_GLB, None, "character").unwrap());
+    let walker = umbra::scene::spawn_model(&mut app.world, character, Transform::default(), Some(0));
+    app.world.entity_mut(walker).insert(Walker {
+        center: Vec3::new(0.0, 0.0, 1.0),
+        radius: 2.0,
+        speed: 1.35,
+        phase: 0.0,
+    });
     let eye = Vec3::new(0.0, 7.0, 13.0);
-    app.world.spawn((Camera::default(), Transform::from_xyz(eye.x, eye.y, eye.z).looking_to(Vec3::new(0.0, 0.5, 0.0) - eye)));
+    app.world.spawn((
+        Camera::default(),
+        Transform::from_xyz(eye.x, eye.y, eye.z).looking_to(Vec3::new(0.0, 0.5, 0.0) - eye),
+    ));
     app.resize(SIZE, SIZE);
-    World { app, cubes }
+    World { app, cubes, clock: 0.0 }
 }
 
 fn apply(w: &mut World, stretch: Stretch, rng: &mut Rng) {
@@ -109,6 +138,9 @@ fn apply(w: &mut World, stretch: Stretch, rng: &mut Rng) {
             t.translation += Vec3::new(rng.signed(), 0.0, rng.signed()) * 0.05;
         }
     }
+    if matches!(stretch, Stretch::Character | Stretch::Everything) {
+        w.clock += 1.0 / 60.0;
+    }
     if matches!(stretch, Stretch::Camera | Stretch::Everything) {
         let mut q = world.query_filtered::<&mut Transform, bevy_ecs::query::With<Camera>>();
         let mut t = q.single_mut(world).unwrap();
@@ -129,7 +161,8 @@ fn play(reuse: bool) -> Vec<(Image, ShadowStats, Stretch)> {
         .into_iter()
         .map(|stretch| {
             apply(&mut w, stretch, &mut motion);
-            w.app.set_time(0.0);
+            let clock = w.clock;
+            w.app.set_time(clock);
             let image = render_headless(&gpu, &mut renderer, &mut w.app, SIZE, SIZE).expect("no wgpu error");
             (image, w.app.world.resource::<ShadowStats>().clone(), stretch)
         })
@@ -153,6 +186,8 @@ fn drawing_only_dirty_shadow_maps_gives_the_same_frames_and_skips_every_layer_wh
         drawn += stats.drawn();
     }
     assert!(still_frames >= 30, "the script has only {still_frames} still frames");
+    let walking = cached.iter().filter(|(_, _, s)| *s == Stretch::Character).count();
+    assert!(walking >= 10, "the script walks the character for only {walking} frames");
     let all = layers as usize * FRAMES;
     assert!(drawn > 0 && (drawn as usize) < all * 3 / 4, "the cache drew {drawn} of {all} layers");
     // The frames are not all alike: something really moved.

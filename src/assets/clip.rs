@@ -77,7 +77,7 @@ impl Channel {
         }
         let k = next - 1;
         let dt = self.times[next] - self.times[k];
-        if !(dt > 0.0) {
+        if dt.is_nan() || dt <= 0.0 {
             return value(next);
         }
         let s = (t - self.times[k]) / dt;

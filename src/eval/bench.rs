@@ -98,7 +98,13 @@ impl Run {
         }
     }
 
-    fn frame(&mut self, gpu: &Gpu, target: &wgpu::TextureView, size: (u32, u32), record: bool) -> Result<(), RenderError> {
+    fn frame(
+        &mut self,
+        gpu: &Gpu,
+        target: &wgpu::TextureView,
+        size: (u32, u32),
+        record: bool,
+    ) -> Result<(), RenderError> {
         self.advance();
         let start = Instant::now();
         self.renderer.render(gpu, &mut self.app.world, target, size.0, size.1)?;
@@ -165,7 +171,8 @@ pub fn run(
         view_formats: &[],
     });
     let view = target.create_view(&Default::default());
-    let mut runs = SCENARIOS.iter().map(|s| Run::new(gpu, *s, settings, width, height)).collect::<Result<Vec<_>, _>>()?;
+    let mut runs =
+        SCENARIOS.iter().map(|s| Run::new(gpu, *s, settings, width, height)).collect::<Result<Vec<_>, _>>()?;
     const WARM_UP: u32 = 5;
     for round in 0..WARM_UP + frames {
         for run in &mut runs {

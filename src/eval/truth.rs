@@ -189,7 +189,9 @@ impl TruthLight {
                 let spread = angular_radius.tan();
                 let seen = disc
                     .iter()
-                    .filter(|s| !occluders.occluded(origin, (l + (u * s.x + v * s.y) * spread).normalize(), f32::INFINITY))
+                    .filter(|s| {
+                        !occluders.occluded(origin, (l + (u * s.x + v * s.y) * spread).normalize(), f32::INFINITY)
+                    })
                     .count();
                 Some(Truth { lit, soft: soft_fraction(seen, disc.len(), lit) })
             }
@@ -222,7 +224,12 @@ fn soft_fraction(seen: usize, of: usize, lit: bool) -> f32 {
 /// The truth for every pixel of a measured frame and every light (in the frame's order):
 /// `None` for the sky and where a light does not reach. `soft_rays` rays sample each light's
 /// disc. Rows are shared out over the machine's cores.
-pub fn truth_frame(frame: &DebugFrame, occluders: &Occluders, lights: &[Option<TruthLight>], soft_rays: usize) -> Vec<Vec<Option<Truth>>> {
+pub fn truth_frame(
+    frame: &DebugFrame,
+    occluders: &Occluders,
+    lights: &[Option<TruthLight>],
+    soft_rays: usize,
+) -> Vec<Vec<Option<Truth>>> {
     let disc = disc_samples(soft_rays);
     let pixels = frame.position.len();
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).clamp(1, 16);
@@ -256,7 +263,8 @@ mod tests {
     use super::*;
 
     fn unit_quad_at(y: f32) -> Vec<[Vec3; 3]> {
-        let (a, b, c, d) = (Vec3::new(-1.0, y, -1.0), Vec3::new(1.0, y, -1.0), Vec3::new(1.0, y, 1.0), Vec3::new(-1.0, y, 1.0));
+        let (a, b, c, d) =
+            (Vec3::new(-1.0, y, -1.0), Vec3::new(1.0, y, -1.0), Vec3::new(1.0, y, 1.0), Vec3::new(-1.0, y, 1.0));
         vec![[a, b, c], [a, c, d]]
     }
 
@@ -290,12 +298,24 @@ mod tests {
     #[test]
     fn a_spot_reaches_only_inside_its_cone_and_range() {
         let occ = Occluders::new(&[]);
-        let spot = TruthLight::Spot { position: Vec3::Y * 4.0, direction: Vec3::NEG_Y, cos_outer: 0.5f32.cos(), range: 6.0, radius: 0.1 };
+        let spot = TruthLight::Spot {
+            position: Vec3::Y * 4.0,
+            direction: Vec3::NEG_Y,
+            cos_outer: 0.5f32.cos(),
+            range: 6.0,
+            radius: 0.1,
+        };
         let disc = disc_samples(8);
         assert_eq!(spot.truth(&occ, Vec3::ZERO, Vec3::Y, &disc), Some(Truth { lit: true, soft: 1.0 }));
         assert!(spot.truth(&occ, Vec3::new(3.0, 0.0, 0.0), Vec3::Y, &disc).is_none(), "outside the cone");
         assert!(spot.truth(&occ, Vec3::new(0.0, 8.0, 0.0), Vec3::NEG_Y, &disc).is_none(), "behind the light");
-        let short = TruthLight::Spot { position: Vec3::Y * 4.0, direction: Vec3::NEG_Y, cos_outer: 0.5, range: 3.0, radius: 0.1 };
+        let short = TruthLight::Spot {
+            position: Vec3::Y * 4.0,
+            direction: Vec3::NEG_Y,
+            cos_outer: 0.5,
+            range: 3.0,
+            radius: 0.1,
+        };
         assert!(short.truth(&occ, Vec3::ZERO, Vec3::Y, &disc).is_none(), "out of range");
     }
 

@@ -4,9 +4,9 @@
 
 use crate::components::*;
 use crate::settings::Settings;
+use crate::shadow::{Aabb, MAX_CASCADES, intersects_clip_volume, spot_projection};
 use bevy_ecs::prelude::*;
 use bytemuck::{Pod, Zeroable};
-use crate::shadow::{Aabb, MAX_CASCADES, intersects_clip_volume, spot_projection};
 use glam::{Mat4, Vec3, Vec4};
 
 /// Most spot lights the main pass lights with (more are ignored).
@@ -168,7 +168,13 @@ fn sun_uniform(light: &DirectionalLight, map: &ShadowMap, bias: ShadowBias) -> S
     sun
 }
 
-fn spot_uniform(light: &SpotLight, t: &Transform, map: &ShadowMap, bias: ShadowBias, cookie: Option<&Cookie>) -> SpotUniform {
+fn spot_uniform(
+    light: &SpotLight,
+    t: &Transform,
+    map: &ShadowMap,
+    bias: ShadowBias,
+    cookie: Option<&Cookie>,
+) -> SpotUniform {
     let outer = light.outer_angle.clamp(0.0, 1.55);
     let inner = light.inner_angle.clamp(0.0, outer);
     let (layer, texel) = map.layers.first().map_or((-1.0, 0.0), |l| (l.layer as f32, l.texel.y));
@@ -188,7 +194,8 @@ fn spot_uniform(light: &SpotLight, t: &Transform, map: &ShadowMap, bias: ShadowB
 /// [`MAX_SPOTS`] spot lights (the measuring view reports visibilities in this order).
 pub fn light_order(world: &mut World) -> (Option<Entity>, Vec<Entity>) {
     let sun = world.query_filtered::<Entity, With<DirectionalLight>>().iter(world).next();
-    let spots = world.query_filtered::<Entity, (With<SpotLight>, With<Transform>)>().iter(world).take(MAX_SPOTS).collect();
+    let spots =
+        world.query_filtered::<Entity, (With<SpotLight>, With<Transform>)>().iter(world).take(MAX_SPOTS).collect();
     (sun, spots)
 }
 
@@ -203,23 +210,32 @@ pub fn extract(world: &mut World) -> FrameData {
         .map_or((Mat4::ZERO, Vec3::ZERO, Vec3::NEG_Z), |(c, t)| (c.view_proj(t, aspect), t.translation, t.forward()));
 
     let mut joints = Vec::new();
-    let items: Vec<(DrawItem, Aabb)> = world
-        .query::<(&Mesh, &Transform, &WorldBounds, Option<&Material>, Option<&Joints>, Has<ShadowCaster>, Has<ShadowReceiver>)>()
-        .iter(world)
-        .map(|(mesh, t, bounds, material, skin, caster, receiver)| {
-            let m = material.copied().unwrap_or(Material::color(0.8, 0.8, 0.8));
-            let model = t.matrix();
-            let object = ObjectUniform {
-                model,
-                normal_matrix: model.inverse().transpose(),
-                color: m.base_color.extend(receiver as u32 as f32),
-                phong: Vec4::new(m.specular, m.shininess.max(1.0), 0.0, 0.0),
-                skin: [joints.len() as u32, 0, 0, 0],
-            };
-            joints.extend(skin.map_or(&[][..], |s| &s.0));
-            (DrawItem { mesh: *mesh, object, caster, skinned: skin.is_some() }, bounds.0)
-        })
-        .collect();
+    let items: Vec<(DrawItem, Aabb)> =
+        world
+            .query::<(
+                &Mesh,
+                &Transform,
+                &WorldBounds,
+                Option<&Material>,
+                Option<&Joints>,
+                Has<ShadowCaster>,
+                Has<ShadowReceiver>,
+            )>()
+            .iter(world)
+            .map(|(mesh, t, bounds, material, skin, caster, receiver)| {
+                let m = material.copied().unwrap_or(Material::color(0.8, 0.8, 0.8));
+                let model = t.matrix();
+                let object = ObjectUniform {
+                    model,
+                    normal_matrix: model.inverse().transpose(),
+                    color: m.base_color.extend(receiver as u32 as f32),
+                    phong: Vec4::new(m.specular, m.shininess.max(1.0), 0.0, 0.0),
+                    skin: [joints.len() as u32, 0, 0, 0],
+                };
+                joints.extend(skin.map_or(&[][..], |s| &s.0));
+                (DrawItem { mesh: *mesh, object, caster, skinned: skin.is_some() }, bounds.0)
+            })
+            .collect();
 
     let mut layers = Vec::new();
     let mut sun = SunUniform::zeroed();

@@ -45,17 +45,16 @@ impl Gpu {
         let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
         adapters.retain(|a| surface.is_none_or(|s| a.is_surface_supported(s)));
         adapters.sort_by_key(|a| rank(&a.get_info()));
-        let adapter = adapters.into_iter().next().ok_or_else(|| RenderError::NoAdapter {
-            backends: format!("{backends:?}"),
-        })?;
+        let adapter =
+            adapters.into_iter().next().ok_or_else(|| RenderError::NoAdapter { backends: format!("{backends:?}") })?;
         let desc = wgpu::DeviceDescriptor {
             label: Some("umbra"),
             required_features: wgpu::Features::empty(),
             required_limits: adapter.limits(),
             ..Default::default()
         };
-        let (device, queue) = pollster::block_on(adapter.request_device(&desc))
-            .map_err(|e| RenderError::Device(e.to_string()))?;
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&desc)).map_err(|e| RenderError::Device(e.to_string()))?;
         let errors = Arc::new(Mutex::new(Vec::new()));
         let sink = errors.clone();
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
@@ -73,18 +72,11 @@ impl Gpu {
     /// Fails with every wgpu error raised since the last check (and forgets them).
     pub fn check_errors(&self) -> Result<(), RenderError> {
         let mut errors = self.errors.lock().unwrap_or_else(|p| p.into_inner());
-        if errors.is_empty() {
-            Ok(())
-        } else {
-            Err(RenderError::Wgpu(std::mem::take(&mut *errors).join("\n")))
-        }
+        if errors.is_empty() { Ok(()) } else { Err(RenderError::Wgpu(std::mem::take(&mut *errors).join("\n"))) }
     }
 
     /// Blocks until the GPU has finished all submitted work.
     pub fn wait(&self) -> Result<(), RenderError> {
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map(|_| ())
-            .map_err(|e| RenderError::Wgpu(e.to_string()))
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map(|_| ()).map_err(|e| RenderError::Wgpu(e.to_string()))
     }
 }

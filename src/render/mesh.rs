@@ -77,7 +77,11 @@ impl JointPalette {
         JointPalette { layout, buffer, bind_group, capacity: 64 }
     }
 
-    fn allocate(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, capacity: usize) -> (wgpu::Buffer, wgpu::BindGroup) {
+    fn allocate(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        capacity: usize,
+    ) -> (wgpu::Buffer, wgpu::BindGroup) {
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("joints"),
             size: (capacity * size_of::<Mat4>()) as u64,
@@ -191,7 +195,8 @@ impl PipelinePair {
         let Drawables { meshes, objects, joints: palette } = with;
         let mut bound: Option<bool> = None;
         for i in which {
-            let Some((item, Some(mesh))) = items.get(i).map(|item| (item, meshes.get(item.mesh.0).and_then(Option::as_ref)))
+            let Some((item, Some(mesh))) =
+                items.get(i).map(|item| (item, meshes.get(item.mesh.0).and_then(Option::as_ref)))
             else {
                 continue;
             };

@@ -2,8 +2,8 @@
 
 use super::main_pass::DEBUG_FORMAT;
 use super::{Gpu, RenderError, Renderer};
-use glam::Vec4;
 use crate::App;
+use glam::Vec4;
 use std::path::Path;
 
 /// Format of headless frames: 8-bit sRGB, as a window would show them.
@@ -159,11 +159,23 @@ pub fn render_debug_frame(
         let bytes = read_texture(gpu, t, width, height, 16)?;
         Ok(bytes.chunks_exact(16).map(|c| Vec4::from_array(bytemuck::pod_read_unaligned(c))).collect())
     };
-    Ok(DebugFrame { width, height, position: read(&textures[0])?, normal: read(&textures[1])?, visibility: read(&textures[2])? })
+    Ok(DebugFrame {
+        width,
+        height,
+        position: read(&textures[0])?,
+        normal: read(&textures[1])?,
+        visibility: read(&textures[2])?,
+    })
 }
 
 /// The pixels of `texture`, `bytes` per pixel, rows top to bottom without padding.
-fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, width: u32, height: u32, bytes: u32) -> Result<Vec<u8>, RenderError> {
+fn read_texture(
+    gpu: &Gpu,
+    texture: &wgpu::Texture,
+    width: u32,
+    height: u32,
+    bytes: u32,
+) -> Result<Vec<u8>, RenderError> {
     let row = bytes * width;
     let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {

@@ -31,7 +31,9 @@ impl Renderer {
     pub fn new(gpu: &Gpu, format: wgpu::TextureFormat) -> Result<Renderer, RenderError> {
         let device = &gpu.device;
         if !gpu.adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::VERTEX_STORAGE) {
-            return Err(RenderError::Unsupported("storage buffers in vertex shaders, which GPU skinning reads joints from"));
+            return Err(RenderError::Unsupported(
+                "storage buffers in vertex shaders, which GPU skinning reads joints from",
+            ));
         }
         let objects = UniformArray::new(
             device,
@@ -73,7 +75,13 @@ impl Renderer {
         self.draw(gpu, world, (width, height), Output::Measure(targets))
     }
 
-    fn draw(&mut self, gpu: &Gpu, world: &mut World, (width, height): (u32, u32), output: Output<'_>) -> Result<(), RenderError> {
+    fn draw(
+        &mut self,
+        gpu: &Gpu,
+        world: &mut World,
+        (width, height): (u32, u32),
+        output: Output<'_>,
+    ) -> Result<(), RenderError> {
         let (device, queue) = (&gpu.device, &gpu.queue);
         let settings = world.resource::<Settings>().clone();
         let max = device.limits().max_texture_dimension_2d;
@@ -101,7 +109,9 @@ impl Renderer {
         };
         match output {
             Output::Picture(target) => self.main.encode(queue, &mut encoder, (target, &depth), &data, drawables),
-            Output::Measure(targets) => self.main.encode_debug(queue, &mut encoder, (targets, &depth), &data, drawables),
+            Output::Measure(targets) => {
+                self.main.encode_debug(queue, &mut encoder, (targets, &depth), &data, drawables)
+            }
         }
         queue.submit([encoder.finish()]);
         world.insert_resource(stats);

@@ -84,7 +84,12 @@ impl std::fmt::Display for ShadowStats {
 
 impl ShadowPass {
     /// Builds the depth-only pipelines; `object_layout` is the per-object bind group layout.
-    pub fn new(device: &wgpu::Device, object_layout: &wgpu::BindGroupLayout, palette: &JointPalette, size: u32) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        object_layout: &wgpu::BindGroupLayout,
+        palette: &JointPalette,
+        size: u32,
+    ) -> Self {
         let layer_uniforms = UniformArray::new(device, "shadow layers", 64, wgpu::ShaderStages::VERTEX);
         let source = concat!(
             include_str!("../../shaders/common.wgsl"),
@@ -185,7 +190,7 @@ impl ShadowPass {
 /// array) and never a multiple of 6, which the GL backend takes for a cube map or cube array.
 fn array_layers(needed: usize) -> u32 {
     let layers = (needed as u32).max(2);
-    if layers % 6 == 0 { layers + 1 } else { layers }
+    if layers.is_multiple_of(6) { layers + 1 } else { layers }
 }
 
 impl ShadowMaps {

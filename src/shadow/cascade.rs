@@ -165,7 +165,14 @@ pub fn fit_cascade(
 
 /// Light-space z of the near and far planes (z grows towards the light) for the footprint
 /// `min..max`; with a `step`, both are rounded outwards to whole steps so they do not creep.
-fn depth_range(view: &Mat4, min: Vec2, max: Vec2, slice_far: f32, scene: SceneBounds<'_>, step: Option<f32>) -> (f32, f32) {
+fn depth_range(
+    view: &Mat4,
+    min: Vec2,
+    max: Vec2,
+    slice_far: f32,
+    scene: SceneBounds<'_>,
+    step: Option<f32>,
+) -> (f32, f32) {
     let overlapping = |boxes: &'_ [Aabb]| -> Vec<Aabb> {
         boxes
             .iter()
@@ -196,7 +203,12 @@ mod tests {
     use super::*;
 
     fn frustum() -> ViewFrustum {
-        ViewFrustum { position: Vec3::new(1.0, 2.0, 3.0), rotation: Quat::from_rotation_y(0.4), fov_y: 1.0, aspect: 1.6 }
+        ViewFrustum {
+            position: Vec3::new(1.0, 2.0, 3.0),
+            rotation: Quat::from_rotation_y(0.4),
+            fov_y: 1.0,
+            aspect: 1.6,
+        }
     }
 
     #[test]
@@ -239,8 +251,17 @@ mod tests {
                 assert!((-1e-4..=1.0 + 1e-4).contains(&n.z), "{mode:?}: {c:?} -> {n:?}");
             }
             let far_away = [Aabb::new(Vec3::new(80.0, 0.0, 80.0), Vec3::new(81.0, 100.0, 81.0))];
-            let with = fit_cascade(Vec3::NEG_Y, &f, 0.1, 8.0, mode, SceneBounds { casters: &far_away, receivers: &ground }, 1024);
-            let without = fit_cascade(Vec3::NEG_Y, &f, 0.1, 8.0, mode, SceneBounds { casters: &[], receivers: &ground }, 1024);
+            let with = fit_cascade(
+                Vec3::NEG_Y,
+                &f,
+                0.1,
+                8.0,
+                mode,
+                SceneBounds { casters: &far_away, receivers: &ground },
+                1024,
+            );
+            let without =
+                fit_cascade(Vec3::NEG_Y, &f, 0.1, 8.0, mode, SceneBounds { casters: &[], receivers: &ground }, 1024);
             assert_eq!(with.view_proj, without.view_proj, "{mode:?}");
         }
     }

@@ -4,13 +4,13 @@
 
 use crate::assets::MeshLibrary;
 use crate::components::{
-    Camera, DirectionalLight, Joints, Mesh, ShadowBias, ShadowCaster, ShadowLayer, ShadowMap, SpotLight, Transform, Viewport,
-    WorldBounds,
+    Camera, DirectionalLight, Joints, Mesh, ShadowBias, ShadowCaster, ShadowLayer, ShadowMap, SpotLight, Transform,
+    Viewport, WorldBounds,
 };
 use crate::settings::Settings;
 use crate::shadow::{
-    Aabb, LightProjection, SceneBounds, ViewFrustum, blend_bands, fit_cascade, intersects_clip_volume, spot_projection,
-    split_depths,
+    Aabb, LightProjection, SceneBounds, ViewFrustum, blend_bands, fit_cascade, intersects_clip_volume, split_depths,
+    spot_projection,
 };
 use bevy_ecs::prelude::*;
 use std::collections::HashMap;
@@ -91,7 +91,7 @@ pub fn track_casters(
 /// its matrix changed (in stable mode only when the cascade snaps to a new texel or its split
 /// changes), its light changed (direction, cone, range, pose, bias), the map size changed, or a
 /// caster that changed this update overlaps its volume, before or after the change.
-#[allow(clippy::type_complexity)]
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
 pub fn update_light_matrices(
     settings: Res<Settings>,
     viewport: Res<Viewport>,
@@ -135,7 +135,8 @@ fn cascades(
     settings: &Settings,
     scene: SceneBounds<'_>,
 ) -> Vec<(LightProjection, f32, f32)> {
-    let frustum = ViewFrustum { position: transform.translation, rotation: transform.rotation, fov_y: camera.fov_y, aspect };
+    let frustum =
+        ViewFrustum { position: transform.translation, rotation: transform.rotation, fov_y: camera.fov_y, aspect };
     let far = settings.shadow_distance.min(camera.far).max(camera.near * 2.0);
     let depths = split_depths(camera.near, far, settings.cascades as usize, settings.split_lambda);
     let bands = blend_bands(&depths, settings.cascade_blend);
@@ -143,7 +144,15 @@ fn cascades(
         .map(|i| {
             // A cascade starts inside the previous one's blend band, so both cover the band.
             let start = if i == 0 { depths[0] } else { depths[i] - bands[i - 1] };
-            let fit = fit_cascade(direction, &frustum, start, depths[i + 1], settings.fit_mode, scene, settings.shadow_map_size);
+            let fit = fit_cascade(
+                direction,
+                &frustum,
+                start,
+                depths[i + 1],
+                settings.fit_mode,
+                scene,
+                settings.shadow_map_size,
+            );
             (fit, depths[i + 1], bands[i])
         })
         .collect()
@@ -240,6 +249,22 @@ mod tests {
         world.despawn(e);
         schedule.run(&mut world);
         assert_eq!(world.resource::<CasterChanges>().0, vec![moved[1]], "removed");
+    }
+
+    #[test]
+    fn a_new_pose_counts_even_when_bounds_and_transform_stay() {
+        let mut world = world();
+        let mut schedule = Schedule::default();
+        schedule.add_systems(track_casters);
+        let bounds = WorldBounds(Aabb::new(Vec3::ZERO, Vec3::ONE));
+        let e = world.spawn((Mesh(0), Transform::default(), bounds, Joints(vec![Mat4::IDENTITY]), ShadowCaster)).id();
+        schedule.run(&mut world);
+        world.get_mut::<Joints>(e).unwrap().0[0] = Mat4::IDENTITY; // the same pose again
+        schedule.run(&mut world);
+        assert!(world.resource::<CasterChanges>().0.is_empty());
+        world.get_mut::<Joints>(e).unwrap().0[0] = Mat4::from_rotation_z(0.3);
+        schedule.run(&mut world);
+        assert_eq!(world.resource::<CasterChanges>().0, vec![bounds.0, bounds.0], "an arm turned inside the box");
     }
 
     #[test]

@@ -47,7 +47,8 @@ pub fn pose_parts(
                 bounds.set_if_neq(WorldBounds(model.0.part_bounds(part, &pose.0, &placement.matrix())));
             }
             _ => {
-                let (scale, rotation, translation) = (placement.matrix() * pose.0[part.node]).to_scale_rotation_translation();
+                let (scale, rotation, translation) =
+                    (placement.matrix() * pose.0[part.node]).to_scale_rotation_translation();
                 transform.set_if_neq(Transform { translation, rotation, scale });
             }
         }
@@ -90,7 +91,9 @@ mod tests {
         let mut world = at_time(0.3);
         let placement = Transform::from_xyz(5.0, 0.0, -2.0).with_rotation(Quat::from_rotation_y(2.0));
         let root = world.spawn((ModelInstance(model.clone()), Animator { clip: Some(0), speed: 1.0 }, placement)).id();
-        let part = world.spawn((ModelPart { root, part: 2 }, Transform::default(), Joints::default(), WorldBounds::default())).id();
+        let part = world
+            .spawn((ModelPart { root, part: 2 }, Transform::default(), Joints::default(), WorldBounds::default()))
+            .id();
         world.run_system_once(animate_models).unwrap();
         world.run_system_once(pose_parts).unwrap();
         let joints = &world.get::<Joints>(part).unwrap().0;

@@ -21,7 +21,7 @@ fn floats(v: &[f32]) -> Vec<u8> {
 
 /// Appends `bytes` (4-byte aligned) and a view and accessor over them; returns the accessor.
 fn push(json: &mut Value, bin: &mut Vec<u8>, bytes: Vec<u8>, accessor: Value) -> usize {
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let views = json["bufferViews"].as_array_mut().unwrap();
@@ -82,36 +82,71 @@ impl TestModel {
                 indices.extend([a, b + 4, b, a, a + 4, b + 4]);
             }
         }
-        let pos = push(&mut json, &mut bin, floats(&positions), json!({ "componentType": 5126, "count": 12, "type": "VEC3",
-            "min": [-0.1, 0.0, -0.1], "max": [0.1, 2.0, 0.1] }));
-        let nor = push(&mut json, &mut bin, floats(&normals), json!({ "componentType": 5126, "count": 12, "type": "VEC3" }));
-        let jnt = push(&mut json, &mut bin, joints.iter().flat_map(|j| j.to_le_bytes()).collect(),
-            json!({ "componentType": 5123, "count": 12, "type": "VEC4" }));
-        let wgt = push(&mut json, &mut bin, floats(&weights), json!({ "componentType": 5126, "count": 12, "type": "VEC4" }));
-        let idx = push(&mut json, &mut bin, indices.iter().flat_map(|i| i.to_le_bytes()).collect(),
-            json!({ "componentType": 5123, "count": indices.len(), "type": "SCALAR" }));
+        let pos = push(
+            &mut json,
+            &mut bin,
+            floats(&positions),
+            json!({ "componentType": 5126, "count": 12, "type": "VEC3",
+            "min": [-0.1, 0.0, -0.1], "max": [0.1, 2.0, 0.1] }),
+        );
+        let nor =
+            push(&mut json, &mut bin, floats(&normals), json!({ "componentType": 5126, "count": 12, "type": "VEC3" }));
+        let jnt = push(
+            &mut json,
+            &mut bin,
+            joints.iter().flat_map(|j| j.to_le_bytes()).collect(),
+            json!({ "componentType": 5123, "count": 12, "type": "VEC4" }),
+        );
+        let wgt =
+            push(&mut json, &mut bin, floats(&weights), json!({ "componentType": 5126, "count": 12, "type": "VEC4" }));
+        let idx = push(
+            &mut json,
+            &mut bin,
+            indices.iter().flat_map(|i| i.to_le_bytes()).collect(),
+            json!({ "componentType": 5123, "count": indices.len(), "type": "SCALAR" }),
+        );
         json["meshes"] = json!([{ "primitives": [{
             "attributes": { "POSITION": pos, "NORMAL": nor, "JOINTS_0": jnt, "WEIGHTS_0": wgt },
             "indices": idx, "material": 0 }] }]);
-        let ibm: Vec<f32> = [0.0f32, -1.0].iter().flat_map(|ty| {
-            let mut m = [0.0f32; 16];
-            m[0] = 1.0; m[5] = 1.0; m[10] = 1.0; m[15] = 1.0; m[13] = *ty;
-            m
-        }).collect();
+        let ibm: Vec<f32> = [0.0f32, -1.0]
+            .iter()
+            .flat_map(|ty| {
+                let mut m = [0.0f32; 16];
+                m[0] = 1.0;
+                m[5] = 1.0;
+                m[10] = 1.0;
+                m[15] = 1.0;
+                m[13] = *ty;
+                m
+            })
+            .collect();
         let ibm = push(&mut json, &mut bin, floats(&ibm), json!({ "componentType": 5126, "count": 2, "type": "MAT4" }));
         json["skins"] = json!([{ "joints": [0, 1], "inverseBindMatrices": ibm }]);
 
-        let times = push(&mut json, &mut bin, floats(&TIMES), json!({ "componentType": 5126, "count": 3, "type": "SCALAR",
-            "min": [0.0], "max": [2.0] }));
-        let rotations: Vec<f32> = TIP_ANGLES.iter().flat_map(|a| [0.0, 0.0, (a / 2.0).sin(), (a / 2.0).cos()]).collect();
-        let rot = push(&mut json, &mut bin, floats(&rotations), json!({ "componentType": 5126, "count": 3, "type": "VEC4" }));
+        let times = push(
+            &mut json,
+            &mut bin,
+            floats(&TIMES),
+            json!({ "componentType": 5126, "count": 3, "type": "SCALAR",
+            "min": [0.0], "max": [2.0] }),
+        );
+        let rotations: Vec<f32> =
+            TIP_ANGLES.iter().flat_map(|a| [0.0, 0.0, (a / 2.0).sin(), (a / 2.0).cos()]).collect();
+        let rot =
+            push(&mut json, &mut bin, floats(&rotations), json!({ "componentType": 5126, "count": 3, "type": "VEC4" }));
         let moves: Vec<f32> = ROOT_X.iter().flat_map(|x| [*x, 0.0, 0.0]).collect();
-        let mov = push(&mut json, &mut bin, floats(&moves), json!({ "componentType": 5126, "count": 3, "type": "VEC3" }));
-        let scales: Vec<f32> = TIP_SCALE.iter().enumerate().flat_map(|(k, s)| {
-            let out = if k == 0 { TIP_SCALE_OUT_TANGENT } else { 0.0 };
-            [0.0, 0.0, 0.0, *s, *s, *s, out, out, out]
-        }).collect();
-        let scl = push(&mut json, &mut bin, floats(&scales), json!({ "componentType": 5126, "count": 9, "type": "VEC3" }));
+        let mov =
+            push(&mut json, &mut bin, floats(&moves), json!({ "componentType": 5126, "count": 3, "type": "VEC3" }));
+        let scales: Vec<f32> = TIP_SCALE
+            .iter()
+            .enumerate()
+            .flat_map(|(k, s)| {
+                let out = if k == 0 { TIP_SCALE_OUT_TANGENT } else { 0.0 };
+                [0.0, 0.0, 0.0, *s, *s, *s, out, out, out]
+            })
+            .collect();
+        let scl =
+            push(&mut json, &mut bin, floats(&scales), json!({ "componentType": 5126, "count": 9, "type": "VEC3" }));
         json["animations"] = json!([{ "name": "bend",
             "samplers": [
                 { "input": times, "output": rot, "interpolation": "LINEAR" },
@@ -129,18 +164,37 @@ impl TestModel {
 
     /// Adds a float accessor (with its view) over new bytes; returns its index.
     pub fn add_floats(&mut self, values: &[f32], kind: &str) -> usize {
-        let width = match kind { "SCALAR" => 1, "VEC3" => 3, "MAT4" => 16, _ => 4 };
+        let width = match kind {
+            "SCALAR" => 1,
+            "VEC3" => 3,
+            "MAT4" => 16,
+            _ => 4,
+        };
         let count = values.len() / width;
-        let i = push(&mut self.json, &mut self.bin, floats(values), json!({ "componentType": 5126, "count": count, "type": kind }));
+        let i = push(
+            &mut self.json,
+            &mut self.bin,
+            floats(values),
+            json!({ "componentType": 5126, "count": count, "type": kind }),
+        );
         self.json["buffers"][0]["byteLength"] = json!(self.bin.len());
         i
     }
 
     /// Adds an unsigned-short accessor (with its view) over new bytes; returns its index.
     pub fn add_shorts(&mut self, values: &[u16], kind: &str) -> usize {
-        let width = match kind { "SCALAR" => 1, "VEC3" => 3, _ => 4 };
+        let width = match kind {
+            "SCALAR" => 1,
+            "VEC3" => 3,
+            _ => 4,
+        };
         let bytes = values.iter().flat_map(|v| v.to_le_bytes()).collect();
-        let i = push(&mut self.json, &mut self.bin, bytes, json!({ "componentType": 5123, "count": values.len() / width, "type": kind }));
+        let i = push(
+            &mut self.json,
+            &mut self.bin,
+            bytes,
+            json!({ "componentType": 5123, "count": values.len() / width, "type": kind }),
+        );
         self.json["buffers"][0]["byteLength"] = json!(self.bin.len());
         i
     }
@@ -148,11 +202,11 @@ impl TestModel {
     /// The model as one .glb.
     pub fn glb(&self) -> Vec<u8> {
         let mut json = serde_json::to_vec(&self.json).unwrap();
-        while json.len() % 4 != 0 {
+        while !json.len().is_multiple_of(4) {
             json.push(b' ');
         }
         let mut bin = self.bin.clone();
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         let mut out = b"glTF".to_vec();

@@ -57,9 +57,16 @@ fn surfaces() -> [(&'static str, [f32; 3], MeshBuilder); 4] {
     let one = |j: u16| [(j, 1.0), (j, 0.0)];
     let half = |a: u16, b: u16| [(a, 0.5), (b, 0.5)];
     // Torso: hips to the base of the neck, a flattened tube that bends at the spine and chest.
-    let torso = [(0.0, one(HIPS)), (0.25, half(HIPS, SPINE)), (0.45, one(SPINE)), (0.7, half(SPINE, CHEST)), (1.0, one(CHEST))];
+    let torso =
+        [(0.0, one(HIPS)), (0.25, half(HIPS, SPINE)), (0.45, one(SPINE)), (0.7, half(SPINE, CHEST)), (1.0, one(CHEST))];
     shirt.tube(Vec3::new(0.0, 0.86, 0.0), Vec3::new(0.0, 1.48, 0.0), (0.16, 0.19), 0.62, &torso);
-    skin.tube(Vec3::new(0.0, 1.44, 0.0), Vec3::new(0.0, 1.58, 0.0), (0.05, 0.05), 1.0, &[(0.0, one(CHEST)), (1.0, one(HEAD))]);
+    skin.tube(
+        Vec3::new(0.0, 1.44, 0.0),
+        Vec3::new(0.0, 1.58, 0.0),
+        (0.05, 0.05),
+        1.0,
+        &[(0.0, one(CHEST)), (1.0, one(HEAD))],
+    );
     skin.sphere(Vec3::new(0.0, 1.66, 0.01), 0.11, one(HEAD));
     for (upper, fore) in [(4u16, 5u16), (6, 7)] {
         let (shoulder, elbow) = (at(upper), at(fore));
@@ -107,7 +114,10 @@ fn walk_pose(p: f32) -> Vec<(usize, Quat)> {
         pose.push((thigh + 2, Quat::from_rotation_x(ankle)));
         // Arms swing against the leg of their side and bend more at the elbow when forward.
         let arm_swing = deg(20.0) * q.sin();
-        pose.push((arm, Quat::from_rotation_x(arm_swing) * Quat::from_rotation_z(deg(if side == 0.0 { 6.0 } else { -6.0 }))));
+        pose.push((
+            arm,
+            Quat::from_rotation_x(arm_swing) * Quat::from_rotation_z(deg(if side == 0.0 { 6.0 } else { -6.0 })),
+        ));
         pose.push((arm + 1, Quat::from_rotation_x(-deg(12.0) - deg(14.0) * (-q.sin()).max(0.0))));
     }
     pose
@@ -151,7 +161,8 @@ pub fn character_glb() -> Vec<u8> {
         })
         .collect();
     nodes.push(json!({ "name": "body", "mesh": 0, "skin": 0 }));
-    let inverse_bind: Vec<f32> = BONES.iter().flat_map(|b| glam::Mat4::from_translation(-Vec3::from(b.2)).to_cols_array()).collect();
+    let inverse_bind: Vec<f32> =
+        BONES.iter().flat_map(|b| glam::Mat4::from_translation(-Vec3::from(b.2)).to_cols_array()).collect();
     let skin = json!({ "joints": (0..BONES.len()).collect::<Vec<_>>(), "skeleton": 0,
         "inverseBindMatrices": glb.floats(&inverse_bind, 16, false, None) });
 
@@ -162,7 +173,9 @@ pub fn character_glb() -> Vec<u8> {
     let input = glb.floats(&times, 1, true, None);
     let (mut samplers, mut channels) = (Vec::new(), Vec::new());
     let mut channel = |glb: &mut GlbBuilder, node: usize, path: &str, values: Vec<f32>, width: usize| {
-        samplers.push(json!({ "input": input, "output": glb.floats(&values, width, false, None), "interpolation": "LINEAR" }));
+        samplers.push(
+            json!({ "input": input, "output": glb.floats(&values, width, false, None), "interpolation": "LINEAR" }),
+        );
         channels.push(json!({ "sampler": samplers.len() - 1, "target": { "node": node, "path": path } }));
     };
     let hips: Vec<f32> = phases.iter().flat_map(|&p| (at(HIPS) + Vec3::Y * hip_lift(p)).to_array()).collect();

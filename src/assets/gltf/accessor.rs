@@ -53,11 +53,16 @@ fn decode<T: Copy + Default>(
             let data = view_bytes(&view, buffers)?;
             let stride = view.stride().unwrap_or(element);
             if stride < element {
-                return Err(format!("accessor {i}: its view's stride of {stride} bytes is less than one element ({element})"));
+                return Err(format!(
+                    "accessor {i}: its view's stride of {stride} bytes is less than one element ({element})"
+                ));
             }
             let needed = match count {
                 0 => Some(0),
-                n => stride.checked_mul(n - 1).and_then(|s| s.checked_add(acc.offset())).and_then(|s| s.checked_add(element)),
+                n => stride
+                    .checked_mul(n - 1)
+                    .and_then(|s| s.checked_add(acc.offset()))
+                    .and_then(|s| s.checked_add(element)),
             };
             match needed {
                 Some(n) if n <= data.len() => {}
@@ -112,7 +117,9 @@ fn apply_sparse<T>(
     };
     let index_bytes = view_bytes(&indices.view(), buffers)?;
     let value_bytes = view_bytes(&values.view(), buffers)?;
-    let fits = |data: &[u8], offset: usize, each: usize| n.checked_mul(each).and_then(|b| b.checked_add(offset)).is_some_and(|end| end <= data.len());
+    let fits = |data: &[u8], offset: usize, each: usize| {
+        n.checked_mul(each).and_then(|b| b.checked_add(offset)).is_some_and(|end| end <= data.len())
+    };
     if !fits(index_bytes, indices.offset(), index_size) || !fits(value_bytes, values.offset(), comps * size) {
         return Err(format!("accessor {i}: its sparse indices or values run past their buffer views"));
     }

@@ -7,8 +7,8 @@ use crate::assets::mesh::{MeshData, SkinVertex, Vertex};
 use crate::assets::model::{Model, Node, Part, Skin, hierarchy};
 use crate::assets::skin::{InfluenceFixes, MAX_JOINTS, four_largest, joint_boxes};
 use crate::components::{Material, Transform};
-use gltf::mesh::{Mode, Semantic};
 use glam::{Mat4, Quat, Vec3, Vec4};
+use gltf::mesh::{Mode, Semantic};
 
 /// Builds the model; `warnings` collects what was mended.
 pub(super) fn build(src: &Source, name: &str, warnings: &mut Vec<String>) -> Result<Model, String> {
@@ -58,7 +58,10 @@ fn nodes(doc: &gltf::Document) -> Result<Vec<(String, Transform)>, String> {
                 scale: Vec3::from(s),
             };
             if !(rest.translation.is_finite() && rest.rotation.is_finite() && rest.scale.is_finite()) {
-                return Err(format!("node {} has a transform that is not a finite translation, rotation and scale", n.index()));
+                return Err(format!(
+                    "node {} has a transform that is not a finite translation, rotation and scale",
+                    n.index()
+                ));
             }
             Ok((n.name().map_or_else(|| format!("node {}", n.index()), str::to_string), rest))
         })
@@ -96,9 +99,17 @@ fn skin(s: &gltf::Skin<'_>, buffers: &[Vec<u8>]) -> Result<Skin, String> {
             if components(&acc) != 16 {
                 return Err(format!("{at}: its inverse bind matrices are not 4x4 matrices"));
             }
-            let m: Vec<Mat4> = floats(&acc, buffers).map_err(|e| format!("{at}: {e}"))?.chunks_exact(16).map(Mat4::from_cols_slice).collect();
+            let m: Vec<Mat4> = floats(&acc, buffers)
+                .map_err(|e| format!("{at}: {e}"))?
+                .chunks_exact(16)
+                .map(Mat4::from_cols_slice)
+                .collect();
             if m.len() < joints.len() {
-                return Err(format!("{at} has {} joints but its buffer holds only {} inverse bind matrices", joints.len(), m.len()));
+                return Err(format!(
+                    "{at} has {} joints but its buffer holds only {} inverse bind matrices",
+                    joints.len(),
+                    m.len()
+                ));
             }
             if !m.iter().all(|m| m.is_finite()) {
                 return Err(format!("{at}: an inverse bind matrix is not finite"));
@@ -110,7 +121,13 @@ fn skin(s: &gltf::Skin<'_>, buffers: &[Vec<u8>]) -> Result<Skin, String> {
 }
 
 /// Reads an attribute of `n` elements of `comps` components as floats.
-fn attribute(p: &gltf::Primitive<'_>, semantic: &Semantic, comps: usize, n: Option<usize>, buffers: &[Vec<u8>]) -> Result<Option<Vec<f32>>, String> {
+fn attribute(
+    p: &gltf::Primitive<'_>,
+    semantic: &Semantic,
+    comps: usize,
+    n: Option<usize>,
+    buffers: &[Vec<u8>],
+) -> Result<Option<Vec<f32>>, String> {
     let Some(acc) = p.get(semantic) else { return Ok(None) };
     let name = semantic.to_string();
     if components(&acc) != comps {
@@ -183,12 +200,22 @@ fn mesh_data(vertices: Vec<Vertex>, indices: Vec<u32>, skin: Option<Vec<SkinVert
 fn triangle_list(mode: Mode, indices: &[u32], warnings: &mut Vec<String>) -> Vec<u32> {
     match mode {
         Mode::TriangleStrip => (2..indices.len())
-            .flat_map(|k| if k % 2 == 0 { [indices[k - 2], indices[k - 1], indices[k]] } else { [indices[k - 1], indices[k - 2], indices[k]] })
+            .flat_map(|k| {
+                if k % 2 == 0 {
+                    [indices[k - 2], indices[k - 1], indices[k]]
+                } else {
+                    [indices[k - 1], indices[k - 2], indices[k]]
+                }
+            })
             .collect(),
         Mode::TriangleFan => (2..indices.len()).flat_map(|k| [indices[0], indices[k - 1], indices[k]]).collect(),
         _ => {
-            if indices.len() % 3 != 0 {
-                warnings.push(format!("{} indices are not whole triangles; the last {} are ignored", indices.len(), indices.len() % 3));
+            if !indices.len().is_multiple_of(3) {
+                warnings.push(format!(
+                    "{} indices are not whole triangles; the last {} are ignored",
+                    indices.len(),
+                    indices.len() % 3
+                ));
             }
             indices[..indices.len() / 3 * 3].to_vec()
         }
@@ -196,7 +223,13 @@ fn triangle_list(mode: Mode, indices: &[u32], warnings: &mut Vec<String>) -> Vec
 }
 
 /// Every vertex's four strongest joints, normalized; sets beyond JOINTS_0 are merged in.
-fn influences(p: &gltf::Primitive<'_>, n: usize, joint_count: usize, buffers: &[Vec<u8>], warnings: &mut Vec<String>) -> Result<Vec<SkinVertex>, String> {
+fn influences(
+    p: &gltf::Primitive<'_>,
+    n: usize,
+    joint_count: usize,
+    buffers: &[Vec<u8>],
+    warnings: &mut Vec<String>,
+) -> Result<Vec<SkinVertex>, String> {
     let mut all: Vec<Vec<(u16, f32)>> = vec![Vec::new(); n];
     for set in 0.. {
         let (Some(j), Some(w)) = (p.get(&Semantic::Joints(set)), p.get(&Semantic::Weights(set))) else { break };
@@ -226,7 +259,11 @@ fn influences(p: &gltf::Primitive<'_>, n: usize, joint_count: usize, buffers: &[
             v
         })
         .collect();
-    let what = ["had more than 4 joints: kept the 4 largest, renormalized", "had weights not summing to 1: normalized", "had no weight: tied to their first joint"];
+    let what = [
+        "had more than 4 joints: kept the 4 largest, renormalized",
+        "had weights not summing to 1: normalized",
+        "had no weight: tied to their first joint",
+    ];
     for (count, what) in fixed.iter().zip(what) {
         if *count > 0 {
             warnings.push(format!("primitive {}: {count} vertices {what}", p.index()));
@@ -283,9 +320,17 @@ fn clip(a: &gltf::Animation<'_>, buffers: &[Vec<u8>], warnings: &mut Vec<String>
         let raw = floats(&output, buffers).map_err(|e| format!("{at} output: {e}"))?;
         let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 };
         if raw.len() != times.len() * per_key * width || raw.iter().any(|v| !v.is_finite()) {
-            return Err(format!("{at}: {} key times need {} finite values, found {}", times.len(), times.len() * per_key, raw.len() / width));
+            return Err(format!(
+                "{at}: {} key times need {} finite values, found {}",
+                times.len(),
+                times.len() * per_key,
+                raw.len() / width
+            ));
         }
-        let values: Vec<Vec4> = raw.chunks_exact(width).map(|v| if width == 4 { Vec4::from_slice(v) } else { Vec3::from_slice(v).extend(0.0) }).collect();
+        let values: Vec<Vec4> = raw
+            .chunks_exact(width)
+            .map(|v| if width == 4 { Vec4::from_slice(v) } else { Vec3::from_slice(v).extend(0.0) })
+            .collect();
         let keys = values.iter().skip(per_key / 2).step_by(per_key);
         if property == Property::Rotation && keys.clone().any(|q| q.length() < 1e-6) {
             return Err(format!("{at}: a rotation key is not a quaternion (its length is 0)"));

@@ -47,7 +47,10 @@ fn check_unchecked(root: &gltf::json::Root) -> Result<(), String> {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let position = primitive.attributes.get(&gltf::json::validation::Checked::Valid(gltf::Semantic::Positions));
             if let Some(i) = position.map(|i| i.value()).filter(|&i| i >= root.accessors.len()) {
-                return Err(format!("mesh {m} primitive {p}: POSITION is accessor {i}, but there are {} accessors", root.accessors.len()));
+                return Err(format!(
+                    "mesh {m} primitive {p}: POSITION is accessor {i}, but there are {} accessors",
+                    root.accessors.len()
+                ));
             }
         }
     }
@@ -55,7 +58,11 @@ fn check_unchecked(root: &gltf::json::Root) -> Result<(), String> {
         for (c, channel) in animation.channels.iter().enumerate() {
             let at = format!("animation {a} channel {c}");
             if channel.target.node.value() >= root.nodes.len() {
-                return Err(format!("{at} targets node {}, but there are {} nodes", channel.target.node.value(), root.nodes.len()));
+                return Err(format!(
+                    "{at} targets node {}, but there are {} nodes",
+                    channel.target.node.value(),
+                    root.nodes.len()
+                ));
             }
             if matches!(channel.target.path, gltf::json::validation::Checked::Invalid) {
                 return Err(format!("{at} targets an unknown property"));
@@ -104,8 +111,12 @@ fn split_glb(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), String> {
 fn load_buffer(buffer: &gltf::Buffer<'_>, blob: Option<&[u8]>, dir: Option<&Path>) -> Result<Vec<u8>, String> {
     let i = buffer.index();
     let data = match buffer.source() {
-        gltf::buffer::Source::Bin => blob.ok_or(format!("buffer {i} is the .glb's binary chunk, but there is none"))?.to_vec(),
-        gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => data_uri(uri).map_err(|e| format!("buffer {i}: {e}"))?,
+        gltf::buffer::Source::Bin => {
+            blob.ok_or(format!("buffer {i} is the .glb's binary chunk, but there is none"))?.to_vec()
+        }
+        gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
+            data_uri(uri).map_err(|e| format!("buffer {i}: {e}"))?
+        }
         gltf::buffer::Source::Uri(uri) => {
             if uri.contains("://") {
                 return Err(format!("buffer {i} is at {uri}; umbra reads only files next to the model"));
@@ -138,7 +149,10 @@ fn percent_decode(s: &str) -> String {
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;
     while i < bytes.len() {
-        let hex = bytes.get(i + 1..i + 3).and_then(|h| std::str::from_utf8(h).ok()).and_then(|h| u8::from_str_radix(h, 16).ok());
+        let hex = bytes
+            .get(i + 1..i + 3)
+            .and_then(|h| std::str::from_utf8(h).ok())
+            .and_then(|h| u8::from_str_radix(h, 16).ok());
         match (bytes[i], hex) {
             (b'%', Some(b)) => {
                 out.push(b);
