@@ -48,7 +48,7 @@ struct Frame {
     counts: vec4<u32>,
     // x: shadow strength, y: view depth where the sun's shadow starts to fade.
     shadow: vec4<f32>,
-    // x: ambient, y: 1 when shadows are on, z: 1 to tint each cascade.
+    // x: ambient, y: 1 when shadows are on, z: 1 to tint each cascade, w: the shadow filter.
     misc: vec4<f32>,
 };
 

@@ -29,5 +29,27 @@ fn shadow_visibility(view_proj: mat4x4<f32>, layer: i32, texel: f32, p: vec3<f32
     if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0) {
         return 1.0;
     }
-    return textureSampleCompareLevel(shadow_maps, shadow_sampler, uv, layer, ndc.z);
+    return filtered(uv, layer, ndc.z);
+}
+
+// The filter setting (frame.misc.w): 0 nearest, 1 bilinear, 2 a 3x3 and 3 a 5x5 grid of
+// bilinear comparisons one texel apart, averaged (percentage-closer filtering).
+fn filtered(uv: vec2<f32>, layer: i32, depth: f32) -> f32 {
+    let size = vec2<f32>(textureDimensions(shadow_maps));
+    let mode = i32(frame.misc.w);
+    if (mode == 0) {
+        // At a texel centre the bilinear weights are all on that texel: a plain comparison.
+        let centre = (floor(uv * size) + 0.5) / size;
+        return textureSampleCompareLevel(shadow_maps, shadow_sampler, centre, layer, depth);
+    }
+    let r = max(mode - 1, 0);
+    var sum = 0.0;
+    for (var y = -r; y <= r; y += 1) {
+        for (var x = -r; x <= r; x += 1) {
+            let at = uv + vec2<f32>(f32(x), f32(y)) / size;
+            sum += textureSampleCompareLevel(shadow_maps, shadow_sampler, at, layer, depth);
+        }
+    }
+    let n = f32((2 * r + 1) * (2 * r + 1));
+    return sum / n;
 }

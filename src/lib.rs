@@ -3,6 +3,38 @@
 //! The [`App`] owns a bevy_ecs [`World`] and the fixed-step update schedule; the renderer in
 //! [`render`] reads the world's components and draws the shadow pass and then the main pass.
 
+/// `ALL`, `name`, `next` and `FromStr` for a settings enum that the command line and the keys step
+/// through by name.
+macro_rules! named_choices {
+    ($ty:ty, $what:literal, $($variant:ident = $name:literal),+) => {
+        impl $ty {
+            /// Every choice, in the order the key steps through them.
+            pub const ALL: &'static [$ty] = &[$(<$ty>::$variant),+];
+
+            /// The choice's name as the command line spells it.
+            pub fn name(self) -> &'static str {
+                match self { $(<$ty>::$variant => $name),+ }
+            }
+
+            /// The next choice, round again after the last.
+            pub fn next(self) -> $ty {
+                let i = Self::ALL.iter().position(|c| *c == self).unwrap_or(0);
+                Self::ALL[(i + 1) % Self::ALL.len()]
+            }
+        }
+
+        impl std::str::FromStr for $ty {
+            type Err = String;
+            fn from_str(s: &str) -> Result<$ty, String> {
+                Self::ALL.iter().copied().find(|c| c.name() == s).ok_or_else(|| {
+                    let names: Vec<&str> = Self::ALL.iter().map(|c| c.name()).collect();
+                    format!("`{s}` is not {}: give one of {}", $what, names.join(", "))
+                })
+            }
+        }
+    };
+}
+
 pub mod assets;
 pub mod components;
 pub mod eval;

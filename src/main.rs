@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use umbra::components::{ModelInstance, Transform};
 use umbra::render::{Gpu, render_headless, render_png};
+use umbra::settings::{CasterCulling, ShadowFilter};
 use umbra::shadow::FitMode;
 use umbra::{App, Settings};
 
@@ -60,12 +61,19 @@ struct SceneArgs {
     /// Fraction of each cascade that blends into the next, 0..0.5.
     #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
     cascade_blend: Option<f32>,
-    /// How cascades are fitted: stable (no shimmer) or tight (sharper, shimmers).
+    /// How cascades are fitted: stable (no shimmer), unsnapped or tight (sharper, shimmers).
     #[arg(long, value_name = "MODE")]
     fit: Option<FitMode>,
     /// Tint each cascade in its own colour.
     #[arg(long)]
     cascade_debug: bool,
+    /// How shadow maps are sampled: nearest, bilinear, pcf3 or pcf5.
+    #[arg(long, value_name = "FILTER")]
+    filter: Option<ShadowFilter>,
+    /// Which casters shadow maps take: light (all in the light's volume) or camera (only those
+    /// the camera sees, a shortcut that loses off-screen casters).
+    #[arg(long, value_name = "MODE")]
+    culling: Option<CasterCulling>,
     /// Draw every shadow map every frame instead of only those of dirty lights.
     #[arg(long)]
     redraw_shadows: bool,
@@ -152,6 +160,8 @@ impl SceneArgs {
             cascade_blend: self.cascade_blend.unwrap_or(d.cascade_blend),
             fit_mode: self.fit.unwrap_or(d.fit_mode),
             cascade_debug: self.cascade_debug,
+            filter: self.filter.unwrap_or(d.filter),
+            caster_culling: self.culling.unwrap_or(d.caster_culling),
             reuse_shadow_maps: !self.redraw_shadows,
             character: !self.no_character,
             model: self.model.clone(),

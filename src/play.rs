@@ -93,12 +93,14 @@ fn run(event_loop: EventLoop<()>, app: App, frames: Option<u32>) -> Result<(), P
     player.error.map_or(Ok(()), Err)
 }
 
-/// Changes the setting a key stands for (F: fit mode, C: cascade tints, 1-4: cascades); false
-/// for any other key.
+/// Changes the setting a key stands for (F: fit mode, C: cascade tints, 1-4: cascades, P:
+/// filter, K: caster culling); false for any other key.
 pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
     match code {
-        KeyCode::KeyF => settings.fit_mode = settings.fit_mode.toggled(),
+        KeyCode::KeyF => settings.fit_mode = settings.fit_mode.next(),
         KeyCode::KeyC => settings.cascade_debug = !settings.cascade_debug,
+        KeyCode::KeyP => settings.filter = settings.filter.next(),
+        KeyCode::KeyK => settings.caster_culling = settings.caster_culling.next(),
         KeyCode::Digit1 => settings.cascades = 1,
         KeyCode::Digit2 => settings.cascades = 2,
         KeyCode::Digit3 => settings.cascades = 3,
@@ -111,7 +113,16 @@ pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
 /// The shadow settings the keys change, in a few words.
 fn settings_line(settings: &Settings) -> String {
     let tints = if settings.cascade_debug { ", tinted" } else { "" };
-    format!("{} cascades, {} fit{tints}", settings.cascades, settings.fit_mode.name())
+    let culling = match settings.caster_culling {
+        crate::settings::CasterCulling::LightVolume => "",
+        crate::settings::CasterCulling::CameraView => ", culling to the camera view",
+    };
+    format!(
+        "{} cascades, {} fit, {} filter{culling}{tints}",
+        settings.cascades,
+        settings.fit_mode.name(),
+        settings.filter.name()
+    )
 }
 
 /// The sample's key for a physical key, if it has one.
@@ -296,17 +307,22 @@ impl ApplicationHandler for Player {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::settings::{CasterCulling, ShadowFilter};
     use crate::shadow::FitMode;
 
     #[test]
     fn setting_keys_toggle_and_choose_and_others_do_nothing() {
         let mut s = Settings::default();
         assert!(change_setting(KeyCode::KeyF, &mut s));
-        assert_eq!(s.fit_mode, FitMode::Tight);
+        assert_eq!(s.fit_mode, FitMode::Unsnapped);
         assert!(change_setting(KeyCode::KeyC, &mut s) && s.cascade_debug);
         assert!(change_setting(KeyCode::Digit2, &mut s));
         assert_eq!(s.cascades, 2);
-        assert_eq!(settings_line(&s), "2 cascades, tight fit, tinted");
+        assert!(change_setting(KeyCode::KeyP, &mut s));
+        assert_eq!(s.filter, ShadowFilter::Pcf3);
+        assert!(change_setting(KeyCode::KeyK, &mut s));
+        assert_eq!(s.caster_culling, CasterCulling::CameraView);
+        assert_eq!(settings_line(&s), "2 cascades, unsnapped fit, pcf3 filter, culling to the camera view, tinted");
         let before = s.clone();
         assert!(!change_setting(KeyCode::KeyW, &mut s));
         assert_eq!(s, before);

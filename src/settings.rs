@@ -30,6 +30,10 @@ pub struct Settings {
     pub fit_mode: FitMode,
     /// Tint each cascade in its own colour to show where it is used.
     pub cascade_debug: bool,
+    /// How the shadow map is sampled.
+    pub filter: ShadowFilter,
+    /// Which casters are drawn into a shadow map and fitted into its depth range.
+    pub caster_culling: CasterCulling,
     /// Keep a light's shadow maps until it is dirty (true), or draw every map every frame.
     pub reuse_shadow_maps: bool,
     /// Ambient light level (0..1) that reaches every surface.
@@ -59,6 +63,8 @@ impl Default for Settings {
             cascade_blend: 0.1,
             fit_mode: FitMode::Stable,
             cascade_debug: false,
+            filter: ShadowFilter::Bilinear,
+            caster_culling: CasterCulling::LightVolume,
             reuse_shadow_maps: true,
             ambient: 0.12,
             cubes: 10,
@@ -68,6 +74,35 @@ impl Default for Settings {
         }
     }
 }
+
+/// How a shadow map is sampled: how many comparisons are averaged for one visibility.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ShadowFilter {
+    /// One comparison with the nearest texel: hard, blocky edges.
+    Nearest = 0,
+    /// The hardware's 2x2 comparison filter: edges one texel soft.
+    #[default]
+    Bilinear = 1,
+    /// A 3x3 grid of 2x2 comparisons, one texel apart (percentage-closer filtering).
+    Pcf3 = 2,
+    /// A 5x5 grid of 2x2 comparisons.
+    Pcf5 = 3,
+}
+
+/// Which casters a shadow map takes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum CasterCulling {
+    /// Every caster whose bounds meet the light's (cascade's) volume, the near plane pulled back
+    /// to hold them: casters the camera cannot see still shadow what it can.
+    #[default]
+    LightVolume,
+    /// Only casters inside the camera's view, with no pull-back: the common shortcut, here to
+    /// show its failure (a tall pillar behind the camera casts no shadow into view).
+    CameraView,
+}
+
+named_choices!(ShadowFilter, "a filter", Nearest = "nearest", Bilinear = "bilinear", Pcf3 = "pcf3", Pcf5 = "pcf5");
+named_choices!(CasterCulling, "a culling mode", LightVolume = "light", CameraView = "camera");
 
 /// A setting outside what makes sense, with the reason.
 #[derive(Debug, thiserror::Error, PartialEq)]

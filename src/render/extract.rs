@@ -3,7 +3,7 @@
 //! Pure CPU code, so what the GPU is told can be tested without a GPU.
 
 use crate::components::*;
-use crate::settings::Settings;
+use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{Aabb, MAX_CASCADES, intersects_clip_volume, spot_projection};
 use bevy_ecs::prelude::*;
 use bytemuck::{Pod, Zeroable};
@@ -131,8 +131,14 @@ fn bias_params(bias: &ShadowBias) -> Vec4 {
     Vec4::new(bias.constant, bias.slope, bias.normal, 0.0)
 }
 
-/// The shadow-map layers of one light, each with the casters inside its volume.
-fn layer_draws(light: LightId, map: &ShadowMap, items: &[(DrawItem, Aabb)]) -> Vec<LayerDraw> {
+/// The shadow-map layers of one light, each with the casters inside its volume (and inside the
+/// camera's view too, when `camera` is given: the camera-view culling shortcut).
+fn layer_draws(light: LightId, map: &ShadowMap, items: &[(DrawItem, Aabb)], camera: Option<&Mat4>) -> Vec<LayerDraw> {
+    let keep = |l: &ShadowLayer, (item, bounds): &(DrawItem, Aabb)| {
+        item.caster
+            && intersects_clip_volume(&l.view_proj, bounds)
+            && camera.is_none_or(|vp| intersects_clip_volume(vp, bounds))
+    };
     map.layers
         .iter()
         .map(|l| LayerDraw {
@@ -140,9 +146,7 @@ fn layer_draws(light: LightId, map: &ShadowMap, items: &[(DrawItem, Aabb)]) -> V
             layer: l.layer,
             view_proj: l.view_proj,
             version: l.version,
-            casters: (0..items.len())
-                .filter(|&i| items[i].0.caster && intersects_clip_volume(&l.view_proj, &items[i].1))
-                .collect(),
+            casters: (0..items.len()).filter(|&i| keep(l, &items[i])).collect(),
         })
         .collect()
 }
@@ -237,6 +241,7 @@ pub fn extract(world: &mut World) -> FrameData {
             })
             .collect();
 
+    let cull_to = (settings.caster_culling == CasterCulling::CameraView).then_some(&camera_view_proj);
     let mut layers = Vec::new();
     let mut sun = SunUniform::zeroed();
     let no_map = ShadowMap::default();
@@ -245,7 +250,7 @@ pub fn extract(world: &mut World) -> FrameData {
         && let Some(light) = world.get::<DirectionalLight>(e)
     {
         let map = world.get::<ShadowMap>(e).unwrap_or(&no_map);
-        layers.extend(layer_draws(LightId::Sun, map, &items));
+        layers.extend(layer_draws(LightId::Sun, map, &items, cull_to));
         sun = sun_uniform(light, map, world.get::<ShadowBias>(e).copied().unwrap_or_default());
     }
 
@@ -253,7 +258,7 @@ pub fn extract(world: &mut World) -> FrameData {
     for (i, &e) in spot_entities.iter().enumerate() {
         let (Some(light), Some(t)) = (world.get::<SpotLight>(e), world.get::<Transform>(e)) else { continue };
         let map = world.get::<ShadowMap>(e).unwrap_or(&no_map);
-        layers.extend(layer_draws(LightId::Spot(i), map, &items));
+        layers.extend(layer_draws(LightId::Spot(i), map, &items, cull_to));
         let bias = world.get::<ShadowBias>(e).copied().unwrap_or_default();
         spots[i] = spot_uniform(light, t, map, bias, world.get::<Cookie>(e));
     }
@@ -268,7 +273,12 @@ pub fn extract(world: &mut World) -> FrameData {
         spots,
         counts: [suns, spot_count as u32, 0, 0],
         shadow: Vec4::new(settings.shadow_strength, fade_start, 0.0, 0.0),
-        misc: Vec4::new(settings.ambient, settings.shadows as u32 as f32, settings.cascade_debug as u32 as f32, 0.0),
+        misc: Vec4::new(
+            settings.ambient,
+            settings.shadows as u32 as f32,
+            settings.cascade_debug as u32 as f32,
+            settings.filter as u32 as f32,
+        ),
     };
     let items = items.into_iter().map(|(item, _)| item).collect();
     FrameData { frame, items, layers, camera_view_proj, joints }

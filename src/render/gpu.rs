@@ -49,7 +49,8 @@ impl Gpu {
             adapters.into_iter().next().ok_or_else(|| RenderError::NoAdapter { backends: format!("{backends:?}") })?;
         let desc = wgpu::DeviceDescriptor {
             label: Some("umbra"),
-            required_features: wgpu::Features::empty(),
+            // Timestamps let the benchmark time each pass on the GPU; nothing else needs them.
+            required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
             required_limits: adapter.limits(),
             ..Default::default()
         };

@@ -2,6 +2,7 @@
 
 use super::extract::{FrameData, FrameUniform};
 use super::mesh::{Drawables, JointPalette, PipelineDesc, PipelinePair};
+use super::timing::PassTimer;
 use super::shadow_pass::ShadowMaps;
 use crate::assets::{COOKIE_SIZE, cookie_image};
 use crate::components::Cookie;
@@ -20,6 +21,15 @@ pub struct MainPass {
     object_layout: wgpu::BindGroupLayout,
     frame: FrameResources,
     bind_group: wgpu::BindGroup,
+}
+
+/// Where one main pass draws: its colour targets with their clear colours, the depth buffer,
+/// the pipelines, and the timer to stamp it with.
+struct Pass<'a> {
+    colors: &'a [(&'a wgpu::TextureView, wgpu::Color)],
+    depth: &'a wgpu::TextureView,
+    pipelines: &'a PipelinePair,
+    timer: Option<&'a PassTimer>,
 }
 
 /// Format of the measuring pass's three targets (world position, normal, visibility): 32-bit
@@ -181,8 +191,10 @@ impl MainPass {
         (color, depth): (&wgpu::TextureView, &wgpu::TextureView),
         data: &FrameData,
         with: Drawables<'_>,
+        timer: Option<&PassTimer>,
     ) {
-        self.encode_into(queue, encoder, &[(color, SKY)], depth, data, with, &self.pipelines);
+        let pass = Pass { colors: &[(color, SKY)], depth, pipelines: &self.pipelines, timer };
+        self.encode_into(queue, encoder, pass, data, with);
     }
 
     /// Draws every object's world position, normal and shadow visibilities into `targets`
@@ -195,22 +207,21 @@ impl MainPass {
         (targets, depth): (&[wgpu::TextureView; 3], &wgpu::TextureView),
         data: &FrameData,
         with: Drawables<'_>,
+        timer: Option<&PassTimer>,
     ) {
         let Some(debug) = &self.debug else { return };
         let clear = targets.each_ref().map(|t| (t, wgpu::Color::TRANSPARENT));
-        self.encode_into(queue, encoder, &clear, depth, data, with, debug);
+        let pass = Pass { colors: &clear, depth, pipelines: debug, timer };
+        self.encode_into(queue, encoder, pass, data, with);
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn encode_into(
         &self,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        colors: &[(&wgpu::TextureView, wgpu::Color)],
-        depth: &wgpu::TextureView,
+        Pass { colors, depth, pipelines, timer }: Pass<'_>,
         data: &FrameData,
         with: Drawables<'_>,
-        pipelines: &PipelinePair,
     ) {
         queue.write_buffer(&self.frame.buffer, 0, bytemuck::bytes_of(&data.frame));
         let attachments: Vec<_> = colors
@@ -232,7 +243,7 @@ impl MainPass {
                 depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
                 stencil_ops: None,
             }),
-            timestamp_writes: None,
+            timestamp_writes: timer.map(PassTimer::main_writes),
             occlusion_query_set: None,
             multiview_mask: None,
         });

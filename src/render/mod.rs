@@ -12,6 +12,7 @@ mod mesh;
 mod readback;
 mod renderer;
 mod shadow_pass;
+mod timing;
 mod uniform_array;
 
 pub use extract::{DrawItem, FrameData, LayerDraw, LightId, MAX_SPOTS, SHADOW_FADE, extract, light_order};
@@ -19,6 +20,7 @@ pub use gpu::{Gpu, instance};
 pub use readback::{DebugFrame, HEADLESS_FORMAT, Image, render_debug_frame, render_headless, render_png};
 pub use renderer::Renderer;
 pub use shadow_pass::{LightPasses, ShadowStats};
+pub use timing::PassTimes;
 
 /// Everything that can go wrong between the world and a finished frame.
 #[derive(Debug, thiserror::Error)]

@@ -4,6 +4,7 @@ use super::extract::{ObjectUniform, extract};
 use super::main_pass::{DEPTH_FORMAT, MainPass};
 use super::mesh::{Drawables, GpuMesh, JointPalette};
 use super::shadow_pass::{ShadowPass, ShadowStats};
+use super::timing::{PassTimer, PassTimes};
 use super::uniform_array::UniformArray;
 use super::{Gpu, RenderError};
 use crate::assets::MeshLibrary;
@@ -24,6 +25,7 @@ pub struct Renderer {
     shadow: ShadowPass,
     main: MainPass,
     depth: Option<(wgpu::TextureView, u32, u32)>,
+    timer: Option<PassTimer>,
 }
 
 impl Renderer {
@@ -45,7 +47,7 @@ impl Renderer {
         let shadow = ShadowPass::new(device, &objects.layout, &joints, 16);
         let main = MainPass::new(device, &objects.layout, &joints, format, &shadow.maps);
         gpu.check_errors()?;
-        Ok(Renderer { objects, joints, meshes: Vec::new(), shadow, main, depth: None })
+        Ok(Renderer { objects, joints, meshes: Vec::new(), shadow, main, depth: None, timer: None })
     }
 
     /// Renders the world as it is now into `target` (`width` x `height` pixels), drawing only the
@@ -75,6 +77,18 @@ impl Renderer {
         self.draw(gpu, world, (width, height), Output::Measure(targets))
     }
 
+    /// Stamps every later frame's shadow and main passes with GPU timestamps, where the device
+    /// can; false where it cannot (then time the frame on the CPU instead).
+    pub fn enable_timing(&mut self, gpu: &Gpu) -> bool {
+        self.timer = self.timer.take().or_else(|| PassTimer::new(gpu));
+        self.timer.is_some()
+    }
+
+    /// The GPU time of the last frame's passes, if timing is on (waits for the GPU).
+    pub fn pass_times(&self, gpu: &Gpu) -> Option<Result<PassTimes, RenderError>> {
+        self.timer.as_ref().map(|t| t.read(gpu))
+    }
+
     fn draw(
         &mut self,
         gpu: &Gpu,
@@ -101,17 +115,24 @@ impl Renderer {
 
         let drawables = Drawables { meshes: &self.meshes, objects: &self.objects, joints: &self.joints };
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        if let Some(timer) = &mut self.timer {
+            timer.begin();
+        }
         let stats = if settings.shadows {
             let reuse = settings.reuse_shadow_maps;
-            self.shadow.encode(device, queue, &mut encoder, &data, drawables, reuse)
+            self.shadow.encode(device, queue, &mut encoder, &data, drawables, reuse, self.timer.as_mut())
         } else {
             ShadowStats::default()
         };
+        let timer = self.timer.as_ref();
         match output {
-            Output::Picture(target) => self.main.encode(queue, &mut encoder, (target, &depth), &data, drawables),
+            Output::Picture(target) => self.main.encode(queue, &mut encoder, (target, &depth), &data, drawables, timer),
             Output::Measure(targets) => {
-                self.main.encode_debug(queue, &mut encoder, (targets, &depth), &data, drawables)
+                self.main.encode_debug(queue, &mut encoder, (targets, &depth), &data, drawables, timer)
             }
+        }
+        if let Some(timer) = timer {
+            timer.resolve(&mut encoder);
         }
         queue.submit([encoder.finish()]);
         world.insert_resource(stats);

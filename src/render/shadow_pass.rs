@@ -5,6 +5,7 @@
 
 use super::extract::{FrameData, LayerDraw, LightId};
 use super::mesh::{Drawables, JointPalette, PipelineDesc, PipelinePair};
+use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
 use bevy_ecs::prelude::*;
 use glam::Mat4;
@@ -148,6 +149,7 @@ impl ShadowPass {
         data: &FrameData,
         with: Drawables<'_>,
         reuse: bool,
+        mut timer: Option<&mut PassTimer>,
     ) -> ShadowStats {
         let mut stats = ShadowStats::default();
         let todo: Vec<&LayerDraw> = data
@@ -158,11 +160,12 @@ impl ShadowPass {
                 stats.count(l.light, draw);
                 draw
             })
+            .filter(|l| (l.layer as usize) < self.maps.layer_views.len())
             .collect();
         let matrices: Vec<Mat4> = todo.iter().map(|l| l.view_proj).collect();
         self.layer_uniforms.write::<Mat4>(device, queue, &matrices);
         for (slot, layer) in todo.iter().enumerate() {
-            let Some(view) = self.maps.layer_views.get(layer.layer as usize) else { continue };
+            let view = &self.maps.layer_views[layer.layer as usize];
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow pass"),
                 color_attachments: &[],
@@ -171,7 +174,7 @@ impl ShadowPass {
                     depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: None,
+                timestamp_writes: timer.as_deref_mut().and_then(|t| t.shadow_writes(slot, todo.len())),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });

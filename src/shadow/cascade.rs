@@ -16,38 +16,14 @@ pub enum FitMode {
     /// whatever the camera's rotation and moves in texel steps, so the shadow does not shimmer.
     #[default]
     Stable,
+    /// The stable sphere without the snapping: the texel size holds still, but the texel grid
+    /// slides with the camera, so shadow edges crawl (here to show what snapping buys).
+    Unsnapped,
     /// The smallest light-space box around the slice: more texels on screen, but it shimmers.
     Tight,
 }
 
-impl FitMode {
-    /// The other mode.
-    pub fn toggled(self) -> FitMode {
-        match self {
-            FitMode::Stable => FitMode::Tight,
-            FitMode::Tight => FitMode::Stable,
-        }
-    }
-
-    /// The mode's name as the command line spells it.
-    pub fn name(self) -> &'static str {
-        match self {
-            FitMode::Stable => "stable",
-            FitMode::Tight => "tight",
-        }
-    }
-}
-
-impl std::str::FromStr for FitMode {
-    type Err = String;
-    fn from_str(s: &str) -> Result<FitMode, String> {
-        match s {
-            "stable" => Ok(FitMode::Stable),
-            "tight" => Ok(FitMode::Tight),
-            _ => Err(format!("`{s}` is not a fit mode: give `stable` or `tight`")),
-        }
-    }
-}
+named_choices!(FitMode, "a fit mode", Stable = "stable", Unsnapped = "unsnapped", Tight = "tight");
 
 /// View depths that split `[near, far]` into `count` cascades by the practical scheme.
 ///
@@ -143,13 +119,13 @@ pub fn fit_cascade(
     let view = light_view(Vec3::ZERO, direction);
     let res = resolution.max(1) as f32;
     let (min, max, slice_far, texel, step) = match mode {
-        FitMode::Stable => {
+        FitMode::Stable | FitMode::Unsnapped => {
             let (center, r) = frustum.slice_sphere(a, b);
             let texel = 2.0 * r / res;
             let c = view.transform_point3(center);
             // Whole-texel steps keep every texel on the same world grid from frame to frame.
-            let snapped = (c.truncate() / texel).round() * texel;
-            (snapped - r, snapped + r, c.z - r, texel, Some(depth_step(r)))
+            let origin = if mode == FitMode::Stable { (c.truncate() / texel).round() * texel } else { c.truncate() };
+            (origin - r, origin + r, c.z - r, texel, Some(depth_step(r)))
         }
         FitMode::Tight => {
             let slice = Aabb::from_points(frustum.slice_corners(a, b).map(|p| view.transform_point3(p)));
@@ -267,9 +243,25 @@ mod tests {
     }
 
     #[test]
-    fn fit_modes_parse_and_toggle() {
+    fn fit_modes_parse_and_cycle() {
         assert_eq!("tight".parse::<FitMode>(), Ok(FitMode::Tight));
+        assert_eq!("unsnapped".parse::<FitMode>(), Ok(FitMode::Unsnapped));
         assert!("loose".parse::<FitMode>().unwrap_err().contains("loose"));
-        assert_eq!(FitMode::Stable.toggled(), FitMode::Tight);
+        assert_eq!(FitMode::Stable.next(), FitMode::Unsnapped);
+        assert_eq!(FitMode::Tight.next(), FitMode::Stable);
+    }
+
+    #[test]
+    fn only_the_stable_fit_snaps_to_whole_texels() {
+        let f = frustum();
+        let scene = SceneBounds { casters: &[], receivers: &[] };
+        let dir = Vec3::new(-0.4, -1.0, -0.3);
+        let fit = |mode, nudge: f32| {
+            let moved = ViewFrustum { position: f.position + Vec3::new(nudge, 0.0, 0.0), ..f };
+            fit_cascade(dir, &moved, 0.1, 10.0, mode, scene, 1024).view_proj
+        };
+        // A thousandth of a texel to the side: the snapped box stays, the unsnapped one moves.
+        assert_eq!(fit(FitMode::Stable, 0.0), fit(FitMode::Stable, 1e-5));
+        assert_ne!(fit(FitMode::Unsnapped, 0.0), fit(FitMode::Unsnapped, 1e-5));
     }
 }

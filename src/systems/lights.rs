@@ -7,7 +7,7 @@ use crate::components::{
     Camera, DirectionalLight, Joints, Mesh, ShadowBias, ShadowCaster, ShadowLayer, ShadowMap, SpotLight, Transform,
     Viewport, WorldBounds,
 };
-use crate::settings::Settings;
+use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{
     Aabb, LightProjection, SceneBounds, ViewFrustum, blend_bands, fit_cascade, intersects_clip_volume, split_depths,
     spot_projection,
@@ -104,10 +104,15 @@ pub fn update_light_matrices(
     mut spots: Query<(Ref<SpotLight>, Ref<Transform>, Ref<ShadowBias>, &mut ShadowMap), Without<DirectionalLight>>,
 ) {
     let resized = std::mem::replace(&mut *last_size, settings.shadow_map_size) != settings.shadow_map_size;
-    let caster_boxes: Vec<Aabb> = casters.iter().map(|b| b.0).collect();
+    let camera = cameras.iter().next().map(|(c, t)| (*c, *t));
+    // The shortcut of culling casters to the camera's view keeps only those the camera sees.
+    let in_view = |b: &Aabb| match (settings.caster_culling, camera) {
+        (CasterCulling::CameraView, Some((c, t))) => intersects_clip_volume(&c.view_proj(&t, viewport.aspect()), b),
+        _ => true,
+    };
+    let caster_boxes: Vec<Aabb> = casters.iter().map(|b| b.0).filter(in_view).collect();
     let seen_boxes: Vec<Aabb> = visible.iter().map(|b| b.0).collect();
     let scene = SceneBounds { casters: &caster_boxes, receivers: &seen_boxes };
-    let camera = cameras.iter().next().map(|(c, t)| (*c, *t));
     let mut next_layer = 0;
     for (i, (sun, bias, mut map)) in suns.iter_mut().enumerate() {
         let fits = match camera {

@@ -1,0 +1,109 @@
+//! GPU time of the shadow pass and the main pass, from timestamp queries written at the start
+//! and end of each (for measuring only; play never turns them on).
+
+use super::{Gpu, RenderError};
+
+/// Query indices: shadow pass start and end, main pass start and end.
+const SHADOW_START: u32 = 0;
+const SHADOW_END: u32 = 1;
+const MAIN_START: u32 = 2;
+const MAIN_END: u32 = 3;
+
+/// Timestamp queries around the passes of one frame.
+pub struct PassTimer {
+    queries: wgpu::QuerySet,
+    resolved: wgpu::Buffer,
+    read: wgpu::Buffer,
+    /// Nanoseconds per timestamp tick.
+    period: f64,
+    /// Whether the last frame drew any shadow layer (otherwise its shadow time is zero).
+    shadow_written: bool,
+}
+
+/// What the passes of the last frame cost on the GPU.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PassTimes {
+    /// Every shadow layer drawn, first pass start to last pass end, in milliseconds.
+    pub shadow_ms: f64,
+    /// The main pass, in milliseconds.
+    pub main_ms: f64,
+}
+
+impl PassTimer {
+    /// Timestamp queries on `gpu`, or `None` when its device cannot write them.
+    pub fn new(gpu: &Gpu) -> Option<PassTimer> {
+        if !gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+            return None;
+        }
+        let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("pass times"),
+            ty: wgpu::QueryType::Timestamp,
+            count: 4,
+        });
+        let buffer = |label, size, usage| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage, mapped_at_creation: false })
+        };
+        // Each pass's pair is resolved on its own, at a resolve-aligned offset.
+        let usage = wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC;
+        let resolved = buffer("pass times", 2 * wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT, usage);
+        let read = buffer("pass times read", 32, wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ);
+        let period = gpu.queue.get_timestamp_period() as f64;
+        Some(PassTimer { queries, resolved, read, period, shadow_written: false })
+    }
+
+    /// Writes for shadow-layer pass `i` of `n`: the first marks the start, the last the end.
+    pub fn shadow_writes(&mut self, i: usize, n: usize) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        self.shadow_written = n > 0;
+        let (first, last) = (i == 0, i + 1 == n);
+        (first || last).then_some(wgpu::RenderPassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: first.then_some(SHADOW_START),
+            end_of_pass_write_index: last.then_some(SHADOW_END),
+        })
+    }
+
+    /// Writes for the main pass.
+    pub fn main_writes(&self) -> wgpu::RenderPassTimestampWrites<'_> {
+        wgpu::RenderPassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: Some(MAIN_START),
+            end_of_pass_write_index: Some(MAIN_END),
+        }
+    }
+
+    /// Starts a frame: no shadow layer written yet.
+    pub fn begin(&mut self) {
+        self.shadow_written = false;
+    }
+
+    /// Copies the frame's timestamps out; call after both passes are encoded.
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        let second = wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT;
+        if self.shadow_written {
+            encoder.resolve_query_set(&self.queries, SHADOW_START..SHADOW_END + 1, &self.resolved, 0);
+            encoder.copy_buffer_to_buffer(&self.resolved, 0, &self.read, 0, 16);
+        }
+        encoder.resolve_query_set(&self.queries, MAIN_START..MAIN_END + 1, &self.resolved, second);
+        encoder.copy_buffer_to_buffer(&self.resolved, second, &self.read, 16, 16);
+    }
+
+    /// The pass times of the frame last submitted (waits for the GPU).
+    pub fn read(&self, gpu: &Gpu) -> Result<PassTimes, RenderError> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        self.read.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        gpu.wait()?;
+        rx.recv()
+            .map_err(|e| RenderError::Wgpu(format!("timestamps never arrived: {e}")))?
+            .map_err(|e| RenderError::Wgpu(format!("timestamps could not be read: {e}")))?;
+        let ticks: [u64; 4] = {
+            let mapped = self.read.get_mapped_range(..).map_err(|e| RenderError::Wgpu(e.to_string()))?;
+            bytemuck::pod_read_unaligned(&mapped[..32])
+        };
+        self.read.unmap();
+        let ms = |a: u64, b: u64| b.saturating_sub(a) as f64 * self.period / 1e6;
+        let shadow_ms = if self.shadow_written { ms(ticks[0], ticks[1]) } else { 0.0 };
+        Ok(PassTimes { shadow_ms, main_ms: ms(ticks[2], ticks[3]) })
+    }
+}
