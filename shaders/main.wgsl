@@ -44,7 +44,7 @@ struct Frame {
     camera_forward: vec4<f32>,
     sun: Sun,
     spots: array<Spot, MAX_SPOTS>,
-    // x: suns (0 or 1), y: spots.
+    // x: suns (0 or 1), y: spots, z and w: the probe grid's width and height.
     counts: vec4<u32>,
     // x: shadow strength, y: view depth where the sun's shadow starts to fade.
     shadow: vec4<f32>,
@@ -94,13 +94,58 @@ fn strengthen(vis: f32) -> f32 {
     return 1.0 - frame.shadow.x * (1.0 - vis);
 }
 
-// Visibility of spot light `s` at distance `distance`, or 1 where there is no shadow to look up.
+// Visibility of spot light `s` at distance `distance` (1 where it casts no shadow).
 fn spot_visibility(s: Spot, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>) -> f32 {
-    if (s.shadow.x < 0.0 || !receives_shadows()) {
+    if (s.shadow.x < 0.0) {
         return 1.0;
     }
     let bias = Bias(s.bias.x, s.bias.y, s.bias.z);
     return shadow_visibility(s.view_proj, i32(s.shadow.x), s.shadow.y * distance, p, n, l, bias);
+}
+
+// One light as seen from a surface point: the unit direction towards it, how much of it reaches
+// (0 where it does not: facing away, outside the cone or range), and its shadow test (1 where
+// none is made).
+struct LightSample {
+    l: vec3<f32>,
+    reach: f32,
+    visibility: f32,
+};
+
+// The sun at `p` (unit normal `n`, view depth `depth`); `test` says whether to look up its shadow.
+fn sun_sample(p: vec3<f32>, n: vec3<f32>, depth: f32, test: bool) -> LightSample {
+    let l = -normalize(frame.sun.direction.xyz);
+    var s = LightSample(l, 0.0, 1.0);
+    if (frame.counts.x > 0u && dot(n, l) > 0.0) {
+        s.reach = 1.0;
+        if (test) {
+            s.visibility = sun_visibility(p, n, l, depth);
+        }
+    }
+    return s;
+}
+
+// Spot light `i` at `p` (unit normal `n`); `test` says whether to look up its shadow.
+fn spot_sample(i: u32, p: vec3<f32>, n: vec3<f32>, test: bool) -> LightSample {
+    let spot = frame.spots[i];
+    let to_light = spot.position.xyz - p;
+    let d = length(to_light);
+    let l = to_light / max(d, 1e-4);
+    // The cone: full inside the inner angle, a smooth edge, nothing outside the outer angle;
+    // behind the light the cosine is negative, so the back projection is cut here too.
+    let cone = smoothstep(spot.direction.w, spot.color.w, dot(-l, spot.direction.xyz));
+    // Inverse-square-like falloff, windowed to reach exactly zero at the range.
+    let x = d / spot.position.w;
+    let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
+    let attenuation = window * window / (1.0 + 0.05 * d * d);
+    var s = LightSample(l, 0.0, 1.0);
+    if (cone * attenuation > 0.0 && dot(n, l) > 0.0) {
+        s.reach = cone * attenuation;
+        if (test) {
+            s.visibility = spot_visibility(spot, d, p, n, l);
+        }
+    }
+    return s;
 }
 
 // The spot's cookie at `p`: the image projected through the cone (1 without a cookie).
@@ -166,36 +211,19 @@ fn shade(in: VertexOut) -> Shaded {
     let albedo = object.color.rgb;
     var out = Shaded(albedo * frame.misc.x, vec4<f32>(-1.0));
 
-    if (frame.counts.x > 0u) {
-        let l = -normalize(frame.sun.direction.xyz);
-        if (dot(n, l) > 0.0) {
-            var vis = 1.0;
-            if (receives_shadows()) {
-                vis = sun_visibility(p, n, l, depth);
-            }
-            out.visibility.x = vis;
-            out.color += frame.sun.color.rgb * phong(n, l, v, albedo) * strengthen(vis);
-        }
+    let sun = sun_sample(p, n, depth, receives_shadows());
+    if (sun.reach > 0.0) {
+        out.visibility.x = sun.visibility;
+        out.color += frame.sun.color.rgb * phong(n, sun.l, v, albedo) * strengthen(sun.visibility);
     }
-
     for (var i = 0u; i < min(frame.counts.y, MAX_SPOTS); i += 1u) {
-        let spot = frame.spots[i];
-        let to_light = spot.position.xyz - p;
-        let d = length(to_light);
-        let l = to_light / max(d, 1e-4);
-        // The cone: full inside the inner angle, a smooth edge, nothing outside the outer angle;
-        // behind the light the cosine is negative, so the back projection is cut here too.
-        let cone = smoothstep(spot.direction.w, spot.color.w, dot(-l, spot.direction.xyz));
-        // Inverse-square-like falloff, windowed to reach exactly zero at the range.
-        let x = d / spot.position.w;
-        let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
-        let attenuation = window * window / (1.0 + 0.05 * d * d);
-        if (cone * attenuation > 0.0 && dot(n, l) > 0.0) {
-            let vis = spot_visibility(spot, d, p, n, l);
+        let spot = spot_sample(i, p, n, receives_shadows());
+        if (spot.reach > 0.0) {
             if (i < 3u) {
-                out.visibility[i + 1u] = vis;
+                out.visibility[i + 1u] = spot.visibility;
             }
-            out.color += spot.color.rgb * phong(n, l, v, albedo) * (cone * attenuation * strengthen(vis) * cookie(spot, p));
+            let light = frame.spots[i];
+            out.color += light.color.rgb * phong(n, spot.l, v, albedo) * (spot.reach * strengthen(spot.visibility) * cookie(light, p));
         }
     }
     if (frame.misc.z > 0.5) {
@@ -229,4 +257,41 @@ fn fs_debug(in: VertexOut) -> DebugOut {
         bitcast<vec4<u32>>(vec4<f32>(normalize(in.normal), depth)),
         bitcast<vec4<u32>>(shaded.visibility),
     );
+}
+
+// Probes: single points whose shadow tests are wanted (fixed world points, watched as the camera
+// moves). Probe i is drawn as one point into pixel (i % width, i / width) of an integer target,
+// width in frame.counts.z.
+struct ProbeOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) world: vec3<f32>,
+    @location(1) @interpolate(flat) normal: vec3<f32>,
+};
+
+@vertex
+fn vs_probe(@builtin(vertex_index) i: u32, v: VertexIn) -> ProbeOut {
+    let width = max(frame.counts.z, 1u);
+    let height = max(frame.counts.w, 1u);
+    let pixel = vec2<f32>(f32(i % width) + 0.5, f32(i / width) + 0.5);
+    let size = vec2<f32>(f32(width), f32(height));
+    let ndc = vec2<f32>(pixel.x / size.x * 2.0 - 1.0, 1.0 - pixel.y / size.y * 2.0);
+    return ProbeOut(vec4<f32>(ndc, 0.5, 1.0), v.position, v.normal);
+}
+
+@fragment
+fn fs_probe(in: ProbeOut) -> @location(0) vec4<u32> {
+    let n = normalize(in.normal);
+    let depth = dot(in.world - frame.camera_position.xyz, frame.camera_forward.xyz);
+    var out = vec4<f32>(-1.0);
+    let sun = sun_sample(in.world, n, depth, true);
+    if (sun.reach > 0.0) {
+        out.x = sun.visibility;
+    }
+    for (var i = 0u; i < min(frame.counts.y, 3u); i += 1u) {
+        let spot = spot_sample(i, in.world, n, true);
+        if (spot.reach > 0.0) {
+            out[i + 1u] = spot.visibility;
+        }
+    }
+    return bitcast<vec4<u32>>(out);
 }

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use umbra::components::{ModelInstance, Transform};
 use umbra::render::{Gpu, render_headless, render_png};
-use umbra::settings::{CasterCulling, ShadowFilter};
+use umbra::settings::{CasterCulling, ShadowFaces, ShadowFilter};
 use umbra::shadow::FitMode;
 use umbra::{App, Settings};
 
@@ -74,6 +74,9 @@ struct SceneArgs {
     /// the camera sees, a shortcut that loses off-screen casters).
     #[arg(long, value_name = "MODE")]
     culling: Option<CasterCulling>,
+    /// Which caster faces shadow maps take: both, or back (only those turned away from the light).
+    #[arg(long, value_name = "FACES")]
+    shadow_faces: Option<ShadowFaces>,
     /// Draw every shadow map every frame instead of only those of dirty lights.
     #[arg(long)]
     redraw_shadows: bool,
@@ -162,6 +165,7 @@ impl SceneArgs {
             cascade_debug: self.cascade_debug,
             filter: self.filter.unwrap_or(d.filter),
             caster_culling: self.culling.unwrap_or(d.caster_culling),
+            shadow_faces: self.shadow_faces.unwrap_or(d.shadow_faces),
             reuse_shadow_maps: !self.redraw_shadows,
             character: !self.no_character,
             model: self.model.clone(),

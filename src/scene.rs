@@ -132,9 +132,13 @@ pub fn sample_spots() -> [(SpotLight, Vec3, Vec3, Option<Cookie>); 2] {
 
 /// The camera the sample starts with: south of the scene, looking down at the ring of cubes.
 pub fn default_camera() -> (Camera, FlyCamera, Transform) {
-    let eye = Vec3::new(2.0, 5.5, 12.5);
-    let to = Vec3::new(-0.5, 1.0, 0.0) - eye;
-    let fly = FlyCamera::new((-to.x).atan2(-to.z), (to.y / to.length()).asin());
+    camera_looking(Vec3::new(2.0, 5.5, 12.5), Vec3::new(-0.5, 1.0, 0.0))
+}
+
+/// A fly camera at `eye` looking at `target`.
+pub fn camera_looking(eye: Vec3, target: Vec3) -> (Camera, FlyCamera, Transform) {
+    let to = target - eye;
+    let fly = FlyCamera::new((-to.x).atan2(-to.z), (to.y / to.length().max(1e-6)).asin());
     (Camera::default(), fly, Transform { translation: eye, rotation: fly.rotation(), ..Default::default() })
 }
 

@@ -34,6 +34,8 @@ pub struct Settings {
     pub filter: ShadowFilter,
     /// Which casters are drawn into a shadow map and fitted into its depth range.
     pub caster_culling: CasterCulling,
+    /// Which faces of the casters are drawn into shadow maps.
+    pub shadow_faces: ShadowFaces,
     /// Keep a light's shadow maps until it is dirty (true), or draw every map every frame.
     pub reuse_shadow_maps: bool,
     /// Ambient light level (0..1) that reaches every surface.
@@ -65,6 +67,7 @@ impl Default for Settings {
             cascade_debug: false,
             filter: ShadowFilter::Bilinear,
             caster_culling: CasterCulling::LightVolume,
+            shadow_faces: ShadowFaces::Both,
             reuse_shadow_maps: true,
             ambient: 0.12,
             cubes: 10,
@@ -101,6 +104,21 @@ pub enum CasterCulling {
     CameraView,
 }
 
+/// Which faces of the casters the shadow pass draws.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ShadowFaces {
+    /// Every face: the map holds the surfaces nearest the light, one-sided surfaces block light
+    /// from both sides (as in the truth), and a thick caster's shadow starts right at its foot.
+    #[default]
+    Both,
+    /// Only faces turned away from the light (front faces culled), the classic cure for acne on
+    /// lit surfaces: they are not in the map at all. But the map then holds the far side of each
+    /// caster, so shadows come loose where a caster meets the ground (peter-panning) and open
+    /// surfaces cast nothing.
+    Back,
+}
+
+named_choices!(ShadowFaces, "a face choice", Both = "both", Back = "back");
 named_choices!(ShadowFilter, "a filter", Nearest = "nearest", Bilinear = "bilinear", Pcf3 = "pcf3", Pcf5 = "pcf5");
 named_choices!(CasterCulling, "a culling mode", LightVolume = "light", CameraView = "camera");
 

@@ -51,7 +51,8 @@ fn random_pose(app: &mut App, rng: &mut Rng) {
 
 /// A random camera pose somewhere in and around the scene.
 fn random_frustum(rng: &mut Rng) -> ViewFrustum {
-    let rotation = Quat::from_rotation_y(rng.range(-std::f32::consts::PI, std::f32::consts::PI)) * Quat::from_rotation_x(rng.range(-1.5, 1.5));
+    let rotation = Quat::from_rotation_y(rng.range(-std::f32::consts::PI, std::f32::consts::PI))
+        * Quat::from_rotation_x(rng.range(-1.5, 1.5));
     let position = Vec3::new(rng.range(-30.0, 30.0), rng.range(0.2, 20.0), rng.range(-30.0, 30.0));
     ViewFrustum { position, rotation, fov_y: rng.range(0.3, 2.0), aspect: rng.range(0.5, 2.5) }
 }

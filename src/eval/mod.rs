@@ -2,5 +2,7 @@
 //! used while playing.
 
 pub mod bench;
+pub mod cases;
+pub mod measure;
 pub mod metrics;
 pub mod truth;

@@ -194,6 +194,14 @@ fn spot_uniform(
     }
 }
 
+impl FrameData {
+    /// Tells the probe shader the size of the grid of pixels its probes are drawn into.
+    pub fn set_probe_grid(&mut self, width: u32, height: u32) {
+        self.frame.counts[2] = width;
+        self.frame.counts[3] = height;
+    }
+}
+
 /// The lights the main pass uses, in the order it uses them: the first sun, then at most
 /// [`MAX_SPOTS`] spot lights (the measuring view reports visibilities in this order).
 pub fn light_order(world: &mut World) -> (Option<Entity>, Vec<Entity>) {

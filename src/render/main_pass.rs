@@ -2,8 +2,8 @@
 
 use super::extract::{FrameData, FrameUniform};
 use super::mesh::{Drawables, JointPalette, PipelineDesc, PipelinePair};
-use super::timing::PassTimer;
 use super::shadow_pass::ShadowMaps;
+use super::timing::PassTimer;
 use crate::assets::{COOKIE_SIZE, cookie_image};
 use crate::components::Cookie;
 
@@ -17,6 +17,8 @@ pub struct MainPass {
     pipelines: PipelinePair,
     /// The measuring pipelines (world position, normal, visibility), built on first use.
     debug: Option<PipelinePair>,
+    /// The probe pipeline (shadow tests at given points), built on first use.
+    probe: Option<wgpu::RenderPipeline>,
     module: wgpu::ShaderModule,
     object_layout: wgpu::BindGroupLayout,
     frame: FrameResources,
@@ -152,13 +154,14 @@ impl MainPass {
             fragment: Some(("fs_main", &targets)),
             groups: [&frame_layout, object_layout],
             depth: depth_test(),
+            cull: Some(wgpu::Face::Back),
         };
         let pipelines = PipelinePair::new(device, &desc, palette);
         let cookies = cookie_buffer(device);
         let frame = FrameResources { layout: frame_layout, buffer: frame_buffer, shadow_sampler: sampler, cookies };
         let bind_group = frame.bind(device, maps);
         let object_layout = object_layout.clone();
-        MainPass { pipelines, debug: None, module, object_layout, frame, bind_group }
+        MainPass { pipelines, debug: None, probe: None, module, object_layout, frame, bind_group }
     }
 
     /// Builds the measuring pipelines if they are not built yet.
@@ -174,6 +177,7 @@ impl MainPass {
             fragment: Some(("fs_debug", &targets)),
             groups: [&self.frame.layout, &self.object_layout],
             depth: depth_test(),
+            cull: Some(wgpu::Face::Back),
         };
         self.debug = Some(PipelinePair::new(device, &desc, palette));
     }
@@ -181,6 +185,78 @@ impl MainPass {
     /// Points the pass at new shadow maps after they were re-created.
     pub fn rebind(&mut self, device: &wgpu::Device, maps: &ShadowMaps) {
         self.bind_group = self.frame.bind(device, maps);
+    }
+
+    /// Builds the probe pipeline if it is not built yet.
+    pub fn ensure_probe(&mut self, device: &wgpu::Device) {
+        if self.probe.is_some() {
+            return;
+        }
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("probe"),
+            bind_group_layouts: &[Some(&self.frame.layout)],
+            immediate_size: 0,
+        });
+        const POINT: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+        self.probe = Some(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("probe"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some("vs_probe"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: size_of::<crate::assets::Vertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &POINT,
+                })],
+            },
+            primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::PointList, ..Default::default() },
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some("fs_probe"),
+                compilation_options: Default::default(),
+                targets: &[Some(DEBUG_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        }));
+    }
+
+    /// Draws `count` probe points from `points` into `target`, each into its own pixel, with the
+    /// shadow tests the main pass would make there; needs [`MainPass::ensure_probe`] first.
+    pub fn encode_probes(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        data: &FrameData,
+        (points, count): (&wgpu::Buffer, u32),
+    ) {
+        let Some(pipeline) = &self.probe else { return };
+        queue.write_buffer(&self.frame.buffer, 0, bytemuck::bytes_of(&data.frame));
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("probes"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_vertex_buffer(0, points.slice(..));
+        pass.draw(0..count, 0..1);
     }
 
     /// Draws every object into `color` (cleared to the sky) with depth testing against `depth`.

@@ -134,6 +134,8 @@ pub struct PipelineDesc<'a> {
     pub groups: [&'a wgpu::BindGroupLayout; 2],
     /// Depth format and test.
     pub depth: wgpu::DepthStencilState,
+    /// Which faces are not drawn.
+    pub cull: Option<wgpu::Face>,
 }
 
 /// The same pipeline for rigid meshes and for skinned meshes.
@@ -167,7 +169,7 @@ impl PipelinePair {
                     compilation_options: Default::default(),
                     buffers: &buffers,
                 },
-                primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
+                primitive: wgpu::PrimitiveState { cull_mode: desc.cull, ..Default::default() },
                 depth_stencil: Some(desc.depth.clone()),
                 multisample: Default::default(),
                 fragment: desc.fragment.map(|(entry, targets)| wgpu::FragmentState {

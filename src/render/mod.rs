@@ -17,7 +17,9 @@ mod uniform_array;
 
 pub use extract::{DrawItem, FrameData, LayerDraw, LightId, MAX_SPOTS, SHADOW_FADE, extract, light_order};
 pub use gpu::{Gpu, instance};
-pub use readback::{DebugFrame, HEADLESS_FORMAT, Image, render_debug_frame, render_headless, render_png};
+pub use readback::{
+    DebugFrame, HEADLESS_FORMAT, Image, probe_visibility, render_debug_frame, render_headless, render_png,
+};
 pub use renderer::Renderer;
 pub use shadow_pass::{LightPasses, ShadowStats};
 pub use timing::PassTimes;

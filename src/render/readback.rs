@@ -168,6 +168,41 @@ pub fn render_debug_frame(
     })
 }
 
+/// The main pass's shadow tests at each of `points` (a position and a unit normal each), as
+/// [`DebugFrame::visibility`] gives them per pixel, for the world as it is now.
+pub fn probe_visibility(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    app: &mut App,
+    points: &[crate::assets::Vertex],
+) -> Result<Vec<Vec4>, RenderError> {
+    if points.is_empty() {
+        return Ok(Vec::new());
+    }
+    let width = (points.len() as u32).min(256);
+    let height = (points.len() as u32).div_ceil(width);
+    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("probes"),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: DEBUG_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    use wgpu::util::DeviceExt;
+    let buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("probe points"),
+        contents: bytemuck::cast_slice(points),
+        usage: wgpu::BufferUsages::VERTEX,
+    });
+    let view = texture.create_view(&Default::default());
+    renderer.render_probes(gpu, &mut app.world, &view, (width, height), &buffer, points.len() as u32)?;
+    let bytes = read_texture(gpu, &texture, width, height, 16)?;
+    Ok(bytes.chunks_exact(16).take(points.len()).map(|c| Vec4::from_array(bytemuck::pod_read_unaligned(c))).collect())
+}
+
 /// The pixels of `texture`, `bytes` per pixel, rows top to bottom without padding.
 fn read_texture(
     gpu: &Gpu,

@@ -15,6 +15,8 @@ use bevy_ecs::prelude::*;
 enum Output<'a> {
     Picture(&'a wgpu::TextureView),
     Measure(&'a [wgpu::TextureView; 3]),
+    /// A grid target of the given size and the probe points to draw into it.
+    Probes(&'a wgpu::TextureView, (u32, u32), &'a wgpu::Buffer, u32),
 }
 
 /// GPU state that lives across frames: pipelines, meshes, shadow maps and the depth buffer.
@@ -77,6 +79,22 @@ impl Renderer {
         self.draw(gpu, world, (width, height), Output::Measure(targets))
     }
 
+    /// Draws the shadow maps the world needs now, then makes the main pass's shadow tests at
+    /// each of `points` (positions with unit normals) into `target`, a `grid`-sized integer
+    /// target; the shader writes probe i to pixel (i % width, i / width).
+    pub fn render_probes(
+        &mut self,
+        gpu: &Gpu,
+        world: &mut World,
+        target: &wgpu::TextureView,
+        grid: (u32, u32),
+        points: &wgpu::Buffer,
+        count: u32,
+    ) -> Result<(), RenderError> {
+        self.main.ensure_probe(&gpu.device);
+        self.draw(gpu, world, grid, Output::Probes(target, grid, points, count))
+    }
+
     /// Stamps every later frame's shadow and main passes with GPU timestamps, where the device
     /// can; false where it cannot (then time the frame on the CPU instead).
     pub fn enable_timing(&mut self, gpu: &Gpu) -> bool {
@@ -119,8 +137,8 @@ impl Renderer {
             timer.begin();
         }
         let stats = if settings.shadows {
-            let reuse = settings.reuse_shadow_maps;
-            self.shadow.encode(device, queue, &mut encoder, &data, drawables, reuse, self.timer.as_mut())
+            let how = (settings.reuse_shadow_maps, settings.shadow_faces);
+            self.shadow.encode(device, queue, &mut encoder, &data, drawables, how, self.timer.as_mut())
         } else {
             ShadowStats::default()
         };
@@ -129,6 +147,11 @@ impl Renderer {
             Output::Picture(target) => self.main.encode(queue, &mut encoder, (target, &depth), &data, drawables, timer),
             Output::Measure(targets) => {
                 self.main.encode_debug(queue, &mut encoder, (targets, &depth), &data, drawables, timer)
+            }
+            Output::Probes(target, (w, h), points, count) => {
+                let mut data = data.clone();
+                data.set_probe_grid(w, h);
+                self.main.encode_probes(queue, &mut encoder, target, &data, (points, count));
             }
         }
         if let Some(timer) = timer {

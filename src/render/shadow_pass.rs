@@ -7,6 +7,7 @@ use super::extract::{FrameData, LayerDraw, LightId};
 use super::mesh::{Drawables, JointPalette, PipelineDesc, PipelinePair};
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
+use crate::settings::ShadowFaces;
 use bevy_ecs::prelude::*;
 use glam::Mat4;
 
@@ -27,7 +28,10 @@ pub struct ShadowMaps {
 
 /// Pipeline, per-layer matrices and the shadow-map array.
 pub struct ShadowPass {
+    /// Every face drawn ([`ShadowFaces::Both`]).
     pipelines: PipelinePair,
+    /// Faces turned towards the light culled ([`ShadowFaces::Back`]).
+    back_faces: PipelinePair,
     layer_uniforms: UniformArray,
     /// The current shadow maps.
     pub maps: ShadowMaps,
@@ -115,10 +119,16 @@ impl ShadowPass {
                 // Biasing is done when sampling, in texel units, so it works the same on every backend.
                 bias: Default::default(),
             },
+            // Both faces: a one-sided surface (the ground, a leaf) blocks light from either side,
+            // as it does in the ray-traced truth; on closed meshes the faces towards the light are
+            // nearer and win the depth test anyway.
+            cull: None,
         };
         let pipelines = PipelinePair::new(device, &desc, palette);
+        // The light looks along its -Z like a camera, so the faces it sees are front faces.
+        let back_faces = PipelinePair::new(device, &PipelineDesc { cull: Some(wgpu::Face::Front), ..desc }, palette);
         let maps = ShadowMaps::new(device, size, 2);
-        ShadowPass { pipelines, layer_uniforms, maps, drawn: vec![None; 2] }
+        ShadowPass { pipelines, back_faces, layer_uniforms, maps, drawn: vec![None; 2] }
     }
 
     /// Makes sure the maps are `size` texels and hold `layers`; true if they were re-created
@@ -148,7 +158,7 @@ impl ShadowPass {
         encoder: &mut wgpu::CommandEncoder,
         data: &FrameData,
         with: Drawables<'_>,
-        reuse: bool,
+        (reuse, faces): (bool, ShadowFaces),
         mut timer: Option<&mut PassTimer>,
     ) -> ShadowStats {
         let mut stats = ShadowStats::default();
@@ -179,7 +189,11 @@ impl ShadowPass {
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &self.layer_uniforms.bind_group, &[self.layer_uniforms.offset(slot)]);
-            self.pipelines.draw(&mut pass, with, &data.items, layer.casters.iter().copied());
+            let pipelines = match faces {
+                ShadowFaces::Both => &self.pipelines,
+                ShadowFaces::Back => &self.back_faces,
+            };
+            pipelines.draw(&mut pass, with, &data.items, layer.casters.iter().copied());
             drop(pass);
             if let Some(drawn) = self.drawn.get_mut(layer.layer as usize) {
                 *drawn = Some(layer.version);

@@ -96,14 +96,16 @@ pub fn update_light_matrices(
     settings: Res<Settings>,
     viewport: Res<Viewport>,
     changes: Res<CasterChanges>,
-    mut last_size: Local<u32>,
+    mut last_maps: Local<Option<(u32, crate::settings::ShadowFaces)>>,
     cameras: Query<(&Camera, &Transform)>,
     casters: Query<&WorldBounds, With<ShadowCaster>>,
     visible: Query<&WorldBounds, With<Mesh>>,
     mut suns: Query<(Ref<DirectionalLight>, Ref<ShadowBias>, &mut ShadowMap), Without<SpotLight>>,
     mut spots: Query<(Ref<SpotLight>, Ref<Transform>, Ref<ShadowBias>, &mut ShadowMap), Without<DirectionalLight>>,
 ) {
-    let resized = std::mem::replace(&mut *last_size, settings.shadow_map_size) != settings.shadow_map_size;
+    // A new map size or face choice changes every map's contents.
+    let maps = (settings.shadow_map_size, settings.shadow_faces);
+    let resized = last_maps.replace(maps) != Some(maps);
     let camera = cameras.iter().next().map(|(c, t)| (*c, *t));
     // The shortcut of culling casters to the camera's view keeps only those the camera sees.
     let in_view = |b: &Aabb| match (settings.caster_culling, camera) {

@@ -1,0 +1,360 @@
+//! The ways shadow maps fail, each a small scene and one number measured against the truth:
+//! acne, peter-panning, shimmer, thin casters, an off-screen caster, degenerate lights, the far
+//! field and a skinned caster that leaves its bind pose. The tests hold each number under a
+//! threshold at the default settings and show it crossing when the defence is taken away; the
+//! benchmark charts each against the cost of every configuration.
+
+pub mod scenes;
+
+use super::measure::{MeasureError, Measured, Measurer, place_camera};
+use super::metrics::{DISTANCE_BANDS, rendered};
+use crate::App;
+use crate::assets::Vertex;
+use crate::components::{Joints, ModelInstance, ModelPart, WorldBounds};
+use crate::render::{SHADOW_FADE, probe_visibility};
+use crate::settings::Settings;
+use glam::{Vec2, Vec3};
+use scenes::*;
+
+/// How often a case went wrong: `hits` of `of` samples, and samples that were not numbers at all.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Score {
+    /// Samples that went wrong.
+    pub hits: u64,
+    /// Samples looked at.
+    pub of: u64,
+    /// Samples whose values were NaN, infinite or out of range (any makes the score 1).
+    pub garbage: u64,
+}
+
+impl Score {
+    /// The share that went wrong, 0..1 (1 with any garbage, 0 with nothing to look at).
+    pub fn value(&self) -> f64 {
+        match (self.garbage, self.of) {
+            (g, _) if g > 0 => 1.0,
+            (_, 0) => 0.0,
+            (_, of) => self.hits as f64 / of as f64,
+        }
+    }
+
+    fn add(&mut self, other: Score) {
+        self.hits += other.hits;
+        self.of += other.of;
+        self.garbage += other.garbage;
+    }
+}
+
+/// One failure case.
+pub struct Case {
+    /// Short name, used for files and tables.
+    pub name: &'static str,
+    /// What its number counts.
+    pub measures: &'static str,
+    /// The largest value the tests accept at the default settings.
+    pub threshold: f64,
+    /// Measures it under `settings`.
+    pub run: fn(&mut Measurer<'_>, &Settings) -> Result<Score, MeasureError>,
+}
+
+/// Every case, in the order the issue lists them.
+pub const CASES: [Case; 8] = [
+    Case {
+        name: "acne", measures: "false-shadow share of an open plane, sun at 2°..89°", threshold: 0.001, run: acne
+    },
+    Case {
+        name: "peter-panning",
+        measures: "share of the true shadow within 10 cm of a resting cube's foot rendered lit",
+        threshold: 0.04,
+        run: peter_panning,
+    },
+    Case {
+        name: "shimmer",
+        measures: "share of fixed ground points flipping lit/shadowed per frame as the camera creeps and turns",
+        threshold: 0.0001,
+        run: shimmer,
+    },
+    Case {
+        name: "thin-casters",
+        measures: "share of 2 cm poles' true shadow rendered lit",
+        threshold: 0.2,
+        run: thin_casters,
+    },
+    Case {
+        name: "off-screen-caster",
+        measures: "share of the true shadow of a pillar behind the camera rendered lit",
+        threshold: 0.02,
+        run: offscreen_caster,
+    },
+    Case {
+        name: "degenerate-lights",
+        measures: "misclassified share with the sun along ±X, ±Y, ±Z, grazing and below the horizon (any NaN: 100%)",
+        threshold: 0.005,
+        run: degenerate_lights,
+    },
+    Case {
+        name: "far-field",
+        measures: "misclassified share in the worst view-distance band before the fade, looking to the horizon",
+        threshold: 0.01,
+        run: far_field,
+    },
+    Case {
+        name: "skinned-caster",
+        measures: "share of the true shadow of a character posed far from its bind pose rendered lit",
+        threshold: 0.1,
+        run: skinned_caster,
+    },
+];
+
+/// The case called `name`.
+pub fn case(name: &str) -> Option<&'static Case> {
+    CASES.iter().find(|c| c.name == name)
+}
+
+/// Counts, over the pixels `keep` accepts where the sun was tested, those the truth calls dark
+/// (`of`) and those of them rendered lit (`hits`): how much of a shadow went missing.
+fn missing_shadow(m: &Measured, keep: impl Fn(usize) -> bool) -> Score {
+    let mut s = Score::default();
+    for (i, t) in m.truth[0].iter().enumerate() {
+        if let (Some(t), Some(r), true) = (t, rendered(&m.frame, 0, i), keep(i))
+            && !t.lit
+        {
+            s.of += 1;
+            s.hits += (r >= 0.5) as u64;
+        }
+    }
+    s
+}
+
+/// Misclassified sun pixels (dark but lit, or lit but dark) over `keep`, with NaNs as garbage.
+fn misclassified(m: &Measured, keep: impl Fn(usize) -> bool) -> Score {
+    let mut s = Score::default();
+    for (i, t) in m.truth[0].iter().enumerate() {
+        let v = m.frame.visibility[i].x;
+        if m.frame.covered(i) && !(v.is_finite() && (v == -1.0 || (0.0..=1.0).contains(&v))) {
+            s.garbage += 1;
+        }
+        if let (Some(t), Some(r), true) = (t, rendered(&m.frame, 0, i), keep(i)) {
+            s.of += 1;
+            s.hits += ((r < 0.5) == t.lit) as u64;
+        }
+    }
+    s
+}
+
+/// Pixels showing the ground (y = 0, facing up).
+fn on_ground(m: &Measured) -> impl Fn(usize) -> bool + '_ {
+    |i| m.frame.covered(i) && m.frame.position[i].y.abs() < 1e-3 && m.frame.normal[i].y > 0.99
+}
+
+/// Sets the scene's time (running its update) and measures view `key`.
+fn measure_at(
+    m: &mut Measurer<'_>,
+    name: &str,
+    key: &str,
+    prepare: impl FnOnce(&mut App),
+) -> Result<Measured, MeasureError> {
+    let (app, _) = m.parts(name).expect("the subject exists");
+    prepare(app);
+    app.set_time(0.0);
+    m.measure(name, key)
+}
+
+fn acne(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    let view = (Vec3::new(0.0, 5.0, 10.0), Vec3::new(0.0, 0.0, -2.0));
+    m.subject("acne", settings, |s| ground(s, 80.0, true, Vec3::NEG_Y, view))?;
+    let mut score = Score::default();
+    for elevation in [2.0, 5.0, 10.0, 20.0, 35.0, 50.0, 70.0, 89.0] {
+        let measured =
+            measure_at(m, "acne", &format!("{elevation}"), |app| set_sun(app, sun_direction(elevation, 30.0)))?;
+        // Nothing stands on the plane, so every pixel the sun reaches is truly lit.
+        score.add(misclassified(&measured, on_ground(&measured)));
+    }
+    Ok(score)
+}
+
+fn peter_panning(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    let view = (Vec3::new(2.2, 2.4, 4.0), Vec3::new(-0.2, 0.2, 0.0));
+    m.subject("peter-panning", settings, |s| {
+        let mut app = ground(s, 40.0, true, Vec3::NEG_Y, view);
+        add_box(&mut app, Vec3::new(0.0, 0.5, 0.0), Vec3::splat(0.5));
+        app
+    })?;
+    let mut score = Score::default();
+    for azimuth in [160.0, 220.0] {
+        let sun = sun_direction(35.0, azimuth);
+        let measured = measure_at(m, "peter-panning", &format!("{azimuth}"), |app| set_sun(app, sun))?;
+        // The band along the cube's foot: ground within 10 cm outside its 1 m footprint.
+        let band = |i: usize| {
+            let p = measured.frame.position[i];
+            let outside = (Vec2::new(p.x.abs(), p.z.abs()) - Vec2::splat(0.5)).max(Vec2::ZERO).length();
+            on_ground(&measured)(i) && outside > 0.0 && outside <= 0.1
+        };
+        score.add(missing_shadow(&measured, band));
+    }
+    Ok(score)
+}
+
+/// The scene the shimmer case watches: a ground with a few boxes.
+fn shimmer_scene(s: &Settings) -> App {
+    let mut app = ground(s, 80.0, true, sun_direction(40.0, 30.0), (Vec3::new(0.0, 4.0, 8.0), Vec3::ZERO));
+    for (x, z, h) in [(-3.0, -2.0, 1.0), (2.0, -3.0, 2.0), (0.5, 0.5, 0.6), (-1.5, 2.0, 1.5), (3.5, 1.5, 0.8)] {
+        add_box(&mut app, Vec3::new(x, h / 2.0, z), Vec3::new(0.4, h / 2.0, 0.4));
+    }
+    app
+}
+
+fn shimmer(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    m.subject("shimmer", settings, shimmer_scene)?;
+    // Fixed points on the ground every 10 cm, none inside a box.
+    let points: Vec<Vertex> = (0..=120)
+        .flat_map(|i| (0..=100).map(move |j| Vec3::new(-6.0 + i as f32 * 0.1, 0.0, -6.0 + j as f32 * 0.1)))
+        .map(|p| Vertex { position: p.to_array(), normal: [0.0, 1.0, 0.0] })
+        .collect();
+    let gpu = m.gpu();
+    let (app, renderer) = m.parts("shimmer").expect("the subject exists");
+    let mut last: Option<Vec<bool>> = None;
+    let mut score = Score::default();
+    // 120 frames: the camera creeps 1 mm and turns 0.03° a frame, far less than a texel.
+    for frame in 0..120 {
+        let f = frame as f32;
+        let eye = Vec3::new(f * 0.001, 4.0, 8.0);
+        let turn = glam::Quat::from_rotation_y((f * 0.03).to_radians());
+        place_camera(&mut app.world, eye, eye + turn * (Vec3::ZERO - Vec3::new(0.0, 4.0, 8.0)));
+        app.set_time(0.0);
+        let seen = probe_visibility(gpu, renderer, app, &points)?;
+        score.garbage += seen.iter().filter(|v| !v.x.is_finite()).count() as u64;
+        let dark: Vec<bool> = seen.iter().map(|v| v.x >= 0.0 && v.x < 0.5).collect();
+        if let Some(before) = &last {
+            score.of += dark.len() as u64;
+            score.hits += before.iter().zip(&dark).filter(|(a, b)| a != b).count() as u64;
+        }
+        last = Some(dark);
+    }
+    Ok(score)
+}
+
+fn thin_casters(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    let view = (Vec3::new(0.0, 4.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
+    m.subject("thin-casters", settings, |s| {
+        let mut app = ground(s, 60.0, false, sun_direction(45.0, 200.0), view);
+        for x in [-2.0, -1.0, 0.0, 1.0, 2.0] {
+            add_box(&mut app, Vec3::new(x, 1.5, -1.0 + x * 0.3), Vec3::new(0.01, 1.5, 0.01));
+        }
+        app
+    })?;
+    let measured = measure_at(m, "thin-casters", "poles", |_| {})?;
+    Ok(missing_shadow(&measured, on_ground(&measured)))
+}
+
+fn offscreen_caster(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    let view = (Vec3::new(0.0, 3.0, 10.0), Vec3::ZERO);
+    m.subject("off-screen-caster", settings, |s| {
+        // 20 m tall at z = 16, behind the camera; the sun at 45° throws its shadow along x = 0
+        // from z = 16 to z = -4, right through the view.
+        let mut app = ground(s, 200.0, false, Vec3::new(0.0, -1.0, -1.0).normalize(), view);
+        add_box(&mut app, Vec3::new(0.0, 10.0, 16.0), Vec3::new(0.5, 10.0, 0.5));
+        app
+    })?;
+    let measured = measure_at(m, "off-screen-caster", "behind", |_| {})?;
+    Ok(missing_shadow(&measured, on_ground(&measured)))
+}
+
+fn degenerate_lights(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    let view = (Vec3::new(3.0, 4.0, 6.0), Vec3::ZERO);
+    m.subject("degenerate-lights", settings, |s| {
+        let mut app = ground(s, 40.0, true, Vec3::NEG_Y, view);
+        add_box(&mut app, Vec3::new(0.0, 0.75, 0.0), Vec3::splat(0.75));
+        add_box(&mut app, Vec3::new(-2.0, 0.25, 1.0), Vec3::new(1.0, 0.25, 0.3));
+        app
+    })?;
+    let directions = [
+        ("+x", Vec3::X),
+        ("-x", Vec3::NEG_X),
+        ("+y", Vec3::Y),
+        ("-y", Vec3::NEG_Y),
+        ("+z", Vec3::Z),
+        ("-z", Vec3::NEG_Z),
+        ("grazing", sun_direction(0.5, 60.0)),
+        ("below", sun_direction(-10.0, 60.0)),
+    ];
+    let mut score = Score::default();
+    for (key, direction) in directions {
+        let measured = measure_at(m, "degenerate-lights", key, |app| set_sun(app, direction))?;
+        score.add(misclassified(&measured, |_| true));
+    }
+    Ok(score)
+}
+
+fn far_field(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    let view = (Vec3::new(0.0, 1.7, 0.0), Vec3::new(0.0, 1.0, -20.0));
+    m.subject("far-field", settings, |s| {
+        let mut app = ground(s, 400.0, false, sun_direction(30.0, 250.0), view);
+        for i in -4..=4 {
+            for k in 1..=14 {
+                let (x, z) = (i as f32 * 7.0 + (k % 3) as f32, -(k as f32) * 7.0);
+                add_box(&mut app, Vec3::new(x, 2.0, z), Vec3::new(0.4, 2.0, 0.4));
+            }
+        }
+        app
+    })?;
+    let measured = measure_at(m, "far-field", "horizon", |_| {})?;
+    // Bands that end before the shadow starts fading out count; the worst of them is the score.
+    let fade = settings.shadow_distance * (1.0 - SHADOW_FADE);
+    let mut start = 0.0;
+    let mut worst = Score::default();
+    for end in DISTANCE_BANDS.into_iter().take_while(|&end| end <= fade) {
+        let band = |i: usize| (start..end).contains(&measured.frame.normal[i].w);
+        let s = misclassified(&measured, band);
+        if s.value() >= worst.value() {
+            worst = s;
+        }
+        start = end;
+    }
+    Ok(worst)
+}
+
+/// How far the leaping character's hips are carried from their bind pose.
+const LEAP: Vec3 = Vec3::new(6.0, 1.5, 0.0);
+
+fn leaper_scene(s: &Settings) -> App {
+    let view = (Vec3::new(5.0, 3.0, 5.0), Vec3::new(6.5, 0.0, 0.5));
+    with_leaper(s, LEAP, sun_direction(50.0, 300.0), view)
+}
+
+fn skinned_caster(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    skinned_caster_bounded(m, settings, false)
+}
+
+/// The skinned-caster case; with `bind_pose_bounds` its bounds are put back to the bind pose's
+/// before drawing, as a renderer that ignores the pose would have them (to show the failure).
+pub fn skinned_caster_bounded(
+    m: &mut Measurer<'_>,
+    settings: &Settings,
+    bind_pose_bounds: bool,
+) -> Result<Score, MeasureError> {
+    let name = if bind_pose_bounds { "skinned-caster-bind-bounds" } else { "skinned-caster" };
+    m.subject(name, settings, leaper_scene)?;
+    let (app, _) = m.parts(name).expect("the subject exists");
+    app.set_time(0.0);
+    if bind_pose_bounds {
+        use_bind_pose_bounds(app);
+    }
+    let measured = m.measure(name, "leap")?;
+    Ok(missing_shadow(&measured, on_ground(&measured)))
+}
+
+/// Replaces every skinned part's bounds with its bind pose's (breaking culling on purpose).
+fn use_bind_pose_bounds(app: &mut App) {
+    let models: Vec<(bevy_ecs::entity::Entity, std::sync::Arc<crate::assets::Model>)> = app
+        .world
+        .query::<(bevy_ecs::entity::Entity, &ModelInstance)>()
+        .iter(&app.world)
+        .map(|(e, m)| (e, m.0.clone()))
+        .collect();
+    let mut parts = app.world.query_filtered::<(&ModelPart, &mut WorldBounds), bevy_ecs::query::With<Joints>>();
+    for (link, mut bounds) in parts.iter_mut(&mut app.world) {
+        if let Some((_, model)) = models.iter().find(|(e, _)| *e == link.root) {
+            bounds.0 = model.parts[link.part].mesh.bounds;
+        }
+    }
+}

@@ -1,0 +1,123 @@
+//! Where shadow maps fail, each case held under its threshold at the default settings and shown
+//! crossing it when its defence is taken away (zero bias, back faces only, no texel snapping, a
+//! small map, culling to the camera's view, one coarse cascade, bind-pose bounds). The scenes and
+//! numbers are in `src/eval/cases`; the truth is ray traced on the CPU.
+
+mod common;
+
+use umbra::eval::cases::{Score, case, skinned_caster_bounded};
+use umbra::eval::measure::{Measurer, TruthSettings};
+use umbra::settings::{CasterCulling, Settings, ShadowFaces};
+use umbra::shadow::FitMode;
+
+const SIZE: (u32, u32) = (256, 256);
+
+fn measurer(gpu: &umbra::render::Gpu) -> Measurer<'_> {
+    // The cases compare against the hard truth only, so no soft rays are cast.
+    Measurer::new(gpu, SIZE, TruthSettings { soft_rays: 0, ..TruthSettings::default() })
+}
+
+/// Runs case `name` with the defaults and with `broken`; the first must stay under the case's
+/// threshold, the second go over it.
+fn holds_and_breaks(name: &str, broken: Settings) -> (Score, Score) {
+    let gpu = common::gpu();
+    let case = case(name).unwrap();
+    let good = (case.run)(&mut measurer(&gpu), &Settings::default()).unwrap();
+    let bad = (case.run)(&mut measurer(&gpu), &broken).unwrap();
+    assert!(good.of > 100, "{name}: too few samples to judge ({good:?})");
+    assert!(
+        good.value() <= case.threshold,
+        "{name} at the defaults: {:.5} > {} ({good:?})",
+        good.value(),
+        case.threshold
+    );
+    assert!(bad.value() > case.threshold, "{name} broken: {:.5} <= {} ({bad:?})", bad.value(), case.threshold);
+    (good, bad)
+}
+
+fn no_bias() -> Settings {
+    Settings { depth_bias: 0.0, slope_bias: 0.0, normal_bias: 0.0, ..Settings::default() }
+}
+
+#[test]
+fn acne_stays_off_an_open_plane_and_comes_back_without_bias() {
+    let (_, bad) = holds_and_breaks("acne", no_bias());
+    assert!(bad.value() > 0.2, "without bias the plane shadows itself: {bad:?}");
+}
+
+#[test]
+fn shadows_stay_at_a_cubes_foot_and_come_loose_with_back_faces_only() {
+    holds_and_breaks("peter-panning", Settings { shadow_faces: ShadowFaces::Back, ..Settings::default() });
+}
+
+#[test]
+fn a_creeping_camera_flips_no_shadow_but_unsnapped_cascades_shimmer() {
+    let (good, _) = holds_and_breaks("shimmer", Settings { fit_mode: FitMode::Unsnapped, ..Settings::default() });
+    assert_eq!(good.hits, 0, "snapped cascades keep every texel on the same world grid");
+}
+
+#[test]
+fn thin_poles_cast_shadows_until_the_map_is_too_coarse() {
+    holds_and_breaks("thin-casters", Settings { shadow_map_size: 256, ..Settings::default() });
+}
+
+#[test]
+fn a_caster_behind_the_camera_shadows_the_view_unless_culled_to_the_camera() {
+    let (_, bad) = holds_and_breaks(
+        "off-screen-caster",
+        Settings { caster_culling: CasterCulling::CameraView, ..Settings::default() },
+    );
+    assert_eq!(bad.value(), 1.0, "culled to the camera, the whole shadow is gone");
+}
+
+#[test]
+fn degenerate_suns_give_no_garbage() {
+    let (good, bad) = holds_and_breaks("degenerate-lights", no_bias());
+    assert_eq!((good.garbage, bad.garbage), (0, 0), "no NaN, no value out of range");
+}
+
+#[test]
+fn far_shadows_hold_across_cascade_seams_but_not_with_one_coarse_cascade() {
+    holds_and_breaks("far-field", Settings { cascades: 1, shadow_map_size: 512, ..Settings::default() });
+}
+
+#[test]
+fn a_character_far_from_its_bind_pose_keeps_its_shadow_unless_bounded_by_the_bind_pose() {
+    let gpu = common::gpu();
+    let case = case("skinned-caster").unwrap();
+    let good = skinned_caster_bounded(&mut measurer(&gpu), &Settings::default(), false).unwrap();
+    let bad = skinned_caster_bounded(&mut measurer(&gpu), &Settings::default(), true).unwrap();
+    assert!(good.of > 100 && good.value() <= case.threshold, "{good:?}");
+    assert!(bad.value() > case.threshold, "{bad:?}");
+}
+
+#[test]
+fn probes_make_the_same_shadow_tests_as_the_pixels_they_sit_on() {
+    // The shimmer case reads shadows at fixed points through probes; at the points the measuring
+    // view shows, the probes must give exactly what the pixels gave.
+    let gpu = common::gpu();
+    let mut renderer = umbra::render::Renderer::new(&gpu, umbra::render::HEADLESS_FORMAT).unwrap();
+    let mut app = umbra::App::new(Settings::default()).unwrap();
+    app.resize(SIZE.0, SIZE.1);
+    app.set_time(6.0);
+    let frame = umbra::render::render_debug_frame(&gpu, &mut renderer, &mut app, SIZE.0, SIZE.1).unwrap();
+    let picked: Vec<usize> = (0..frame.position.len()).filter(|&i| frame.covered(i)).step_by(37).collect();
+    let points: Vec<umbra::assets::Vertex> = picked
+        .iter()
+        .map(|&i| umbra::assets::Vertex {
+            position: frame.position[i].truncate().to_array(),
+            normal: frame.normal[i].truncate().to_array(),
+        })
+        .collect();
+    let probed = umbra::render::probe_visibility(&gpu, &mut renderer, &mut app, &points).unwrap();
+    let shadowed = picked.iter().filter(|&&i| (0.0..0.5).contains(&frame.visibility[i].x)).count();
+    assert!(picked.len() > 500 && shadowed > 20, "{} points, {shadowed} in the sun's shadow", picked.len());
+    for (k, &i) in picked.iter().enumerate() {
+        assert!(
+            (probed[k] - frame.visibility[i]).abs().max_element() < 1e-5,
+            "pixel {i}: {} vs {}",
+            probed[k],
+            frame.visibility[i]
+        );
+    }
+}
