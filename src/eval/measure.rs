@@ -39,12 +39,16 @@ pub enum MeasureError {
     Settings(#[from] SettingsError),
 }
 
+/// The truth of a frame: one column per light in the frame's order (sun, then spots), one entry
+/// per pixel; shared between the measurements of one view.
+pub type TruthColumns = std::rc::Rc<Vec<Vec<Option<Truth>>>>;
+
 /// A measured frame: what the renderer drew and what the truth says, per light.
 pub struct Measured {
     /// The measuring view.
     pub frame: DebugFrame,
-    /// One column per light in the frame's order (sun, then spots), one entry per pixel.
-    pub truth: std::rc::Rc<Vec<Vec<Option<Truth>>>>,
+    /// What the truth says of each pixel, per light.
+    pub truth: TruthColumns,
 }
 
 /// A scene being measured: its app and a renderer of its own (a renderer holds the meshes of
@@ -63,7 +67,7 @@ pub struct Measurer<'g> {
     /// How the truth is taken.
     pub truth: TruthSettings,
     subjects: HashMap<String, Subject>,
-    cache: HashMap<String, (Vec<glam::Vec4>, std::rc::Rc<Vec<Vec<Option<Truth>>>>)>,
+    cache: HashMap<String, (Vec<glam::Vec4>, TruthColumns)>,
 }
 
 impl<'g> Measurer<'g> {
