@@ -74,7 +74,7 @@ fn bad_arguments_are_named_and_fail() {
 #[test]
 fn bench_prints_every_scenario_with_ratios_and_shadow_passes() {
     let dir = scratch("bench");
-    let out = umbra(&["bench", "--frames", "3", "--width", "64", "--height", "36", "--shadow-map-size", "256"], &dir);
+    let out = umbra(&["bench", "--cache", "--frames", "3", "--width", "64", "--height", "36", "--shadow-map-size", "256"], &dir);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let stdout = String::from_utf8_lossy(&out.stdout);
     let row = |name: &str| {

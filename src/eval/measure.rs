@@ -37,6 +37,9 @@ pub enum MeasureError {
     /// A setting is out of range.
     #[error(transparent)]
     Settings(#[from] SettingsError),
+    /// The scene could not be set up.
+    #[error(transparent)]
+    App(#[from] crate::AppError),
 }
 
 /// The truth of a frame: one column per light in the frame's order (sun, then spots), one entry
@@ -86,11 +89,11 @@ impl<'g> Measurer<'g> {
         &mut self,
         name: &str,
         settings: &Settings,
-        build: impl FnOnce(&Settings) -> App,
+        build: impl FnOnce(&Settings) -> Result<App, crate::AppError>,
     ) -> Result<&mut Subject, MeasureError> {
         settings.validate()?;
         if !self.subjects.contains_key(name) {
-            let mut app = build(settings);
+            let mut app = build(settings)?;
             app.resize(self.size.0, self.size.1);
             let renderer = Renderer::new(self.gpu, HEADLESS_FORMAT)?;
             self.subjects.insert(name.to_string(), Subject { app, renderer });

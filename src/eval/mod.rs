@@ -3,6 +3,9 @@
 
 pub mod bench;
 pub mod cases;
+pub mod chart;
 pub mod measure;
 pub mod metrics;
+pub mod results;
+pub mod sweep;
 pub mod truth;

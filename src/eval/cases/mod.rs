@@ -175,9 +175,9 @@ fn acne(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError
 fn peter_panning(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(2.2, 2.4, 4.0), Vec3::new(-0.2, 0.2, 0.0));
     m.subject("peter-panning", settings, |s| {
-        let mut app = ground(s, 40.0, true, Vec3::NEG_Y, view);
+        let mut app = ground(s, 40.0, true, Vec3::NEG_Y, view)?;
         add_box(&mut app, Vec3::new(0.0, 0.5, 0.0), Vec3::splat(0.5));
-        app
+        Ok(app)
     })?;
     let mut score = Score::default();
     for azimuth in [160.0, 220.0] {
@@ -195,12 +195,12 @@ fn peter_panning(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, Mea
 }
 
 /// The scene the shimmer case watches: a ground with a few boxes.
-fn shimmer_scene(s: &Settings) -> App {
-    let mut app = ground(s, 80.0, true, sun_direction(40.0, 30.0), (Vec3::new(0.0, 4.0, 8.0), Vec3::ZERO));
+fn shimmer_scene(s: &Settings) -> Result<App, crate::AppError> {
+    let mut app = ground(s, 80.0, true, sun_direction(40.0, 30.0), (Vec3::new(0.0, 4.0, 8.0), Vec3::ZERO))?;
     for (x, z, h) in [(-3.0, -2.0, 1.0), (2.0, -3.0, 2.0), (0.5, 0.5, 0.6), (-1.5, 2.0, 1.5), (3.5, 1.5, 0.8)] {
         add_box(&mut app, Vec3::new(x, h / 2.0, z), Vec3::new(0.4, h / 2.0, 0.4));
     }
-    app
+    Ok(app)
 }
 
 fn shimmer(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
@@ -236,11 +236,11 @@ fn shimmer(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureEr
 fn thin_casters(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(0.0, 4.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
     m.subject("thin-casters", settings, |s| {
-        let mut app = ground(s, 60.0, false, sun_direction(45.0, 200.0), view);
+        let mut app = ground(s, 60.0, false, sun_direction(45.0, 200.0), view)?;
         for x in [-2.0, -1.0, 0.0, 1.0, 2.0] {
             add_box(&mut app, Vec3::new(x, 1.5, -1.0 + x * 0.3), Vec3::new(0.01, 1.5, 0.01));
         }
-        app
+        Ok(app)
     })?;
     let measured = measure_at(m, "thin-casters", "poles", |_| {})?;
     Ok(missing_shadow(&measured, on_ground(&measured)))
@@ -251,9 +251,9 @@ fn offscreen_caster(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, 
     m.subject("off-screen-caster", settings, |s| {
         // 20 m tall at z = 16, behind the camera; the sun at 45° throws its shadow along x = 0
         // from z = 16 to z = -4, right through the view.
-        let mut app = ground(s, 200.0, false, Vec3::new(0.0, -1.0, -1.0).normalize(), view);
+        let mut app = ground(s, 200.0, false, Vec3::new(0.0, -1.0, -1.0).normalize(), view)?;
         add_box(&mut app, Vec3::new(0.0, 10.0, 16.0), Vec3::new(0.5, 10.0, 0.5));
-        app
+        Ok(app)
     })?;
     let measured = measure_at(m, "off-screen-caster", "behind", |_| {})?;
     Ok(missing_shadow(&measured, on_ground(&measured)))
@@ -262,10 +262,10 @@ fn offscreen_caster(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, 
 fn degenerate_lights(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(3.0, 4.0, 6.0), Vec3::ZERO);
     m.subject("degenerate-lights", settings, |s| {
-        let mut app = ground(s, 40.0, true, Vec3::NEG_Y, view);
+        let mut app = ground(s, 40.0, true, Vec3::NEG_Y, view)?;
         add_box(&mut app, Vec3::new(0.0, 0.75, 0.0), Vec3::splat(0.75));
         add_box(&mut app, Vec3::new(-2.0, 0.25, 1.0), Vec3::new(1.0, 0.25, 0.3));
-        app
+        Ok(app)
     })?;
     let directions = [
         ("+x", Vec3::X),
@@ -288,14 +288,14 @@ fn degenerate_lights(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score,
 fn far_field(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(0.0, 1.7, 0.0), Vec3::new(0.0, 1.0, -20.0));
     m.subject("far-field", settings, |s| {
-        let mut app = ground(s, 400.0, false, sun_direction(30.0, 250.0), view);
+        let mut app = ground(s, 400.0, false, sun_direction(30.0, 250.0), view)?;
         for i in -4..=4 {
             for k in 1..=14 {
                 let (x, z) = (i as f32 * 7.0 + (k % 3) as f32, -(k as f32) * 7.0);
                 add_box(&mut app, Vec3::new(x, 2.0, z), Vec3::new(0.4, 2.0, 0.4));
             }
         }
-        app
+        Ok(app)
     })?;
     let measured = measure_at(m, "far-field", "horizon", |_| {})?;
     // Bands that end before the shadow starts fading out count; the worst of them is the score.
@@ -316,7 +316,7 @@ fn far_field(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, Measure
 /// How far the leaping character's hips are carried from their bind pose.
 const LEAP: Vec3 = Vec3::new(6.0, 1.5, 0.0);
 
-fn leaper_scene(s: &Settings) -> App {
+fn leaper_scene(s: &Settings) -> Result<App, crate::AppError> {
     let view = (Vec3::new(5.0, 3.0, 5.0), Vec3::new(6.5, 0.0, 0.5));
     with_leaper(s, LEAP, sun_direction(50.0, 300.0), view)
 }

@@ -1,6 +1,6 @@
 //! Small scenes for the failure cases: a ground, some boxes or poles, a sun, a camera.
 
-use crate::App;
+use crate::{App, AppError};
 use crate::assets::clip::{Channel, Clip, Interpolation, Property};
 use crate::assets::{MeshLibrary, Model, cube, parse_model, plane};
 use crate::components::*;
@@ -22,8 +22,14 @@ pub fn sun_direction(elevation: f32, azimuth: f32) -> Vec3 {
 
 /// An app with a square ground `size` metres across (a caster too if `ground_casts`), a sun
 /// along `sun` and a camera at `eye` looking at `target`.
-pub fn ground(settings: &Settings, size: f32, ground_casts: bool, sun: Vec3, (eye, target): (Vec3, Vec3)) -> App {
-    let mut app = App::empty(settings.clone()).unwrap_or_else(|_| App::empty(Settings::default()).expect("defaults"));
+pub fn ground(
+    settings: &Settings,
+    size: f32,
+    ground_casts: bool,
+    sun: Vec3,
+    (eye, target): (Vec3, Vec3),
+) -> Result<App, AppError> {
+    let mut app = App::empty(settings.clone())?;
     let mesh = app.world.resource_mut::<MeshLibrary>().add(plane(size));
     let mut g = app.world.spawn((mesh, Transform::default(), grey(), ShadowReceiver));
     if ground_casts {
@@ -32,7 +38,7 @@ pub fn ground(settings: &Settings, size: f32, ground_casts: bool, sun: Vec3, (ey
     let light = DirectionalLight { direction: sun, color: Vec3::ONE, intensity: 1.0 };
     app.world.spawn((light, ShadowMap::default()));
     app.world.spawn(camera_looking(eye, target));
-    app
+    Ok(app)
 }
 
 /// Adds a box with half extents `half` at `center`, casting and receiving.
@@ -52,8 +58,8 @@ pub fn set_sun(app: &mut App, direction: Vec3) {
 /// The walking character with one more clip, "leap", that carries its hips `offset` away from
 /// where they are bound, so the posed body leaves its bind-pose bounds; returns the model and the
 /// clip's index.
-pub fn leaping_character(offset: Vec3) -> (Model, usize) {
-    let mut model = parse_model(CHARACTER_GLB, None, "character.glb").expect("the built-in character loads");
+pub fn leaping_character(offset: Vec3) -> Result<(Model, usize), AppError> {
+    let mut model = parse_model(CHARACTER_GLB, None, "character.glb")?;
     let hips = model.nodes.iter().position(|n| n.name == "hips").unwrap_or(0);
     let at = (model.nodes[hips].rest.translation + offset).extend(0.0);
     let channel = Channel {
@@ -65,13 +71,13 @@ pub fn leaping_character(offset: Vec3) -> (Model, usize) {
     };
     model.clips.push(Clip { name: "leap".into(), channels: vec![channel], duration: 1.0 });
     let clip = model.clips.len() - 1;
-    (model, clip)
+    Ok((model, clip))
 }
 
 /// A ground with the leaping character on it at the origin.
-pub fn with_leaper(settings: &Settings, offset: Vec3, sun: Vec3, view: (Vec3, Vec3)) -> App {
-    let mut app = ground(settings, 60.0, false, sun, view);
-    let (model, clip) = leaping_character(offset);
+pub fn with_leaper(settings: &Settings, offset: Vec3, sun: Vec3, view: (Vec3, Vec3)) -> Result<App, AppError> {
+    let mut app = ground(settings, 60.0, false, sun, view)?;
+    let (model, clip) = leaping_character(offset)?;
     spawn_model(&mut app.world, Arc::new(model), Transform::default(), Some(clip));
-    app
+    Ok(app)
 }

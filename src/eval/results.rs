@@ -1,0 +1,157 @@
+//! The sweep's results on disk: a CSV table, a Markdown summary and the charts.
+
+use super::cases::CASES;
+use super::chart::{ChartError, Point, cost_chart, distance_chart};
+use super::metrics::DISTANCE_BANDS;
+use super::sweep::{Config, Row, pareto};
+use std::fmt::Write;
+use std::path::Path;
+
+/// Why the results could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum ResultsError {
+    /// A file could not be written.
+    #[error("could not write {path}: {why}")]
+    Write {
+        /// Where.
+        path: String,
+        /// Why.
+        why: String,
+    },
+    /// A chart could not be drawn.
+    #[error(transparent)]
+    Chart(#[from] ChartError),
+}
+
+fn write(path: &Path, text: &str) -> Result<(), ResultsError> {
+    std::fs::write(path, text).map_err(|e| ResultsError::Write { path: path.display().to_string(), why: e.to_string() })
+}
+
+fn pct(x: f64) -> String {
+    format!("{:.4}", 100.0 * x)
+}
+
+/// The table: one row per configuration, errors in percent.
+pub fn csv(rows: &[Row]) -> String {
+    let mut out = String::from(
+        "configuration,map_size,cascades,fit,filter,bias,faces,cost_ms,shadow_ms,lookup_ms,min_shadow_ms,max_shadow_ms,\
+         misclassified_pct,false_shadow_pct,false_lit_pct,mae_hard,mae_soft,edge_misclassified_pct",
+    );
+    let mut start = 0.0;
+    for end in DISTANCE_BANDS {
+        let _ = write!(out, ",misclassified_{start}_{end}m_pct");
+        start = end;
+    }
+    for c in &CASES {
+        let _ = write!(out, ",{}_pct", c.name);
+    }
+    out.push('\n');
+    for r in rows {
+        let (c, all) = (&r.config, r.scene_all());
+        let _ = write!(
+            out,
+            "{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.5},{:.5},{}",
+            c.label(),
+            c.map_size,
+            c.cascades,
+            c.fit.name(),
+            c.filter.name(),
+            c.bias,
+            c.faces.name(),
+            r.cost.total_ms(),
+            r.cost.shadow_ms,
+            r.cost.lookup_ms,
+            r.cost.range_ms.0,
+            r.cost.range_ms.1,
+            pct(all.all.misclassified()),
+            pct(all.all.false_shadow_rate()),
+            pct(all.all.false_lit_rate()),
+            all.all.mae_hard(),
+            all.all.mae_soft(),
+            pct(all.edge.misclassified())
+        );
+        for band in &all.bands {
+            let _ = write!(out, ",{}", pct(band.misclassified()));
+        }
+        for s in &r.cases {
+            let _ = write!(out, ",{}", pct(s.value()));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+fn points(rows: &[Row], error: impl Fn(&Row) -> f64) -> Vec<Point> {
+    let default = Config::default_settings();
+    rows.iter()
+        .map(|r| Point { cost: r.cost.total_ms(), error: error(r), label: r.config.label(), default: r.config == default })
+        .collect()
+}
+
+fn front(points: &[Point]) -> Vec<usize> {
+    pareto(&points.iter().map(|p| (p.cost, p.error.max(super::chart::FLOOR))).collect::<Vec<_>>())
+}
+
+/// Writes `results.csv`, `summary.md` and the charts into `dir`; `heading` says where and how the
+/// numbers were taken. Returns the summary.
+pub fn write_all(rows: &[Row], dir: &Path, heading: &str) -> Result<String, ResultsError> {
+    std::fs::create_dir_all(dir).map_err(|e| ResultsError::Write { path: dir.display().to_string(), why: e.to_string() })?;
+    write(&dir.join("results.csv"), &csv(rows))?;
+    let scene = points(rows, |r| r.scene_all().all.misclassified());
+    let scene_front = front(&scene);
+    cost_chart(&dir.join("scene"), "Sample scene: shadow cost against error", "misclassified pixels (log)", &scene, &scene_front)?;
+    for (k, case) in CASES.iter().enumerate() {
+        let p = points(rows, |r| r.cases[k].value());
+        let title = format!("{}: {}", case.name, case.measures);
+        cost_chart(&dir.join(format!("case-{}", case.name)), &title, "error (log)", &p, &front(&p))?;
+    }
+    // Error against distance for the default and every configuration on the scene's front.
+    let default = Config::default_settings();
+    let mut shown: Vec<&Row> = scene_front.iter().map(|&i| &rows[i]).collect();
+    if let Some(d) = rows.iter().find(|r| r.config == default)
+        && !shown.iter().any(|r| r.config == default)
+    {
+        shown.push(d);
+    }
+    let lines: Vec<(String, Vec<f64>)> =
+        shown.iter().map(|r| (r.config.label(), r.scene_all().bands.iter().map(|b| b.misclassified()).collect())).collect();
+    distance_chart(&dir.join("distance"), "Sample scene: error against distance (front and default)", &DISTANCE_BANDS, &lines)?;
+    let summary = summary(rows, &scene_front, heading);
+    write(&dir.join("summary.md"), &summary)?;
+    Ok(summary)
+}
+
+/// The results in Markdown: every configuration by cost, the front marked, then each case.
+pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
+    let default = Config::default_settings();
+    let mut out = format!("{heading}\n\n");
+    out += "| configuration | shadow cost ms (maps + lookup) | misclassified % | false shadow % | false lit % | MAE hard | MAE soft | front |\n";
+    out += "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    order.sort_by(|&a, &b| rows[a].cost.total_ms().total_cmp(&rows[b].cost.total_ms()));
+    for i in order {
+        let (r, all) = (&rows[i], rows[i].scene_all().all);
+        let name = if r.config == default { format!("**{}** (default)", r.config.label()) } else { r.config.label() };
+        let _ = writeln!(
+            out,
+            "| {name} | {:.2} ({:.2} + {:.2}) | {} | {} | {} | {:.4} | {:.4} | {} |",
+            r.cost.total_ms(),
+            r.cost.shadow_ms,
+            r.cost.lookup_ms,
+            pct(all.misclassified()),
+            pct(all.false_shadow_rate()),
+            pct(all.false_lit_rate()),
+            all.mae_hard(),
+            all.mae_soft(),
+            if front.contains(&i) { "yes" } else { "" }
+        );
+    }
+    out += "\n| case | what it counts | threshold % | default % | best % (configuration) |\n| --- | --- | --- | --- | --- |\n";
+    for (k, case) in CASES.iter().enumerate() {
+        let at_default = rows.iter().find(|r| r.config == default).map_or(f64::NAN, |r| r.cases[k].value());
+        let best = rows.iter().min_by(|a, b| a.cases[k].value().total_cmp(&b.cases[k].value()));
+        let best = best.map_or(String::new(), |r| format!("{} ({})", pct(r.cases[k].value()), r.config.label()));
+        let _ = writeln!(out, "| {} | {} | {} | {} | {best} |", case.name, case.measures, pct(case.threshold), pct(at_default));
+    }
+    out
+}

@@ -1,0 +1,342 @@
+//! The sweep behind `umbra bench`: every configuration's shadow cost and its accuracy on the
+//! sample scene and in each failure case, measured in one run.
+
+use super::cases::{CASES, Score};
+use super::measure::{MeasureError, Measurer, TruthSettings, place_camera};
+use super::metrics::{LightReport, report};
+use crate::App;
+use crate::render::{Gpu, HEADLESS_FORMAT, PassTimes};
+use crate::settings::{Settings, ShadowFaces, ShadowFilter};
+use crate::shadow::FitMode;
+use glam::Vec3;
+use std::time::Instant;
+
+/// One shadow configuration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Config {
+    /// Texels per side of each map.
+    pub map_size: u32,
+    /// Sun cascades.
+    pub cascades: u32,
+    /// Cascade fitting.
+    pub fit: FitMode,
+    /// Shadow-map filter.
+    pub filter: ShadowFilter,
+    /// Constant, slope and normal bias, all the same, in texels.
+    pub bias: f32,
+    /// Faces drawn into the maps.
+    pub faces: ShadowFaces,
+}
+
+impl Config {
+    /// The default settings' configuration.
+    pub fn default_settings() -> Config {
+        let d = Settings::default();
+        Config {
+            map_size: d.shadow_map_size,
+            cascades: d.cascades,
+            fit: d.fit_mode,
+            filter: d.filter,
+            bias: d.depth_bias,
+            faces: d.shadow_faces,
+        }
+    }
+
+    /// `base` with this configuration's shadow settings.
+    pub fn settings(&self, base: &Settings) -> Settings {
+        Settings {
+            shadow_map_size: self.map_size,
+            cascades: self.cascades,
+            fit_mode: self.fit,
+            filter: self.filter,
+            depth_bias: self.bias,
+            slope_bias: self.bias,
+            normal_bias: self.bias,
+            shadow_faces: self.faces,
+            ..base.clone()
+        }
+    }
+
+    /// A short name: `2048 x4 stable bilinear b1`, with `back` when only back faces are drawn.
+    pub fn label(&self) -> String {
+        let faces = if self.faces == ShadowFaces::Back { " back" } else { "" };
+        format!("{} x{} {} {} b{}{faces}", self.map_size, self.cascades, self.fit.name(), self.filter.name(), self.bias)
+    }
+}
+
+/// The configurations swept: map size against cascades at the defaults, then each other
+/// choice varied on its own around the defaults. `quick` takes a few of them.
+pub fn configs(quick: bool) -> Vec<Config> {
+    let d = Config::default_settings();
+    let mut out = Vec::new();
+    let mut push = |c: Config| {
+        if !out.contains(&c) {
+            out.push(c);
+        }
+    };
+    let (sizes, cascades): (&[u32], &[u32]) = if quick { (&[1024, 2048], &[1, 4]) } else { (&[512, 1024, 2048, 4096], &[1, 2, 3, 4]) };
+    for &map_size in sizes {
+        for &c in cascades {
+            push(Config { map_size, cascades: c, ..d });
+        }
+    }
+    let around: &[u32] = if quick { &[2048] } else { &[1024, 2048, 4096] };
+    for &map_size in around {
+        for fit in [FitMode::Unsnapped, FitMode::Tight] {
+            push(Config { map_size, fit, ..d });
+        }
+        for filter in [ShadowFilter::Nearest, ShadowFilter::Pcf3, ShadowFilter::Pcf5] {
+            push(Config { map_size, filter, ..d });
+        }
+    }
+    let biases: &[f32] = if quick { &[0.0] } else { &[0.0, 0.5, 2.0, 4.0] };
+    for &bias in biases {
+        push(Config { bias, ..d });
+    }
+    push(Config { faces: ShadowFaces::Back, bias: 0.0, ..d });
+    if !quick {
+        push(Config { faces: ShadowFaces::Back, ..d });
+    }
+    out
+}
+
+/// A view of the sample scene: a camera and a time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// Its name.
+    pub name: &'static str,
+    /// Where the camera is.
+    pub eye: Vec3,
+    /// What it looks at.
+    pub target: Vec3,
+    /// Scene time in seconds.
+    pub time: f64,
+}
+
+/// The fixed views of the sample scene that every configuration is measured from.
+pub const VIEWS: [View; 4] = [
+    View { name: "overview", eye: Vec3::new(2.0, 5.5, 12.5), target: Vec3::new(-0.5, 1.0, 0.0), time: 6.0 },
+    View { name: "character", eye: Vec3::new(3.0, 2.5, 7.5), target: Vec3::new(0.0, 0.8, 3.0), time: 3.0 },
+    View { name: "far", eye: Vec3::new(-12.0, 1.8, 14.0), target: Vec3::new(4.0, 0.5, -6.0), time: 2.0 },
+    View { name: "above", eye: Vec3::new(0.5, 18.0, 6.0), target: Vec3::ZERO, time: 9.0 },
+];
+
+/// What a configuration costs per frame, from the medians of every timed frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Cost {
+    /// Drawing every shadow layer, milliseconds.
+    pub shadow_ms: f64,
+    /// What the shadow lookups add to the main pass, milliseconds (the median difference, which
+    /// timing noise can make slightly negative for the cheapest filters).
+    pub lookup_ms: f64,
+    /// Fastest and slowest frame's shadow cost, milliseconds.
+    pub range_ms: (f64, f64),
+}
+
+impl Cost {
+    /// The whole shadow cost: drawing the maps plus looking them up.
+    pub fn total_ms(&self) -> f64 {
+        self.shadow_ms + self.lookup_ms
+    }
+}
+
+/// One configuration's results.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    /// The configuration.
+    pub config: Config,
+    /// Its cost on the sample scene.
+    pub cost: Cost,
+    /// Its accuracy on the sample scene, per light, all views together.
+    pub scene: Vec<LightReport>,
+    /// Its score in each failure case, in [`CASES`] order.
+    pub cases: Vec<Score>,
+}
+
+impl Row {
+    /// All lights of the sample scene together.
+    pub fn scene_all(&self) -> LightReport {
+        let mut all = LightReport::default();
+        for r in &self.scene {
+            all.merge(r);
+        }
+        all
+    }
+}
+
+/// How big and how long the sweep is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SweepOptions {
+    /// Fewer configurations, smaller frames, fewer timed frames.
+    pub quick: bool,
+    /// Size of the sample-scene frames.
+    pub size: (u32, u32),
+    /// Size of the failure cases' frames.
+    pub case_size: (u32, u32),
+    /// Timed frames per view after two untimed ones.
+    pub frames: u32,
+    /// How the truth is taken.
+    pub truth: TruthSettings,
+}
+
+impl SweepOptions {
+    /// The full sweep, or the quick one.
+    pub fn new(quick: bool) -> SweepOptions {
+        if quick {
+            SweepOptions { quick, size: (320, 180), case_size: (192, 192), frames: 4, truth: TruthSettings { soft_rays: 8, ..Default::default() } }
+        } else {
+            SweepOptions { quick, size: (640, 360), case_size: (256, 256), frames: 10, truth: TruthSettings::default() }
+        }
+    }
+}
+
+/// Times frames of the sample scene under `settings`, every map drawn every frame, each frame
+/// followed by the same frame with shadows off (so drift in the machine's speed hits both alike):
+/// per frame, the pass times with shadows and without.
+fn time_frames(
+    gpu: &Gpu,
+    m: &mut Measurer<'_>,
+    settings: &Settings,
+    options: &SweepOptions,
+) -> Result<Vec<(PassTimes, PassTimes)>, MeasureError> {
+    let (w, h) = options.size;
+    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("timed frame"),
+        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: HEADLESS_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let view = target.create_view(&Default::default());
+    let on = Settings { reuse_shadow_maps: false, ..settings.clone() };
+    let off = Settings { shadows: false, ..on.clone() };
+    m.subject("scene", &on, |s| App::new(s.clone()))?;
+    let (app, renderer) = m.parts("scene").expect("the subject exists");
+    let gpu_timed = renderer.enable_timing(gpu);
+    let mut frame = |app: &mut App, s: &Settings| -> Result<PassTimes, MeasureError> {
+        super::measure::apply_settings(app, s);
+        app.set_time(app.world.resource::<crate::components::Time>().t);
+        let start = Instant::now();
+        renderer.render(gpu, &mut app.world, &view, w, h)?;
+        gpu.wait()?;
+        let wall = start.elapsed().as_secs_f64() * 1e3;
+        Ok(match renderer.pass_times(gpu) {
+            Some(t) if gpu_timed => t?,
+            _ => PassTimes { shadow_ms: wall, main_ms: 0.0 },
+        })
+    };
+    let mut times = Vec::new();
+    for v in VIEWS {
+        place_camera(&mut app.world, v.eye, v.target);
+        app.set_time(v.time);
+        for k in 0..options.frames + 2 {
+            let pair = (frame(app, &on)?, frame(app, &off)?);
+            if k >= 2 {
+                times.push(pair);
+            }
+        }
+    }
+    Ok(times)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+}
+
+/// The cost from frames timed with shadows and without: drawing the maps, plus what the lookups
+/// add to the main pass (without timestamps, the whole frame's difference).
+fn cost(frames: &[(PassTimes, PassTimes)]) -> Cost {
+    let shadow: Vec<f64> = frames.iter().map(|(on, off)| on.shadow_ms - off.shadow_ms).collect();
+    let lookup = median(frames.iter().map(|(on, off)| on.main_ms - off.main_ms).collect());
+    let range = (shadow.iter().copied().fold(f64::INFINITY, f64::min), shadow.iter().copied().fold(0.0, f64::max));
+    Cost { shadow_ms: median(shadow), lookup_ms: lookup, range_ms: range }
+}
+
+/// Accuracy of `settings` on the sample scene, per light, over every view.
+fn scene_accuracy(m: &mut Measurer<'_>, settings: &Settings) -> Result<Vec<LightReport>, MeasureError> {
+    m.subject("accuracy", settings, |s| App::new(s.clone()))?;
+    let mut total: Vec<LightReport> = Vec::new();
+    for v in VIEWS {
+        let (app, _) = m.parts("accuracy").expect("the subject exists");
+        place_camera(&mut app.world, v.eye, v.target);
+        app.set_time(v.time);
+        let measured = m.measure("accuracy", v.name)?;
+        let reports = report(&measured.frame, &measured.truth, 2);
+        total.resize(reports.len().max(total.len()), LightReport::default());
+        for (t, r) in total.iter_mut().zip(&reports) {
+            t.merge(r);
+        }
+    }
+    Ok(total)
+}
+
+/// Runs the sweep on `gpu`; `progress` hears each configuration as it starts (index, count,
+/// label).
+pub fn run(gpu: &Gpu, options: &SweepOptions, mut progress: impl FnMut(usize, usize, &str)) -> Result<Vec<Row>, MeasureError> {
+    let base = Settings::default();
+    base.validate()?;
+    let configs = configs(options.quick);
+    let mut scene = Measurer::new(gpu, options.size, options.truth);
+    let mut cases = Measurer::new(gpu, options.case_size, TruthSettings { soft_rays: 0, ..options.truth });
+    let mut rows = Vec::new();
+    for (i, config) in configs.iter().enumerate() {
+        progress(i, configs.len(), &config.label());
+        let settings = config.settings(&base);
+        let frames = time_frames(gpu, &mut scene, &settings, options)?;
+        let accuracy = scene_accuracy(&mut scene, &settings)?;
+        let scores = CASES.iter().map(|c| (c.run)(&mut cases, &settings)).collect::<Result<Vec<_>, _>>()?;
+        rows.push(Row { config: *config, cost: cost(&frames), scene: accuracy, cases: scores });
+    }
+    progress(configs.len(), configs.len(), "done");
+    Ok(rows)
+}
+
+/// Indices of the rows on the Pareto front of (cost, error): none is both cheaper and more
+/// accurate. In order of cost.
+pub fn pareto(points: &[(f64, f64)]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..points.len()).filter(|&i| points[i].0.is_finite() && points[i].1.is_finite()).collect();
+    order.sort_by(|&a, &b| points[a].0.total_cmp(&points[b].0).then(points[a].1.total_cmp(&points[b].1)));
+    let mut best = f64::INFINITY;
+    order
+        .into_iter()
+        .filter(|&i| {
+            let better = points[i].1 < best;
+            best = best.min(points[i].1);
+            better
+        })
+        .collect()
+}
+
+/// Whether timing came from the GPU's timestamps on this device.
+pub fn timed_on_gpu(gpu: &Gpu) -> bool {
+    gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_front_keeps_only_points_nothing_beats() {
+        let points = [(1.0, 5.0), (2.0, 3.0), (3.0, 4.0), (4.0, 1.0), (2.5, 3.0), (5.0, f64::NAN)];
+        assert_eq!(pareto(&points), vec![0, 1, 3]);
+    }
+
+    #[test]
+    fn configurations_are_distinct_and_include_the_defaults() {
+        for quick in [true, false] {
+            let c = configs(quick);
+            assert!(c.contains(&Config::default_settings()));
+            for (i, a) in c.iter().enumerate() {
+                assert!(c[i + 1..].iter().all(|b| b != a), "{} twice", a.label());
+                a.settings(&Settings::default()).validate().unwrap();
+            }
+        }
+        assert!(configs(true).len() < configs(false).len());
+        assert_eq!(Config::default_settings().label(), "2048 x4 stable bilinear b1");
+    }
+}
