@@ -36,6 +36,7 @@ macro_rules! named_choices {
 }
 
 pub mod assets;
+pub mod biases;
 pub mod components;
 pub mod eval;
 pub mod play;

@@ -27,6 +27,9 @@ enum Command {
     /// Measure every shadow configuration's cost and accuracy against a ray-traced truth, and
     /// chart one against the other (or, with --cache, what the shadow-map cache saves).
     Bench(BenchArgs),
+    /// Find the shadow biases, light by light, that give the fewest wrong pixels on the sample
+    /// scene, and write them to a file that play, render and bench --cache read (--biases FILE).
+    Tune(TuneArgs),
 }
 
 /// Settings shared by every command.
@@ -87,6 +90,9 @@ struct SceneArgs {
     /// Place this glTF model (.gltf or .glb) in the middle of the scene, playing its first clip.
     #[arg(long, value_name = "PATH")]
     model: Option<PathBuf>,
+    /// Per-light shadow biases from a file written by `umbra tune`.
+    #[arg(long, value_name = "FILE")]
+    biases: Option<PathBuf>,
 }
 
 #[derive(Args, Default)]
@@ -144,6 +150,21 @@ struct BenchArgs {
     scene: SceneArgs,
 }
 
+#[derive(Args)]
+struct TuneArgs {
+    /// Where to write the biases found.
+    #[arg(long, default_value = "umbra-biases.json", value_name = "FILE")]
+    out: PathBuf,
+    /// Width of the measured frames in pixels.
+    #[arg(long, default_value_t = 480, value_parser = parse_size, allow_negative_numbers = true)]
+    width: u32,
+    /// Height of the measured frames in pixels.
+    #[arg(long, default_value_t = 270, value_parser = parse_size, allow_negative_numbers = true)]
+    height: u32,
+    #[command(flatten)]
+    scene: SceneArgs,
+}
+
 fn parse_size(s: &str) -> Result<u32, String> {
     match s.parse::<i64>() {
         Ok(v) if (1..=16384).contains(&v) => Ok(v as u32),
@@ -159,9 +180,10 @@ fn parse_time(s: &str) -> Result<f64, String> {
 }
 
 impl SceneArgs {
-    fn settings(&self) -> Settings {
+    fn settings(&self) -> Result<Settings> {
         let d = Settings::default();
-        Settings {
+        let biases = self.biases.as_deref().map(umbra::biases::LightBiases::load).transpose()?;
+        Ok(Settings {
             shadows: !self.no_shadows,
             shadow_map_size: self.shadow_map_size.unwrap_or(d.shadow_map_size),
             shadow_strength: self.shadow_strength.unwrap_or(d.shadow_strength),
@@ -180,8 +202,9 @@ impl SceneArgs {
             reuse_shadow_maps: !self.redraw_shadows,
             character: !self.no_character,
             model: self.model.clone(),
+            biases,
             ..d
-        }
+        })
     }
 }
 
@@ -197,6 +220,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Play(args) => play(args),
         Command::Render(args) => render(&args),
         Command::Bench(args) => bench(&args),
+        Command::Tune(args) => tune(&args),
     }
 }
 
@@ -204,7 +228,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
     if !args.cache {
         return sweep(args);
     }
-    let settings = args.scene.settings();
+    let settings = args.scene.settings()?;
     settings.validate()?;
     let gpu = Gpu::headless()?;
     println!("adapter: {}", gpu.describe());
@@ -229,7 +253,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
 
 /// The sample scene, with what was mended in the user's model (if any) said on stderr.
 fn app(scene: &SceneArgs) -> Result<App> {
-    let mut app = App::new(scene.settings())?;
+    let mut app = App::new(scene.settings()?)?;
     let mut models = app.world.query::<(&ModelInstance, &Transform)>();
     let user = |m: &ModelInstance| scene.model.as_ref().is_some_and(|p| p.display().to_string() == m.0.name);
     for (model, placement) in models.iter(&app.world).filter(|(m, _)| user(m)) {
@@ -294,6 +318,43 @@ fn sweep(args: &BenchArgs) -> Result<()> {
     let summary = results::write_all(&rows, &args.out, &heading)?;
     println!("{summary}");
     println!("wrote {}: results.csv, summary.md and the charts (.png and .svg)", args.out.display());
+    Ok(())
+}
+
+fn tune(args: &TuneArgs) -> Result<()> {
+    let settings = args.scene.settings()?;
+    settings.validate()?;
+    let gpu = Gpu::headless()?;
+    println!("adapter: {}", gpu.describe());
+    let bar = indicatif::ProgressBar::new(1);
+    let (lights, biases) = umbra::eval::tune::tune(&gpu, &settings, (args.width, args.height), |done, of| {
+        bar.set_length(of as u64);
+        bar.set_position(done as u64);
+    })?;
+    bar.finish_and_clear();
+    println!(
+        "wrong pixels (false shadow + false lit) over {} views of the sample scene at {}x{}:",
+        umbra::eval::sweep::VIEWS.len(),
+        args.width,
+        args.height
+    );
+    println!("| light | before | after | pixels | bias found: constant, slope, normal (texels) |");
+    println!("| --- | --- | --- | --- | --- |");
+    for l in &lights {
+        let (before, after) = l.wrong();
+        println!(
+            "| {} | {before} ({:.4}%) | {after} ({:.4}%) | {} | {}, {}, {} |",
+            l.light,
+            100.0 * l.before.misclassified(),
+            100.0 * l.after.misclassified(),
+            l.after.pixels,
+            l.bias.constant,
+            l.bias.slope,
+            l.bias.normal
+        );
+    }
+    biases.save(&args.out)?;
+    println!("wrote {}; use it with `umbra play --biases {}`", args.out.display(), args.out.display());
     Ok(())
 }
 

@@ -46,6 +46,8 @@ pub struct Settings {
     pub character: bool,
     /// A glTF model of the user's to place in the middle of the sample scene.
     pub model: Option<std::path::PathBuf>,
+    /// Per-light biases (as `umbra tune` finds them) that replace the three above, light by light.
+    pub biases: Option<crate::biases::LightBiases>,
     /// Fixed simulation step in seconds.
     pub dt: f32,
 }
@@ -73,6 +75,7 @@ impl Default for Settings {
             cubes: 10,
             character: true,
             model: None,
+            biases: None,
             dt: 1.0 / 60.0,
         }
     }

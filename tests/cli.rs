@@ -74,7 +74,10 @@ fn bad_arguments_are_named_and_fail() {
 #[test]
 fn bench_prints_every_scenario_with_ratios_and_shadow_passes() {
     let dir = scratch("bench");
-    let out = umbra(&["bench", "--cache", "--frames", "3", "--width", "64", "--height", "36", "--shadow-map-size", "256"], &dir);
+    let out = umbra(
+        &["bench", "--cache", "--frames", "3", "--width", "64", "--height", "36", "--shadow-map-size", "256"],
+        &dir,
+    );
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let stdout = String::from_utf8_lossy(&out.stdout);
     let row = |name: &str| {
@@ -126,6 +129,21 @@ fn a_users_model_is_placed_in_the_scene_or_named_in_a_clear_error() {
         assert!(!out.status.success() && stderr.contains(says) && !stderr.contains("panicked"), "{stderr}");
     }
     assert!(!dir.join("x.png").exists());
+}
+
+#[test]
+fn a_broken_bias_file_is_named_and_nothing_is_written() {
+    let dir = scratch("biases");
+    std::fs::write(dir.join("bad.json"), "{ not json").unwrap();
+    std::fs::write(dir.join("negative.json"), r#"{"sun": {"constant": -2, "slope": 0, "normal": 0}}"#).unwrap();
+    for (file, says) in
+        [("bad.json", "bad.json: not JSON"), ("negative.json", "sun: `constant` = -2"), ("gone.json", "cannot read it")]
+    {
+        let out = umbra(&["render", "--biases", file, "--out", "b.png"], &dir);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && stderr.contains(says) && !stderr.contains("panicked"), "{stderr}");
+    }
+    assert!(!dir.join("b.png").exists());
 }
 
 #[test]

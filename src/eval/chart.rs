@@ -130,7 +130,11 @@ where
         EmptyElement::at(at) + Text::new(text, offset, font.clone().color(&colour))
     };
     chart
-        .draw_series(front.iter().map(|&i| labelled((points[i].cost, y(points[i].error)), points[i].label.clone(), (8, -16), RED)))
+        .draw_series(
+            front
+                .iter()
+                .map(|&i| labelled((points[i].cost, y(points[i].error)), points[i].label.clone(), (8, -16), RED)),
+        )
         .map_err(|e| e.to_string())?;
     for p in points.iter().filter(|p| p.default) {
         let at = (p.cost, y(p.error));
@@ -191,6 +195,11 @@ where
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2)));
         chart.draw_series(at.iter().map(|&p| Circle::new(p, 4, colour.filled()))).map_err(|e| e.to_string())?;
     }
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(|e| e.to_string())?;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| e.to_string())?;
     Ok(())
 }

@@ -9,3 +9,4 @@ pub mod metrics;
 pub mod results;
 pub mod sweep;
 pub mod truth;
+pub mod tune;

@@ -84,7 +84,12 @@ pub fn csv(rows: &[Row]) -> String {
 fn points(rows: &[Row], error: impl Fn(&Row) -> f64) -> Vec<Point> {
     let default = Config::default_settings();
     rows.iter()
-        .map(|r| Point { cost: r.cost.total_ms(), error: error(r), label: r.config.label(), default: r.config == default })
+        .map(|r| Point {
+            cost: r.cost.total_ms(),
+            error: error(r),
+            label: r.config.label(),
+            default: r.config == default,
+        })
         .collect()
 }
 
@@ -95,11 +100,18 @@ fn front(points: &[Point]) -> Vec<usize> {
 /// Writes `results.csv`, `summary.md` and the charts into `dir`; `heading` says where and how the
 /// numbers were taken. Returns the summary.
 pub fn write_all(rows: &[Row], dir: &Path, heading: &str) -> Result<String, ResultsError> {
-    std::fs::create_dir_all(dir).map_err(|e| ResultsError::Write { path: dir.display().to_string(), why: e.to_string() })?;
+    std::fs::create_dir_all(dir)
+        .map_err(|e| ResultsError::Write { path: dir.display().to_string(), why: e.to_string() })?;
     write(&dir.join("results.csv"), &csv(rows))?;
     let scene = points(rows, |r| r.scene_all().all.misclassified());
     let scene_front = front(&scene);
-    cost_chart(&dir.join("scene"), "Sample scene: shadow cost against error", "misclassified pixels (log)", &scene, &scene_front)?;
+    cost_chart(
+        &dir.join("scene"),
+        "Sample scene: shadow cost against error",
+        "misclassified pixels (log)",
+        &scene,
+        &scene_front,
+    )?;
     for (k, case) in CASES.iter().enumerate() {
         let p = points(rows, |r| r.cases[k].value());
         let title = format!("{}: {}", case.name, case.measures);
@@ -113,9 +125,16 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str) -> Result<String, Resu
     {
         shown.push(d);
     }
-    let lines: Vec<(String, Vec<f64>)> =
-        shown.iter().map(|r| (r.config.label(), r.scene_all().bands.iter().map(|b| b.misclassified()).collect())).collect();
-    distance_chart(&dir.join("distance"), "Sample scene: error against distance (front and default)", &DISTANCE_BANDS, &lines)?;
+    let lines: Vec<(String, Vec<f64>)> = shown
+        .iter()
+        .map(|r| (r.config.label(), r.scene_all().bands.iter().map(|b| b.misclassified()).collect()))
+        .collect();
+    distance_chart(
+        &dir.join("distance"),
+        "Sample scene: error against distance (front and default)",
+        &DISTANCE_BANDS,
+        &lines,
+    )?;
     let summary = summary(rows, &scene_front, heading);
     write(&dir.join("summary.md"), &summary)?;
     Ok(summary)
@@ -151,7 +170,14 @@ pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
         let at_default = rows.iter().find(|r| r.config == default).map_or(f64::NAN, |r| r.cases[k].value());
         let best = rows.iter().min_by(|a, b| a.cases[k].value().total_cmp(&b.cases[k].value()));
         let best = best.map_or(String::new(), |r| format!("{} ({})", pct(r.cases[k].value()), r.config.label()));
-        let _ = writeln!(out, "| {} | {} | {} | {} | {best} |", case.name, case.measures, pct(case.threshold), pct(at_default));
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} | {best} |",
+            case.name,
+            case.measures,
+            pct(case.threshold),
+            pct(at_default)
+        );
     }
     out
 }

@@ -74,7 +74,8 @@ pub fn configs(quick: bool) -> Vec<Config> {
             out.push(c);
         }
     };
-    let (sizes, cascades): (&[u32], &[u32]) = if quick { (&[1024, 2048], &[1, 4]) } else { (&[512, 1024, 2048, 4096], &[1, 2, 3, 4]) };
+    let (sizes, cascades): (&[u32], &[u32]) =
+        if quick { (&[1024, 2048], &[1, 4]) } else { (&[512, 1024, 2048, 4096], &[1, 2, 3, 4]) };
     for &map_size in sizes {
         for &c in cascades {
             push(Config { map_size, cascades: c, ..d });
@@ -183,7 +184,13 @@ impl SweepOptions {
     /// The full sweep, or the quick one.
     pub fn new(quick: bool) -> SweepOptions {
         if quick {
-            SweepOptions { quick, size: (320, 180), case_size: (192, 192), frames: 4, truth: TruthSettings { soft_rays: 8, ..Default::default() } }
+            SweepOptions {
+                quick,
+                size: (320, 180),
+                case_size: (192, 192),
+                frames: 4,
+                truth: TruthSettings { soft_rays: 8, ..Default::default() },
+            }
         } else {
             SweepOptions { quick, size: (640, 360), case_size: (256, 256), frames: 10, truth: TruthSettings::default() }
         }
@@ -276,7 +283,11 @@ fn scene_accuracy(m: &mut Measurer<'_>, settings: &Settings) -> Result<Vec<Light
 
 /// Runs the sweep on `gpu`; `progress` hears each configuration as it starts (index, count,
 /// label).
-pub fn run(gpu: &Gpu, options: &SweepOptions, mut progress: impl FnMut(usize, usize, &str)) -> Result<Vec<Row>, MeasureError> {
+pub fn run(
+    gpu: &Gpu,
+    options: &SweepOptions,
+    mut progress: impl FnMut(usize, usize, &str),
+) -> Result<Vec<Row>, MeasureError> {
     let base = Settings::default();
     base.validate()?;
     let configs = configs(options.quick);
@@ -298,7 +309,8 @@ pub fn run(gpu: &Gpu, options: &SweepOptions, mut progress: impl FnMut(usize, us
 /// Indices of the rows on the Pareto front of (cost, error): none is both cheaper and more
 /// accurate. In order of cost.
 pub fn pareto(points: &[(f64, f64)]) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..points.len()).filter(|&i| points[i].0.is_finite() && points[i].1.is_finite()).collect();
+    let mut order: Vec<usize> =
+        (0..points.len()).filter(|&i| points[i].0.is_finite() && points[i].1.is_finite()).collect();
     order.sort_by(|&a, &b| points[a].0.total_cmp(&points[b].0).then(points[a].1.total_cmp(&points[b].1)));
     let mut best = f64::INFINITY;
     order

@@ -10,7 +10,8 @@
 use crate::assets::MeshLibrary;
 use crate::assets::skin::skin_vertices;
 use crate::components::{DirectionalLight, Joints, Mesh, ShadowCaster, SpotLight, Transform};
-use crate::render::{DebugFrame, light_order};
+use crate::render::DebugFrame;
+use crate::systems::light_order;
 use bevy_ecs::prelude::*;
 use glam::{Vec3, Vec4};
 use obvhs::cwbvh::CwBvh;

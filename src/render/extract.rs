@@ -5,6 +5,7 @@
 use crate::components::*;
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{Aabb, MAX_CASCADES, intersects_clip_volume, spot_projection};
+use crate::systems::light_order;
 use bevy_ecs::prelude::*;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3, Vec4};
@@ -200,15 +201,6 @@ impl FrameData {
         self.frame.counts[2] = width;
         self.frame.counts[3] = height;
     }
-}
-
-/// The lights the main pass uses, in the order it uses them: the first sun, then at most
-/// [`MAX_SPOTS`] spot lights (the measuring view reports visibilities in this order).
-pub fn light_order(world: &mut World) -> (Option<Entity>, Vec<Entity>) {
-    let sun = world.query_filtered::<Entity, With<DirectionalLight>>().iter(world).next();
-    let spots =
-        world.query_filtered::<Entity, (With<SpotLight>, With<Transform>)>().iter(world).take(MAX_SPOTS).collect();
-    (sun, spots)
 }
 
 /// Reads the world into the data one frame needs. Without a camera nothing is drawn.

@@ -15,7 +15,7 @@ mod shadow_pass;
 mod timing;
 mod uniform_array;
 
-pub use extract::{DrawItem, FrameData, LayerDraw, LightId, MAX_SPOTS, SHADOW_FADE, extract, light_order};
+pub use extract::{DrawItem, FrameData, LayerDraw, LightId, MAX_SPOTS, SHADOW_FADE, extract};
 pub use gpu::{Gpu, instance};
 pub use readback::{
     DebugFrame, HEADLESS_FORMAT, Image, probe_visibility, render_debug_frame, render_headless, render_png,

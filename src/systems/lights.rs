@@ -16,6 +16,18 @@ use bevy_ecs::prelude::*;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 
+/// The lights the main pass uses, in the order it uses them: the first sun, then at most
+/// [`crate::render::MAX_SPOTS`] spot lights (the measuring view reports visibilities in this order).
+pub fn light_order(world: &mut World) -> (Option<Entity>, Vec<Entity>) {
+    let sun = world.query_filtered::<Entity, With<DirectionalLight>>().iter(world).next();
+    let spots = world
+        .query_filtered::<Entity, (With<SpotLight>, With<Transform>)>()
+        .iter(world)
+        .take(crate::render::MAX_SPOTS)
+        .collect();
+    (sun, spots)
+}
+
 /// Recomputes the world bounds of every rigid mesh entity that moved or changed mesh (skinned
 /// ones get theirs from the pose, in [`crate::systems::pose_parts`]).
 #[allow(clippy::type_complexity)]

@@ -7,5 +7,5 @@ mod skeletal;
 
 pub use animate::{bob, spin};
 pub use camera::fly_camera;
-pub use lights::{CasterChanges, CasterState, track_casters, update_bounds, update_light_matrices};
+pub use lights::{CasterChanges, CasterState, light_order, track_casters, update_bounds, update_light_matrices};
 pub use skeletal::{animate_models, pose_parts, walk};

@@ -1,11 +1,11 @@
 //! Small scenes for the failure cases: a ground, some boxes or poles, a sun, a camera.
 
-use crate::{App, AppError};
 use crate::assets::clip::{Channel, Clip, Interpolation, Property};
 use crate::assets::{MeshLibrary, Model, cube, parse_model, plane};
 use crate::components::*;
 use crate::scene::{CHARACTER_GLB, camera_looking, spawn_model};
 use crate::settings::Settings;
+use crate::{App, AppError};
 use glam::Vec3;
 use std::sync::Arc;
 

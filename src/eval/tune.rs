@@ -1,0 +1,128 @@
+//! `umbra tune`: for each light, the constant, slope and normal bias that give the fewest wrong
+//! pixels (false shadow + false lit) over the sample scene's views, found by coordinate descent.
+//!
+//! Lights do not change each other's shadows, so every candidate value is tried on all lights
+//! in one render and each light keeps the value that suits it.
+
+use super::measure::{MeasureError, Measurer, TruthSettings, place_camera};
+use super::metrics::{Tally, tally};
+use super::sweep::VIEWS;
+use crate::App;
+use crate::biases::LightBiases;
+use crate::components::ShadowBias;
+use crate::render::Gpu;
+use crate::settings::Settings;
+
+/// Bias values tried for each parameter, in texels.
+pub const CANDIDATES: [f32; 9] = [0.0, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0];
+
+/// Rounds over the three parameters.
+const ROUNDS: usize = 2;
+
+/// What tuning did for one light.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightTune {
+    /// "sun", "spot 1", ...
+    pub light: String,
+    /// Its errors with the biases it started with.
+    pub before: Tally,
+    /// Its errors with the biases found.
+    pub after: Tally,
+    /// The biases found.
+    pub bias: ShadowBias,
+}
+
+impl LightTune {
+    /// Wrong pixels (false shadow + false lit) before and after.
+    pub fn wrong(&self) -> (u64, u64) {
+        (self.before.false_shadow + self.before.false_lit, self.after.false_shadow + self.after.false_lit)
+    }
+}
+
+/// Every light's errors over the sample views with `biases`.
+fn errors(m: &mut Measurer<'_>, biases: &LightBiases) -> Result<Vec<Tally>, MeasureError> {
+    let mut total: Vec<Tally> = Vec::new();
+    for v in VIEWS {
+        let (app, _) = m.parts("tune").expect("the subject exists");
+        biases.apply(&mut app.world);
+        place_camera(&mut app.world, v.eye, v.target);
+        app.set_time(v.time);
+        let measured = m.measure("tune", v.name)?;
+        total.resize(measured.truth.len().max(total.len()), Tally::default());
+        for (light, t) in total.iter_mut().enumerate() {
+            t.merge(&tally(&measured.frame, &measured.truth[light], light, |_| true));
+        }
+    }
+    Ok(total)
+}
+
+fn wrong(t: &Tally) -> u64 {
+    t.false_shadow + t.false_lit
+}
+
+fn get(b: &ShadowBias, param: usize) -> f32 {
+    [b.constant, b.slope, b.normal][param]
+}
+
+fn set(b: &mut ShadowBias, param: usize, v: f32) {
+    *[&mut b.constant, &mut b.slope, &mut b.normal][param] = v;
+}
+
+/// Each light's bias with the column of the measuring view that reports it (the sun's is 0, spot
+/// i's is i + 1).
+fn columns(b: &mut LightBiases) -> Vec<(usize, &mut ShadowBias)> {
+    b.sun.iter_mut().map(|s| (0, s)).chain(b.spots.iter_mut().enumerate().map(|(i, s)| (i + 1, s))).collect()
+}
+
+/// Tunes the biases of the sample scene under `base` with frames of `size`; `progress` hears
+/// each step (done, of). Returns each light's result and the biases to save.
+pub fn tune(
+    gpu: &Gpu,
+    base: &Settings,
+    size: (u32, u32),
+    mut progress: impl FnMut(usize, usize),
+) -> Result<(Vec<LightTune>, LightBiases), MeasureError> {
+    let mut m = Measurer::new(gpu, size, TruthSettings { soft_rays: 0, ..TruthSettings::default() });
+    let mut current = {
+        let subject = m.subject("tune", base, |s| App::new(s.clone()))?;
+        LightBiases::of(&mut subject.app.world)
+    };
+    let before = errors(&mut m, &current)?;
+    let mut best = before.clone();
+    let steps = ROUNDS * 3 * CANDIDATES.len();
+    let mut done = 0;
+    for _ in 0..ROUNDS {
+        for param in 0..3 {
+            for v in CANDIDATES {
+                progress(done, steps);
+                done += 1;
+                let mut candidate = current.clone();
+                for (_, b) in columns(&mut candidate) {
+                    set(b, param, v);
+                }
+                let errs = errors(&mut m, &candidate)?;
+                // Each light keeps the value that suits it; on a tie the smaller bias wins, as it
+                // loosens shadows less where the views do not look.
+                // (Only the first three spots are measured; any others keep their bias.)
+                for (column, b) in columns(&mut current) {
+                    let (Some(&e), Some(kept)) = (errs.get(column), best.get_mut(column)) else { continue };
+                    if wrong(&e) < wrong(kept) || (wrong(&e) == wrong(kept) && v < get(b, param)) {
+                        set(b, param, v);
+                        *kept = e;
+                    }
+                }
+            }
+        }
+    }
+    progress(steps, steps);
+    let after = errors(&mut m, &current)?;
+    let mut tunes = Vec::new();
+    let mut found = current.clone();
+    for (column, bias) in columns(&mut found) {
+        let light = if column == 0 { "sun".to_string() } else { format!("spot {column}") };
+        if let (Some(&before), Some(&after)) = (before.get(column), after.get(column)) {
+            tunes.push(LightTune { light, before, after, bias: *bias });
+        }
+    }
+    Ok((tunes, current))
+}

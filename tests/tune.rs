@@ -1,0 +1,30 @@
+//! `umbra tune`: the biases it finds never make a light's shadows worse on the views it tunes
+//! for, and the file it writes gives the lights those biases when read back.
+
+mod common;
+
+use umbra::App;
+use umbra::biases::LightBiases;
+use umbra::eval::tune::tune;
+use umbra::settings::Settings;
+
+#[test]
+fn tuned_biases_are_no_worse_and_come_back_from_their_file() {
+    let gpu = common::gpu();
+    // Start from a deliberately poor bias so there is something to find.
+    let poor = Settings { depth_bias: 0.0, slope_bias: 0.0, normal_bias: 0.0, ..Settings::default() };
+    let (lights, biases) = tune(&gpu, &poor, (192, 108), |_, _| {}).unwrap();
+    assert_eq!(lights.iter().map(|l| l.light.as_str()).collect::<Vec<_>>(), ["sun", "spot 1", "spot 2"]);
+    for l in &lights {
+        let (before, after) = l.wrong();
+        assert!(after <= before, "{}: {before} wrong pixels became {after}", l.light);
+    }
+    let sun = &lights[0];
+    assert!(sun.wrong().0 > 10 * sun.wrong().1.max(1), "zero bias leaves acne that tuning removes: {:?}", sun.wrong());
+
+    let file = std::env::temp_dir().join(format!("umbra-tune-{}.json", std::process::id()));
+    biases.save(&file).unwrap();
+    let mut app =
+        App::new(Settings { biases: Some(LightBiases::load(&file).unwrap()), ..Settings::default() }).unwrap();
+    assert_eq!(LightBiases::of(&mut app.world), biases);
+}
