@@ -209,8 +209,11 @@ pub struct ShadowBias {
 }
 
 impl Default for ShadowBias {
+    /// Half a texel each: of the uniform biases `umbra bench` swept (0, 0.5, 1, 2, 4), the one
+    /// with the fewest wrong pixels on the sample scene that still keeps every failure case in
+    /// bounds (no bias at all brings back acne).
     fn default() -> Self {
-        ShadowBias { constant: 1.0, slope: 1.0, normal: 1.0 }
+        ShadowBias { constant: 0.5, slope: 0.5, normal: 0.5 }
     }
 }
 

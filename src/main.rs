@@ -137,6 +137,15 @@ struct BenchArgs {
     /// everything moves (what the shadow-map cache saves).
     #[arg(long)]
     cache: bool,
+    /// Rays over each light's disc for the soft truth (default 32, 8 with --quick).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=4096))]
+    soft_rays: Option<u32>,
+    /// Angular radius of the sun's disc for the soft truth, in degrees (default 0.27, the real sun's).
+    #[arg(long, value_name = "DEGREES", value_parser = parse_angle)]
+    sun_radius: Option<f32>,
+    /// Radius of a spot light's disc for the soft truth, in metres (default 0.1).
+    #[arg(long, value_name = "METRES", value_parser = parse_radius)]
+    spot_radius: Option<f32>,
     /// Measured frames per scenario (with --cache).
     #[arg(long, default_value_t = 60, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100_000))]
     frames: u32,
@@ -169,6 +178,20 @@ fn parse_size(s: &str) -> Result<u32, String> {
     match s.parse::<i64>() {
         Ok(v) if (1..=16384).contains(&v) => Ok(v as u32),
         _ => Err(format!("`{s}` is not a size: give a whole number of pixels from 1 to 16384")),
+    }
+}
+
+fn parse_angle(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(a) if (0.0..=10.0).contains(&a) => Ok(a),
+        _ => Err(format!("`{s}` is not an angle: give degrees from 0 to 10")),
+    }
+}
+
+fn parse_radius(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(r) if (0.0..=10.0).contains(&r) => Ok(r),
+        _ => Err(format!("`{s}` is not a radius: give metres from 0 to 10")),
     }
 }
 
@@ -275,7 +298,16 @@ fn app(scene: &SceneArgs) -> Result<App> {
 fn sweep(args: &BenchArgs) -> Result<()> {
     use umbra::eval::{results, sweep};
     let gpu = Gpu::headless()?;
-    let options = sweep::SweepOptions::new(args.quick);
+    let mut options = sweep::SweepOptions::new(args.quick);
+    if let Some(n) = args.soft_rays {
+        options.truth.soft_rays = n as usize;
+    }
+    if let Some(degrees) = args.sun_radius {
+        options.truth.sun_angular_radius = degrees.to_radians();
+    }
+    if let Some(r) = args.spot_radius {
+        options.truth.spot_radius = r;
+    }
     let configs = sweep::configs(args.quick).len();
     let timing = if sweep::timed_on_gpu(&gpu) { "GPU timestamps" } else { "the wall clock (no timestamps here)" };
     println!("adapter: {}", gpu.describe());
@@ -305,7 +337,7 @@ fn sweep(args: &BenchArgs) -> Result<()> {
 {} configurations on {}, timed by {timing}; {:.0} s in all. Shadow cost: the median over {} \
          frames of drawing every shadow layer plus what the lookups add to the main pass, every map redrawn every \
          frame. Errors: pixels of {} views of the sample scene at {}x{} against a ray-traced truth (sun and spot \
-         lights together).",
+         lights together; the soft truth from {} rays over a {:.2}° sun and {} m spot lights).",
         if args.quick { " --quick" } else { "" },
         rows.len(),
         gpu.describe(),
@@ -314,6 +346,9 @@ fn sweep(args: &BenchArgs) -> Result<()> {
         sweep::VIEWS.len(),
         options.size.0,
         options.size.1,
+        options.truth.soft_rays,
+        options.truth.sun_angular_radius.to_degrees(),
+        options.truth.spot_radius,
     );
     let summary = results::write_all(&rows, &args.out, &heading)?;
     println!("{summary}");

@@ -58,9 +58,10 @@ impl Default for Settings {
             shadows: true,
             shadow_strength: 1.0,
             shadow_map_size: 2048,
-            depth_bias: 1.0,
-            slope_bias: 1.0,
-            normal_bias: 1.0,
+            // The same as a light's default bias (see `ShadowBias::default`).
+            depth_bias: 0.5,
+            slope_bias: 0.5,
+            normal_bias: 0.5,
             shadow_distance: 60.0,
             cascades: 4,
             split_lambda: DEFAULT_SPLIT_LAMBDA,

@@ -90,7 +90,7 @@ pub fn configs(quick: bool) -> Vec<Config> {
             push(Config { map_size, filter, ..d });
         }
     }
-    let biases: &[f32] = if quick { &[0.0] } else { &[0.0, 0.5, 2.0, 4.0] };
+    let biases: &[f32] = if quick { &[0.0] } else { &[0.0, 0.25, 1.0, 2.0, 4.0] };
     for &bias in biases {
         push(Config { bias, ..d });
     }
@@ -349,6 +349,6 @@ mod tests {
             }
         }
         assert!(configs(true).len() < configs(false).len());
-        assert_eq!(Config::default_settings().label(), "2048 x4 stable bilinear b1");
+        assert_eq!(Config::default_settings().label(), "2048 x4 stable bilinear b0.5");
     }
 }
