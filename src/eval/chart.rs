@@ -46,7 +46,7 @@ pub struct ChartError {
     pub why: String,
 }
 
-const SIZE: (u32, u32) = (960, 600);
+const SIZE: (u32, u32) = (1100, 640);
 
 fn font_ready() {
     static FONT: std::sync::Once = std::sync::Once::new();
@@ -129,13 +129,18 @@ where
     let labelled = |at: (f64, f64), text: String, offset: (i32, i32), colour: RGBColor| {
         EmptyElement::at(at) + Text::new(text, offset, font.clone().color(&colour))
     };
-    chart
-        .draw_series(
-            front
-                .iter()
-                .map(|&i| labelled((points[i].cost, y(points[i].error)), points[i].label.clone(), (8, -16), RED)),
-        )
-        .map_err(|e| e.to_string())?;
+    // Front points are labelled where a label fits: one too close to a label already placed
+    // (in pixels) is left out, so crowded corners stay readable.
+    let mut placed: Vec<(i32, i32)> = Vec::new();
+    for &i in front {
+        let at = (points[i].cost, y(points[i].error));
+        let (px, py) = chart.backend_coord(&at);
+        if placed.iter().any(|&(x, y)| (py - y).abs() < 15 && (px - x).abs() < 110) {
+            continue;
+        }
+        placed.push((px, py));
+        chart.draw_series([labelled(at, points[i].label.clone(), (8, -16), RED)]).map_err(|e| e.to_string())?;
+    }
     for p in points.iter().filter(|p| p.default) {
         let at = (p.cost, y(p.error));
         chart.draw_series([Circle::new(at, 9, BLUE.stroke_width(2))]).map_err(|e| e.to_string())?;

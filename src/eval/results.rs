@@ -87,7 +87,7 @@ fn points(rows: &[Row], error: impl Fn(&Row) -> f64) -> Vec<Point> {
         .map(|r| Point {
             cost: r.cost.total_ms(),
             error: error(r),
-            label: r.config.label(),
+            label: r.config.short_label(),
             default: r.config == default,
         })
         .collect()
@@ -108,14 +108,20 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str) -> Result<String, Resu
     cost_chart(
         &dir.join("scene"),
         "Sample scene: shadow cost against error",
-        "misclassified pixels (log)",
+        "misclassified pixels (log; on the bottom line: none)",
         &scene,
         &scene_front,
     )?;
     for (k, case) in CASES.iter().enumerate() {
         let p = points(rows, |r| r.cases[k].value());
         let title = format!("{}: {}", case.name, case.measures);
-        cost_chart(&dir.join(format!("case-{}", case.name)), &title, "error (log)", &p, &front(&p))?;
+        cost_chart(
+            &dir.join(format!("case-{}", case.name)),
+            &title,
+            "error (log; on the bottom line: none)",
+            &p,
+            &front(&p),
+        )?;
     }
     // Error against distance for the default and every configuration on the scene's front.
     let default = Config::default_settings();
@@ -127,7 +133,7 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str) -> Result<String, Resu
     }
     let lines: Vec<(String, Vec<f64>)> = shown
         .iter()
-        .map(|r| (r.config.label(), r.scene_all().bands.iter().map(|b| b.misclassified()).collect()))
+        .map(|r| (r.config.short_label(), r.scene_all().bands.iter().map(|b| b.misclassified()).collect()))
         .collect();
     distance_chart(
         &dir.join("distance"),

@@ -57,6 +57,25 @@ impl Config {
         }
     }
 
+    /// Its name for charts: map size and cascades, then only what differs from the defaults.
+    pub fn short_label(&self) -> String {
+        let d = Config::default_settings();
+        let mut out = format!("{} x{}", self.map_size, self.cascades);
+        if self.fit != d.fit {
+            out += &format!(" {}", self.fit.name());
+        }
+        if self.filter != d.filter {
+            out += &format!(" {}", self.filter.name());
+        }
+        if self.bias != d.bias {
+            out += &format!(" b{}", self.bias);
+        }
+        if self.faces != d.faces {
+            out += &format!(" {}", self.faces.name());
+        }
+        out
+    }
+
     /// A short name: `2048 x4 stable bilinear b1`, with `back` when only back faces are drawn.
     pub fn label(&self) -> String {
         let faces = if self.faces == ShadowFaces::Back { " back" } else { "" };
@@ -350,5 +369,7 @@ mod tests {
         }
         assert!(configs(true).len() < configs(false).len());
         assert_eq!(Config::default_settings().label(), "2048 x4 stable bilinear b0.5");
+        let c = Config { filter: ShadowFilter::Pcf3, bias: 2.0, ..Config::default_settings() };
+        assert_eq!(c.short_label(), "2048 x4 pcf3 b2");
     }
 }
