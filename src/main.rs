@@ -320,15 +320,16 @@ fn sweep(args: &BenchArgs) -> Result<()> {
         options.case_size.0,
         options.case_size.1,
     );
-    let bar = indicatif::ProgressBar::new(configs as u64);
+    let bar = indicatif::ProgressBar::new(1);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed_precise} {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     let started = Instant::now();
-    let rows = sweep::run(&gpu, &options, |i, _, label| {
-        bar.set_position(i as u64);
-        bar.set_message(label.to_string());
+    let rows = sweep::run(&gpu, &options, |done, of, what| {
+        bar.set_length(of as u64);
+        bar.set_position(done as u64);
+        bar.set_message(what.to_string());
     })?;
     bar.finish_and_clear();
     let heading = format!(

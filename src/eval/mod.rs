@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod cases;
 pub mod chart;
+pub mod cost;
 pub mod measure;
 pub mod metrics;
 pub mod results;

@@ -2,14 +2,14 @@
 //! sample scene and in each failure case, measured in one run.
 
 use super::cases::{CASES, Score};
+use super::cost::{Cost, time_all};
 use super::measure::{MeasureError, Measurer, TruthSettings, place_camera};
 use super::metrics::{LightReport, report};
 use crate::App;
-use crate::render::{Gpu, HEADLESS_FORMAT, PassTimes};
+use crate::render::Gpu;
 use crate::settings::{Settings, ShadowFaces, ShadowFilter};
 use crate::shadow::FitMode;
 use glam::Vec3;
-use std::time::Instant;
 
 /// One shadow configuration.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -141,25 +141,6 @@ pub const VIEWS: [View; 4] = [
     View { name: "above", eye: Vec3::new(0.5, 18.0, 6.0), target: Vec3::ZERO, time: 9.0 },
 ];
 
-/// What a configuration costs per frame, from the medians of every timed frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Cost {
-    /// Drawing every shadow layer, milliseconds.
-    pub shadow_ms: f64,
-    /// What the shadow lookups add to the main pass, milliseconds (the median difference, which
-    /// timing noise can make slightly negative for the cheapest filters).
-    pub lookup_ms: f64,
-    /// Fastest and slowest frame's shadow cost, milliseconds.
-    pub range_ms: (f64, f64),
-}
-
-impl Cost {
-    /// The whole shadow cost: drawing the maps plus looking them up.
-    pub fn total_ms(&self) -> f64 {
-        self.shadow_ms + self.lookup_ms
-    }
-}
-
 /// One configuration's results.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
@@ -216,72 +197,6 @@ impl SweepOptions {
     }
 }
 
-/// Times frames of the sample scene under `settings`, every map drawn every frame, each frame
-/// followed by the same frame with shadows off (so drift in the machine's speed hits both alike):
-/// per frame, the pass times with shadows and without.
-fn time_frames(
-    gpu: &Gpu,
-    m: &mut Measurer<'_>,
-    settings: &Settings,
-    options: &SweepOptions,
-) -> Result<Vec<(PassTimes, PassTimes)>, MeasureError> {
-    let (w, h) = options.size;
-    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("timed frame"),
-        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: HEADLESS_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    });
-    let view = target.create_view(&Default::default());
-    let on = Settings { reuse_shadow_maps: false, ..settings.clone() };
-    let off = Settings { shadows: false, ..on.clone() };
-    m.subject("scene", &on, |s| App::new(s.clone()))?;
-    let (app, renderer) = m.parts("scene").expect("the subject exists");
-    let gpu_timed = renderer.enable_timing(gpu);
-    let mut frame = |app: &mut App, s: &Settings| -> Result<PassTimes, MeasureError> {
-        super::measure::apply_settings(app, s);
-        app.set_time(app.world.resource::<crate::components::Time>().t);
-        let start = Instant::now();
-        renderer.render(gpu, &mut app.world, &view, w, h)?;
-        gpu.wait()?;
-        let wall = start.elapsed().as_secs_f64() * 1e3;
-        Ok(match renderer.pass_times(gpu) {
-            Some(t) if gpu_timed => t?,
-            _ => PassTimes { shadow_ms: wall, main_ms: 0.0 },
-        })
-    };
-    let mut times = Vec::new();
-    for v in VIEWS {
-        place_camera(&mut app.world, v.eye, v.target);
-        app.set_time(v.time);
-        for k in 0..options.frames + 2 {
-            let pair = (frame(app, &on)?, frame(app, &off)?);
-            if k >= 2 {
-                times.push(pair);
-            }
-        }
-    }
-    Ok(times)
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
-}
-
-/// The cost from frames timed with shadows and without: drawing the maps, plus what the lookups
-/// add to the main pass (without timestamps, the whole frame's difference).
-fn cost(frames: &[(PassTimes, PassTimes)]) -> Cost {
-    let shadow: Vec<f64> = frames.iter().map(|(on, off)| on.shadow_ms - off.shadow_ms).collect();
-    let lookup = median(frames.iter().map(|(on, off)| on.main_ms - off.main_ms).collect());
-    let range = (shadow.iter().copied().fold(f64::INFINITY, f64::min), shadow.iter().copied().fold(0.0, f64::max));
-    Cost { shadow_ms: median(shadow), lookup_ms: lookup, range_ms: range }
-}
-
 /// Accuracy of `settings` on the sample scene, per light, over every view.
 fn scene_accuracy(m: &mut Measurer<'_>, settings: &Settings) -> Result<Vec<LightReport>, MeasureError> {
     m.subject("accuracy", settings, |s| App::new(s.clone()))?;
@@ -300,8 +215,8 @@ fn scene_accuracy(m: &mut Measurer<'_>, settings: &Settings) -> Result<Vec<Light
     Ok(total)
 }
 
-/// Runs the sweep on `gpu`; `progress` hears each configuration as it starts (index, count,
-/// label).
+/// Runs the sweep on `gpu`: first every configuration's cost, timed in interleaved rounds, then
+/// each one's accuracy; `progress` hears each step as it starts (done, of, what).
 pub fn run(
     gpu: &Gpu,
     options: &SweepOptions,
@@ -310,18 +225,20 @@ pub fn run(
     let base = Settings::default();
     base.validate()?;
     let configs = configs(options.quick);
+    let rounds = (options.frames as usize + 2) * VIEWS.len();
+    let steps = rounds + configs.len();
+    let costs = time_all(gpu, &base, &configs, options, |round| progress(round, steps, "timing every configuration"))?;
     let mut scene = Measurer::new(gpu, options.size, options.truth);
     let mut cases = Measurer::new(gpu, options.case_size, TruthSettings { soft_rays: 0, ..options.truth });
     let mut rows = Vec::new();
-    for (i, config) in configs.iter().enumerate() {
-        progress(i, configs.len(), &config.label());
+    for ((i, config), cost) in configs.iter().enumerate().zip(costs) {
+        progress(rounds + i, steps, &config.label());
         let settings = config.settings(&base);
-        let frames = time_frames(gpu, &mut scene, &settings, options)?;
         let accuracy = scene_accuracy(&mut scene, &settings)?;
         let scores = CASES.iter().map(|c| (c.run)(&mut cases, &settings)).collect::<Result<Vec<_>, _>>()?;
-        rows.push(Row { config: *config, cost: cost(&frames), scene: accuracy, cases: scores });
+        rows.push(Row { config: *config, cost, scene: accuracy, cases: scores });
     }
-    progress(configs.len(), configs.len(), "done");
+    progress(steps, steps, "done");
     Ok(rows)
 }
 
