@@ -1,8 +1,9 @@
 //! `umbra tune`: for each light, the constant, slope and normal bias that give the fewest wrong
-//! pixels (false shadow + false lit) over the sample scene's views, found by coordinate descent.
+//! pixels (false shadow + false lit) over the sample scene's views: a coarse grid of all three
+//! together, then coordinate descent from the best of it over finer values.
 //!
-//! Lights do not change each other's shadows, so every candidate value is tried on all lights
-//! in one render and each light keeps the value that suits it.
+//! Lights do not change each other's shadows, so every candidate is tried on all lights in one
+//! render and each light keeps what suits it.
 
 use super::measure::{MeasureError, Measurer, TruthSettings, place_camera};
 use super::metrics::{Tally, tally};
@@ -16,7 +17,10 @@ use crate::settings::Settings;
 /// Bias values tried for each parameter, in texels.
 pub const CANDIDATES: [f32; 9] = [0.0, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0];
 
-/// Rounds over the three parameters.
+/// Values of the coarse grid, tried for all three parameters together.
+pub const COARSE: [f32; 4] = [0.0, 0.5, 1.0, 2.0];
+
+/// Rounds of coordinate descent over the three parameters.
 const ROUNDS: usize = 2;
 
 /// What tuning did for one light.
@@ -60,12 +64,33 @@ fn wrong(t: &Tally) -> u64 {
     t.false_shadow + t.false_lit
 }
 
-fn get(b: &ShadowBias, param: usize) -> f32 {
-    [b.constant, b.slope, b.normal][param]
-}
-
 fn set(b: &mut ShadowBias, param: usize, v: f32) {
     *[&mut b.constant, &mut b.slope, &mut b.normal][param] = v;
+}
+
+/// Renders every light with `candidate(its bias)`; each light whose error goes down (or stays,
+/// with less bias in all: less loosening where the views do not look) takes it. Only the first
+/// three spots are measured; any others keep their bias.
+fn try_candidate(
+    m: &mut Measurer<'_>,
+    current: &mut LightBiases,
+    best: &mut [Tally],
+    candidate: impl Fn(&ShadowBias) -> ShadowBias,
+) -> Result<(), MeasureError> {
+    let mut trial = current.clone();
+    for (_, b) in columns(&mut trial) {
+        *b = candidate(b);
+    }
+    let errs = errors(m, &trial)?;
+    let sum = |b: &ShadowBias| b.constant + b.slope + b.normal;
+    for ((column, b), (_, t)) in columns(current).into_iter().zip(columns(&mut trial)) {
+        let (Some(&e), Some(kept)) = (errs.get(column), best.get_mut(column)) else { continue };
+        if wrong(&e) < wrong(kept) || (wrong(&e) == wrong(kept) && sum(t) < sum(b)) {
+            *b = *t;
+            *kept = e;
+        }
+    }
+    Ok(())
 }
 
 /// Each light's bias with the column of the measuring view that reports it (the sun's is 0, spot
@@ -89,28 +114,31 @@ pub fn tune(
     };
     let before = errors(&mut m, &current)?;
     let mut best = before.clone();
-    let steps = ROUNDS * 3 * CANDIDATES.len();
+    let grid: Vec<ShadowBias> = COARSE
+        .iter()
+        .flat_map(|&c| {
+            COARSE
+                .iter()
+                .flat_map(move |&s| COARSE.iter().map(move |&n| ShadowBias { constant: c, slope: s, normal: n }))
+        })
+        .collect();
+    let steps = grid.len() + ROUNDS * 3 * CANDIDATES.len();
     let mut done = 0;
+    for b in &grid {
+        progress(done, steps);
+        done += 1;
+        try_candidate(&mut m, &mut current, &mut best, |_| *b)?;
+    }
     for _ in 0..ROUNDS {
         for param in 0..3 {
             for v in CANDIDATES {
                 progress(done, steps);
                 done += 1;
-                let mut candidate = current.clone();
-                for (_, b) in columns(&mut candidate) {
-                    set(b, param, v);
-                }
-                let errs = errors(&mut m, &candidate)?;
-                // Each light keeps the value that suits it; on a tie the smaller bias wins, as it
-                // loosens shadows less where the views do not look.
-                // (Only the first three spots are measured; any others keep their bias.)
-                for (column, b) in columns(&mut current) {
-                    let (Some(&e), Some(kept)) = (errs.get(column), best.get_mut(column)) else { continue };
-                    if wrong(&e) < wrong(kept) || (wrong(&e) == wrong(kept) && v < get(b, param)) {
-                        set(b, param, v);
-                        *kept = e;
-                    }
-                }
+                try_candidate(&mut m, &mut current, &mut best, |b| {
+                    let mut b = *b;
+                    set(&mut b, param, v);
+                    b
+                })?;
             }
         }
     }

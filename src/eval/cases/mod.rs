@@ -64,7 +64,7 @@ pub const CASES: [Case; 8] = [
     Case {
         name: "peter-panning",
         measures: "share of the true shadow within 10 cm of a resting cube's foot rendered lit",
-        threshold: 0.04,
+        threshold: 0.03,
         run: peter_panning,
     },
     Case {
@@ -205,7 +205,7 @@ fn shimmer_scene(s: &Settings) -> Result<App, crate::AppError> {
 
 fn shimmer(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     m.subject("shimmer", settings, shimmer_scene)?;
-    // Fixed points on the ground every 10 cm, none inside a box.
+    // Fixed points on the ground every 10 cm (those under a box stay dark and never flip).
     let points: Vec<Vertex> = (0..=120)
         .flat_map(|i| (0..=100).map(move |j| Vec3::new(-6.0 + i as f32 * 0.1, 0.0, -6.0 + j as f32 * 0.1)))
         .map(|p| Vertex { position: p.to_array(), normal: [0.0, 1.0, 0.0] })
