@@ -156,20 +156,7 @@ pub fn run(
     height: u32,
     mut progress: impl FnMut(u32, u32),
 ) -> Result<Vec<BenchRow>, BenchError> {
-    let max = gpu.device.limits().max_texture_dimension_2d;
-    if width == 0 || height == 0 || width > max || height > max {
-        return Err(RenderError::BadSize { width, height, max }.into());
-    }
-    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("bench frame"),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: HEADLESS_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    });
+    let target = gpu.target("bench frame", (width, height), HEADLESS_FORMAT)?;
     let view = target.create_view(&Default::default());
     let mut runs =
         SCENARIOS.iter().map(|s| Run::new(gpu, *s, settings, width, height)).collect::<Result<Vec<_>, _>>()?;

@@ -3,6 +3,7 @@
 
 use crate::render::Image;
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -85,6 +86,27 @@ fn both(
     Image { width: SIZE.0, height: SIZE.1, pixels }.save_png(&png_path).map_err(|e| fail(&png_path, e.to_string()))
 }
 
+/// The chart both kinds share: white, titled, x from 0 to `x_max`, errors (shares `lo` to `hi`)
+/// in percent on a log scale.
+fn log_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    title: &str,
+    x_max: f64,
+    (lo, hi): (f64, f64),
+) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, LogCoord<f64>>>, String>
+where
+    DB::ErrorType: 'static,
+{
+    area.fill(&WHITE).map_err(|e| e.to_string())?;
+    ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 18))
+        .margin(16)
+        .x_label_area_size(44)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..x_max, (100.0 * lo..100.0 * hi).log_scale())
+        .map_err(|e| e.to_string())
+}
+
 /// Cost against error, one marker per configuration, the Pareto front drawn and labelled.
 pub fn cost_chart(stem: &Path, title: &str, y_desc: &str, points: &[Point], front: &[usize]) -> Result<(), ChartError> {
     both(stem, |a| draw_cost(a, title, y_desc, points, front), |a| draw_cost(a, title, y_desc, points, front))
@@ -103,14 +125,7 @@ where
     let max_cost = points.iter().map(|p| p.cost).filter(|c| c.is_finite()).fold(0.0, f64::max).max(1e-3) * 1.15;
     let (lo, hi) = error_range(points.iter().map(|p| p.error));
     let y = |e: f64| 100.0 * e.max(lo);
-    area.fill(&WHITE).map_err(|e| e.to_string())?;
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 18))
-        .margin(16)
-        .x_label_area_size(44)
-        .y_label_area_size(70)
-        .build_cartesian_2d(0.0..max_cost, (100.0 * lo..100.0 * hi).log_scale())
-        .map_err(|e| e.to_string())?;
+    let mut chart = log_chart(area, title, max_cost, (lo, hi))?;
     chart
         .configure_mesh()
         .x_desc("shadow cost per frame (ms): drawing every map + looking it up")
@@ -166,14 +181,7 @@ where
     let (lo, hi) = error_range(lines.iter().flat_map(|(_, v)| v.iter().copied()));
     let palette = [RED, BLUE, RGBColor(0, 150, 0), MAGENTA, RGBColor(230, 140, 0), CYAN, BLACK];
     let y = |e: f64| 100.0 * e.max(lo);
-    area.fill(&WHITE).map_err(|e| e.to_string())?;
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 18))
-        .margin(16)
-        .x_label_area_size(44)
-        .y_label_area_size(70)
-        .build_cartesian_2d(0.0..bands.len() as f64, (100.0 * lo..100.0 * hi).log_scale())
-        .map_err(|e| e.to_string())?;
+    let mut chart = log_chart(area, title, bands.len() as f64, (lo, hi))?;
     let name = |i: usize| {
         let start = if i == 0 { 0.0 } else { bands[i - 1] };
         if bands[i].is_finite() { format!("{start}-{} m", bands[i]) } else { format!("{start} m+") }

@@ -63,16 +63,7 @@ pub fn time_all(
     mut progress: impl FnMut(usize),
 ) -> Result<Vec<Cost>, MeasureError> {
     let (w, h) = options.size;
-    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("timed frame"),
-        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: HEADLESS_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    });
+    let texture = gpu.target("timed frame", (w, h), HEADLESS_FORMAT)?;
     let view = texture.create_view(&Default::default());
     let mut m = Measurer::new(gpu, options.size, options.truth);
     let mut times: Vec<Vec<(PassTimes, PassTimes)>> = vec![Vec::new(); configs.len()];

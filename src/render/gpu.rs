@@ -76,6 +76,30 @@ impl Gpu {
         if errors.is_empty() { Ok(()) } else { Err(RenderError::Wgpu(std::mem::take(&mut *errors).join("\n"))) }
     }
 
+    /// A 2D texture of `format` to render into and copy out of, once its size is checked against
+    /// the device.
+    pub fn target(
+        &self,
+        label: &str,
+        (width, height): (u32, u32),
+        format: wgpu::TextureFormat,
+    ) -> Result<wgpu::Texture, RenderError> {
+        let max = self.device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(RenderError::BadSize { width, height, max });
+        }
+        Ok(self.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        }))
+    }
+
     /// Blocks until the GPU has finished all submitted work.
     pub fn wait(&self) -> Result<(), RenderError> {
         self.device.poll(wgpu::PollType::wait_indefinitely()).map(|_| ()).map_err(|e| RenderError::Wgpu(e.to_string()))

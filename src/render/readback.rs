@@ -86,20 +86,7 @@ pub fn render_headless(
     width: u32,
     height: u32,
 ) -> Result<Image, RenderError> {
-    let max = gpu.device.limits().max_texture_dimension_2d;
-    if width == 0 || height == 0 || width > max || height > max {
-        return Err(RenderError::BadSize { width, height, max });
-    }
-    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("headless frame"),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: HEADLESS_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let texture = gpu.target("headless frame", (width, height), HEADLESS_FORMAT)?;
     renderer.render(gpu, &mut app.world, &texture.create_view(&Default::default()), width, height)?;
     let pixels = read_texture(gpu, &texture, width, height, 4)?;
     Ok(Image { width, height, pixels })
@@ -137,22 +124,11 @@ pub fn render_debug_frame(
     width: u32,
     height: u32,
 ) -> Result<DebugFrame, RenderError> {
-    let max = gpu.device.limits().max_texture_dimension_2d;
-    if width == 0 || height == 0 || width > max || height > max {
-        return Err(RenderError::BadSize { width, height, max });
-    }
-    let textures = [0, 1, 2].map(|_| {
-        gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("measure"),
-            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEBUG_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        })
-    });
+    let textures = [
+        gpu.target("measured positions", (width, height), DEBUG_FORMAT)?,
+        gpu.target("measured normals", (width, height), DEBUG_FORMAT)?,
+        gpu.target("measured visibility", (width, height), DEBUG_FORMAT)?,
+    ];
     let views = textures.each_ref().map(|t| t.create_view(&Default::default()));
     renderer.render_debug(gpu, &mut app.world, &views, width, height)?;
     let read = |t: &wgpu::Texture| -> Result<Vec<Vec4>, RenderError> {
@@ -181,16 +157,7 @@ pub fn probe_visibility(
     }
     let width = (points.len() as u32).min(256);
     let height = (points.len() as u32).div_ceil(width);
-    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("probes"),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: DEBUG_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let texture = gpu.target("probes", (width, height), DEBUG_FORMAT)?;
     use wgpu::util::DeviceExt;
     let buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("probe points"),
