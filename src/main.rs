@@ -297,6 +297,9 @@ fn app(scene: &SceneArgs) -> Result<App> {
 
 fn sweep(args: &BenchArgs) -> Result<()> {
     use umbra::eval::{results, sweep};
+    if args.scene.settings()? != Settings::default() {
+        anyhow::bail!("the sweep sets the shadow settings itself; scene options apply to `bench --cache` only");
+    }
     let gpu = Gpu::headless()?;
     let mut options = sweep::SweepOptions::new(args.quick);
     if let Some(n) = args.soft_rays {

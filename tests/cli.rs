@@ -50,7 +50,9 @@ fn without_a_display_play_renders_umbra_png() {
 #[test]
 fn bad_arguments_are_named_and_fail() {
     let dir = scratch("bad");
-    let cases: [(&[&str], &str); 9] = [
+    let cases: [(&[&str], &str); 11] = [
+        (&["bench", "--shadow-map-size", "512"], "apply to `bench --cache` only"),
+        (&["bench", "--sun-radius", "45"], "not an angle"),
         (&["render", "--width", "-5"], "not a size"),
         (&["render", "--cascades", "5"], "cascades"),
         (&["render", "--split-lambda", "2"], "split_lambda"),
