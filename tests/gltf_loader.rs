@@ -356,3 +356,32 @@ fn interleaved_attributes_and_matrix_nodes_load() {
         assert!(Vec3::from(p.position).abs_diff_eq(Vec3::from(v.position), 1e-5), "{p:?} vs {v:?}");
     }
 }
+
+#[test]
+fn sparse_accessors_replace_the_elements_they_list() {
+    // Vertices 3 and 7 of POSITION are moved by a sparse substitution over the dense data.
+    let mut model = TestModel::new();
+    let indices = model.add_shorts(&[3, 7], "SCALAR");
+    let values = model.add_floats(&[0.5, 0.25, 0.5, -0.5, 1.75, -0.5], "VEC3");
+    let view = |m: &TestModel, acc: usize| m.json["accessors"][acc]["bufferView"].clone();
+    let sparse = json!({
+        "count": 2,
+        "indices": { "bufferView": view(&model, indices), "componentType": 5123 },
+        "values": { "bufferView": view(&model, values) }
+    });
+    model.json["accessors"][0]["sparse"] = sparse;
+    let loaded = load(&model);
+    let plain = load(&TestModel::new());
+    let (got, was) = (&loaded.parts[0].mesh.vertices, &plain.parts[0].mesh.vertices);
+    assert_eq!(got[3].position, [0.5, 0.25, 0.5]);
+    assert_eq!(got[7].position, [-0.5, 1.75, -0.5]);
+    for i in (0..12).filter(|i| ![3, 7].contains(i)) {
+        assert_eq!(got[i].position, was[i].position, "vertex {i} is not listed and keeps its value");
+    }
+    // A sparse index past the accessor's elements is a named error.
+    let mut bad = model.clone();
+    let past = bad.add_shorts(&[3, 12], "SCALAR");
+    bad.json["accessors"][0]["sparse"]["indices"]["bufferView"] = view(&bad, past);
+    let err = parse_model(&bad.glb(), None, "sparse.glb").unwrap_err().to_string();
+    assert!(err.contains("sparse index 12 is past its 12 elements"), "{err}");
+}
