@@ -19,11 +19,14 @@ fn skin_matrix(s: SkinIn) -> mat4x4<f32> {
 }
 
 // A normal carried through `m`: the cofactor matrix is the inverse transpose times the
-// determinant, so with the determinant's sign it needs no inverse.
+// determinant, so with the determinant's sign it needs no inverse. A joint scaled to nothing
+// (a common way to hide a part) gives no normal rather than a NaN, as on the CPU.
 fn skin_normal(m: mat4x4<f32>, n: vec3<f32>) -> vec3<f32> {
     let a = m[0].xyz;
     let b = m[1].xyz;
     let c = m[2].xyz;
     let cofactor = mat3x3<f32>(cross(b, c), cross(c, a), cross(a, b));
-    return normalize(cofactor * n) * sign(dot(a, cross(b, c)));
+    let turned = cofactor * n * select(1.0, -1.0, dot(a, cross(b, c)) < 0.0);
+    let len = length(turned);
+    return select(vec3<f32>(0.0), turned / len, len > 1e-20);
 }

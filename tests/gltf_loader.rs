@@ -171,6 +171,31 @@ fn truncated_and_wrong_files_are_named_errors() {
 }
 
 #[test]
+fn buffer_files_must_lie_beside_the_model() {
+    let model = TestModel::new();
+    let dir = scratch("outside");
+    for uri in ["../column.bin", "/etc/hostname", "sub/../../x.bin", "file:///etc/hostname"] {
+        let (text, _) = model.gltf_external(uri);
+        std::fs::write(dir.join("column.gltf"), text).unwrap();
+        let err = load_model(&dir.join("column.gltf")).unwrap_err().to_string();
+        assert!(err.contains("not beside the model"), "{uri}: {err}");
+    }
+}
+
+#[test]
+fn mirrored_rigid_parts_keep_their_outside_out() {
+    // The column drawn rigid (no skin) under a mirroring scale: its triangles turn round.
+    let mut plain = TestModel::new();
+    plain.json["nodes"][2].as_object_mut().unwrap().remove("skin");
+    let mut mirrored = plain.clone();
+    mirrored.json["nodes"][2]["scale"] = json!([-1.0, 1.0, 1.0]);
+    let (a, b) = (load(&plain), load(&mirrored));
+    for (s, t) in a.parts[0].mesh.indices.chunks(3).zip(b.parts[0].mesh.indices.chunks(3)) {
+        assert_eq!([s[0], s[2], s[1]], [t[0], t[1], t[2]]);
+    }
+}
+
+#[test]
 fn missing_and_short_buffers_are_named_errors() {
     let model = TestModel::new();
     let dir = scratch("missing-bin");
@@ -220,6 +245,14 @@ fn joints_out_of_range_and_missing_inverse_binds_are_named_errors() {
     assert!(err.contains("uses joint 7, but its skin has 2 joints"), "{err}");
     let err = broken(|m| m.json["skins"][0]["joints"] = json!([0, 1, 2]));
     assert!(err.contains("skin 0 has 3 joints but its buffer holds only 2 inverse bind matrices"), "{err}");
+    let err = broken(|m| m.json["skins"][0]["joints"] = json!([]));
+    assert!(err.contains("skin 0 has 0 joints"), "{err}");
+    // A joint index out of range with no weight moves nothing, so it is not an error.
+    let mut model = TestModel::new();
+    let joints = model.add_shorts(&[[0u16, 1, 9, 9]; 12].concat(), "VEC4");
+    model.json["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = json!(joints);
+    let skin = load(&model).parts[0].mesh.skin.clone().unwrap();
+    assert!(skin.iter().all(|v| v.joints.iter().all(|&j| j < 2)), "{:?}", skin[0]);
 }
 
 #[test]

@@ -130,13 +130,14 @@ pub fn hierarchy(children: &[Vec<usize>]) -> Result<(Vec<Option<usize>>, Vec<usi
         }
     }
     let mut order = Vec::with_capacity(n);
+    let mut placed = vec![false; n];
     let mut stack: Vec<usize> = (0..n).filter(|&i| parent[i].is_none()).rev().collect();
     while let Some(i) = stack.pop() {
         order.push(i);
+        placed[i] = true;
         stack.extend(children[i].iter().rev());
     }
-    if order.len() < n {
-        let stuck = (0..n).find(|i| !order.contains(i)).unwrap_or(0);
+    if let Some(stuck) = placed.iter().position(|p| !p) {
         return Err(format!("node {stuck} is its own ancestor: the node tree has a cycle"));
     }
     Ok((parent, order))

@@ -26,7 +26,7 @@ pub fn skin_matrix(influence: &SkinVertex, joints: &[Mat4]) -> Mat4 {
 pub fn transform_normal(m: &Mat4, n: Vec3) -> Vec3 {
     let (a, b, c) = (m.x_axis.truncate(), m.y_axis.truncate(), m.z_axis.truncate());
     let cofactor = Mat3::from_cols(b.cross(c), c.cross(a), a.cross(b));
-    let sign = a.dot(b.cross(c)).signum();
+    let sign = if a.dot(b.cross(c)) < 0.0 { -1.0 } else { 1.0 };
     (cofactor * n * sign).normalize_or_zero()
 }
 

@@ -102,7 +102,10 @@ fn median(mut v: Vec<f64>) -> f64 {
 fn cost(frames: &[(PassTimes, PassTimes)]) -> Cost {
     let shadow: Vec<f64> = frames.iter().map(|(on, off)| on.shadow_ms - off.shadow_ms).collect();
     let lookup = median(frames.iter().map(|(on, off)| on.main_ms - off.main_ms).collect());
-    let range = (shadow.iter().copied().fold(f64::INFINITY, f64::min), shadow.iter().copied().fold(0.0, f64::max));
+    let range = (
+        shadow.iter().copied().fold(f64::INFINITY, f64::min),
+        shadow.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    );
     Cost { shadow_ms: median(shadow), lookup_ms: lookup, range_ms: range }
 }
 

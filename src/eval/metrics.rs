@@ -164,10 +164,11 @@ pub fn report(frame: &DebugFrame, truth: &[Vec<Option<Truth>>], edge_radius: u32
         .enumerate()
         .map(|(light, column)| {
             let edges = edge_mask(frame.width, frame.height, column, edge_radius);
-            let band_of = |i: usize| DISTANCE_BANDS.iter().position(|&end| frame.normal[i].w < end).unwrap_or(0);
+            // A pixel whose depth is not a number is in no band.
+            let band_of = |i: usize| DISTANCE_BANDS.iter().position(|&end| frame.normal[i].w < end);
             LightReport {
                 all: tally(frame, column, light, |_| true),
-                bands: std::array::from_fn(|b| tally(frame, column, light, |i| band_of(i) == b)),
+                bands: std::array::from_fn(|b| tally(frame, column, light, |i| band_of(i) == Some(b))),
                 edge: tally(frame, column, light, |i| edges[i]),
             }
         })

@@ -108,16 +108,19 @@ pub fn update_light_matrices(
     settings: Res<Settings>,
     viewport: Res<Viewport>,
     changes: Res<CasterChanges>,
-    mut last_maps: Local<Option<(u32, crate::settings::ShadowFaces)>>,
-    cameras: Query<(&Camera, &Transform)>,
+    mut last_maps: Local<Option<(u32, crate::settings::ShadowFaces, CasterCulling)>>,
+    cameras: Query<(&Camera, Ref<Transform>)>,
     casters: Query<&WorldBounds, With<ShadowCaster>>,
     visible: Query<&WorldBounds, With<Mesh>>,
     mut suns: Query<(Ref<DirectionalLight>, Ref<ShadowBias>, &mut ShadowMap), Without<SpotLight>>,
     mut spots: Query<(Ref<SpotLight>, Ref<Transform>, Ref<ShadowBias>, &mut ShadowMap), Without<DirectionalLight>>,
 ) {
-    // A new map size or face choice changes every map's contents.
-    let maps = (settings.shadow_map_size, settings.shadow_faces);
-    let resized = last_maps.replace(maps) != Some(maps);
+    // A new map size, face choice or culling changes every map's contents.
+    let maps = (settings.shadow_map_size, settings.shadow_faces, settings.caster_culling);
+    // Culled to the camera's view, what a map holds changes whenever the camera moves.
+    let camera_moved = cameras.iter().any(|(_, t)| t.is_changed());
+    let all_dirty =
+        last_maps.replace(maps) != Some(maps) || (settings.caster_culling == CasterCulling::CameraView && camera_moved);
     let camera = cameras.iter().next().map(|(c, t)| (*c, *t));
     // The shortcut of culling casters to the camera's view keeps only those the camera sees.
     let in_view = |b: &Aabb| match (settings.caster_culling, camera) {
@@ -133,13 +136,13 @@ pub fn update_light_matrices(
             Some((c, t)) if i == 0 => cascades(sun.direction, &c, &t, viewport.aspect(), &settings, scene),
             _ => Vec::new(),
         };
-        let forced = resized || sun.is_changed() || bias.is_changed();
+        let forced = all_dirty || sun.is_changed() || bias.is_changed();
         refresh_layers(&mut map, &fits, &mut next_layer, forced, &changes.0);
     }
     for (spot, transform, bias, mut map) in &mut spots {
         let size = settings.shadow_map_size;
         let fit = spot_projection(transform.translation, transform.forward(), spot.outer_angle, spot.range, size);
-        let forced = resized || spot.is_changed() || transform.is_changed() || bias.is_changed();
+        let forced = all_dirty || spot.is_changed() || transform.is_changed() || bias.is_changed();
         refresh_layers(&mut map, &[(fit, f32::INFINITY, 0.0)], &mut next_layer, forced, &changes.0);
     }
 }
@@ -300,6 +303,28 @@ mod tests {
         world.run_system_once(update_light_matrices).unwrap();
         let after = &world.get::<ShadowMap>(light).unwrap().layers;
         assert!(before.iter().zip(after).all(|(b, a)| b.view_proj != a.view_proj));
+    }
+
+    #[test]
+    fn culled_to_the_camera_a_moving_camera_dirties_every_layer() {
+        let mut world = world();
+        world.resource_mut::<Settings>().caster_culling = CasterCulling::CameraView;
+        let cam = world.spawn((Camera::default(), Transform::default())).id();
+        let spot = SpotLight { color: Vec3::ONE, intensity: 1.0, range: 10.0, inner_angle: 0.2, outer_angle: 0.3 };
+        let s = world.spawn((spot, Transform::from_xyz(0.0, 4.0, 0.0), ShadowMap::default())).id();
+        let mut schedule = Schedule::default();
+        schedule.add_systems(update_light_matrices);
+        schedule.run(&mut world);
+        schedule.run(&mut world);
+        assert!(!world.get::<ShadowMap>(s).unwrap().dirty(), "nothing moved");
+        world.get_mut::<Transform>(cam).unwrap().translation.x += 1.0;
+        schedule.run(&mut world);
+        assert!(world.get::<ShadowMap>(s).unwrap().dirty(), "the spot's casters depend on the camera now");
+        world.resource_mut::<Settings>().caster_culling = CasterCulling::LightVolume;
+        schedule.run(&mut world);
+        world.get_mut::<Transform>(cam).unwrap().translation.x += 1.0;
+        schedule.run(&mut world);
+        assert!(!world.get::<ShadowMap>(s).unwrap().dirty(), "culled to its own volume, a spot ignores the camera");
     }
 
     #[test]

@@ -2,18 +2,73 @@
 //! that says which accessor and by how much, never a panic or an out-of-bounds read.
 
 use gltf::accessor::{DataType, Dimensions};
+use std::cell::{Cell, RefCell};
+use std::collections::HashMap;
+use std::rc::Rc;
 
 /// Most components an accessor without a buffer view (all zeros) may have.
 const MAX_ZERO_COMPONENTS: usize = 1 << 24;
 
+/// Most values (components, vertices, keys) one file may make umbra hold: about 1 GB. The file
+/// itself may be small and still ask for more, by pointing many meshes or channels at one large
+/// accessor; the budget stops that before memory runs out.
+pub(super) const MAX_VALUES: usize = 1 << 28;
+
+/// A file's buffers with each accessor decoded once, and what is left of the value budget.
+pub(super) struct Data<'a> {
+    buffers: &'a [Vec<u8>],
+    floats: RefCell<HashMap<usize, Rc<Vec<f32>>>>,
+    ints: RefCell<HashMap<usize, Rc<Vec<u32>>>>,
+    left: Cell<usize>,
+}
+
+impl<'a> Data<'a> {
+    pub(super) fn new(buffers: &'a [Vec<u8>]) -> Self {
+        Data { buffers, floats: RefCell::default(), ints: RefCell::default(), left: Cell::new(MAX_VALUES) }
+    }
+
+    /// Takes `n` values from the budget, or says the model is too large.
+    pub(super) fn spend(&self, n: usize) -> Result<(), String> {
+        match self.left.get().checked_sub(n) {
+            Some(left) => {
+                self.left.set(left);
+                Ok(())
+            }
+            None => Err(format!("the model is too large: it needs more than {MAX_VALUES} values")),
+        }
+    }
+
+    /// The accessor's components as floats (see [`floats`]), decoded once.
+    pub(super) fn floats(&self, acc: &gltf::Accessor<'_>) -> Result<Rc<Vec<f32>>, String> {
+        if let Some(v) = self.floats.borrow().get(&acc.index()) {
+            return Ok(v.clone());
+        }
+        self.spend(acc.count().saturating_mul(components(acc)))?;
+        let v = Rc::new(floats(acc, self.buffers)?);
+        self.floats.borrow_mut().insert(acc.index(), v.clone());
+        Ok(v)
+    }
+
+    /// The accessor's components as integers (see [`ints`]), decoded once.
+    pub(super) fn ints(&self, acc: &gltf::Accessor<'_>) -> Result<Rc<Vec<u32>>, String> {
+        if let Some(v) = self.ints.borrow().get(&acc.index()) {
+            return Ok(v.clone());
+        }
+        self.spend(acc.count().saturating_mul(components(acc)))?;
+        let v = Rc::new(ints(acc, self.buffers)?);
+        self.ints.borrow_mut().insert(acc.index(), v.clone());
+        Ok(v)
+    }
+}
+
 /// Every component of every element as f32; normalized integers map to 0..1 or -1..1.
-pub(super) fn floats(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<f32>, String> {
+fn floats(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<f32>, String> {
     let (ty, normalized) = (acc.data_type(), acc.normalized());
     decode(acc, buffers, |b| to_f32(b, ty, normalized))
 }
 
 /// Every component of every element as an integer; floats are refused.
-pub(super) fn ints(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
+fn ints(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
     let ty = acc.data_type();
     if ty == DataType::F32 {
         return Err(format!("accessor {} holds floats where integers are needed", acc.index()));
@@ -187,6 +242,14 @@ mod tests {
         assert_eq!(to_f32(&[0x80], DataType::I8, true), -1.0, "-128 clamps to -1");
         assert_eq!(to_f32(&[0xff, 0x7f], DataType::I16, true), 1.0);
         assert_eq!(to_f32(&[7, 0], DataType::U16, false), 7.0);
+    }
+
+    #[test]
+    fn the_value_budget_runs_out_instead_of_memory() {
+        let data = Data::new(&[]);
+        data.spend(MAX_VALUES - 10).unwrap();
+        data.spend(10).unwrap();
+        assert!(data.spend(1).unwrap_err().contains("too large"));
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! From a validated document to a [`Model`]: nodes, mesh parts, skins and clips, each checked.
 
-use super::accessor::{components, floats, ints};
+use super::accessor::{Data, components};
 use super::container::Source;
 use crate::assets::clip::{Channel, Clip, Interpolation, Property};
 use crate::assets::mesh::{MeshData, SkinVertex, Vertex};
@@ -10,6 +10,9 @@ use crate::components::{Material, Transform};
 use glam::{Mat4, Quat, Vec3, Vec4};
 use gltf::mesh::{Mode, Semantic};
 
+/// Most sets of joints and weights a primitive may have (four influences each).
+const MAX_JOINT_SETS: u32 = 8;
+
 /// Builds the model; `warnings` collects what was mended.
 pub(super) fn build(src: &Source, name: &str, warnings: &mut Vec<String>) -> Result<Model, String> {
     let doc = &src.doc;
@@ -17,7 +20,8 @@ pub(super) fn build(src: &Source, name: &str, warnings: &mut Vec<String>) -> Res
     let children: Vec<Vec<usize>> = doc.nodes().map(|n| n.children().map(|c| c.index()).collect()).collect();
     let (parents, order) = hierarchy(&children)?;
     let nodes = nodes.into_iter().zip(parents).map(|((name, rest), parent)| Node { name, parent, rest }).collect();
-    let skins = doc.skins().map(|s| skin(&s, &src.buffers)).collect::<Result<Vec<_>, _>>()?;
+    let data = Data::new(&src.buffers);
+    let skins = doc.skins().map(|s| skin(&s, &data)).collect::<Result<Vec<_>, _>>()?;
     let mut parts = Vec::new();
     for node in scene_nodes(doc, &children) {
         let node = doc.nodes().nth(node).ok_or("a scene names a missing node")?;
@@ -30,8 +34,8 @@ pub(super) fn build(src: &Source, name: &str, warnings: &mut Vec<String>) -> Res
                 None => at,
             };
             let joints = skin.map(|s| skins[s].joints.len());
-            let part = part(&primitive, node.index(), skin, joints, &src.buffers, warnings)
-                .map_err(|e| format!("{at}: {e}"))?;
+            let part =
+                part(&primitive, node.index(), skin, joints, &data, warnings).map_err(|e| format!("{at}: {e}"))?;
             let part = match (part.skin, &part.mesh.skin) {
                 (Some(s), Some(_)) => Part { joint_boxes: joint_boxes(&part.mesh, &skins[s].inverse_bind), ..part },
                 (Some(_), None) => {
@@ -43,8 +47,21 @@ pub(super) fn build(src: &Source, name: &str, warnings: &mut Vec<String>) -> Res
             parts.push(part);
         }
     }
-    let clips = doc.animations().map(|a| clip(&a, &src.buffers, warnings)).collect::<Result<_, _>>()?;
-    Ok(Model { name: name.to_string(), nodes, order, parts, skins, clips, warnings: Vec::new() })
+    let clips = doc.animations().map(|a| clip(&a, &data, warnings)).collect::<Result<_, _>>()?;
+    let mut model = Model { name: name.to_string(), nodes, order, parts, skins, clips, warnings: Vec::new() };
+    turn_mirrored_parts(&mut model);
+    Ok(model)
+}
+
+/// A rigid part whose node is mirrored (a negative determinant) has its triangles wound the other
+/// way round, as the format asks, so that its outside still faces out.
+fn turn_mirrored_parts(model: &mut Model) {
+    let globals = model.globals(&model.rest_locals());
+    for part in model.parts.iter_mut().filter(|p| p.skin.is_none() && globals[p.node].determinant() < 0.0) {
+        for t in part.mesh.indices.chunks_exact_mut(3) {
+            t.swap(1, 2);
+        }
+    }
 }
 
 /// Each node's name and rest transform.
@@ -87,11 +104,11 @@ fn scene_nodes(doc: &gltf::Document, children: &[Vec<usize>]) -> Vec<usize> {
     out
 }
 
-fn skin(s: &gltf::Skin<'_>, buffers: &[Vec<u8>]) -> Result<Skin, String> {
+fn skin(s: &gltf::Skin<'_>, data: &Data<'_>) -> Result<Skin, String> {
     let at = format!("skin {}", s.index());
     let joints: Vec<usize> = s.joints().map(|j| j.index()).collect();
-    if joints.len() > MAX_JOINTS {
-        return Err(format!("{at} has {} joints; umbra takes at most {MAX_JOINTS}", joints.len()));
+    if joints.is_empty() || joints.len() > MAX_JOINTS {
+        return Err(format!("{at} has {} joints; umbra takes 1 to {MAX_JOINTS}", joints.len()));
     }
     let inverse_bind = match s.inverse_bind_matrices() {
         None => vec![Mat4::IDENTITY; joints.len()],
@@ -99,7 +116,8 @@ fn skin(s: &gltf::Skin<'_>, buffers: &[Vec<u8>]) -> Result<Skin, String> {
             if components(&acc) != 16 {
                 return Err(format!("{at}: its inverse bind matrices are not 4x4 matrices"));
             }
-            let m: Vec<Mat4> = floats(&acc, buffers)
+            let m: Vec<Mat4> = data
+                .floats(&acc)
                 .map_err(|e| format!("{at}: {e}"))?
                 .chunks_exact(16)
                 .map(Mat4::from_cols_slice)
@@ -126,8 +144,8 @@ fn attribute(
     semantic: &Semantic,
     comps: usize,
     n: Option<usize>,
-    buffers: &[Vec<u8>],
-) -> Result<Option<Vec<f32>>, String> {
+    data: &Data<'_>,
+) -> Result<Option<std::rc::Rc<Vec<f32>>>, String> {
     let Some(acc) = p.get(semantic) else { return Ok(None) };
     let name = semantic.to_string();
     if components(&acc) != comps {
@@ -136,7 +154,7 @@ fn attribute(
     if let Some(n) = n.filter(|&n| n != acc.count()) {
         return Err(format!("{name} has {} elements but POSITION has {n}", acc.count()));
     }
-    floats(&acc, buffers).map(Some).map_err(|e| format!("{name}: {e}"))
+    data.floats(&acc).map(Some).map_err(|e| format!("{name}: {e}"))
 }
 
 fn part(
@@ -144,34 +162,35 @@ fn part(
     node: usize,
     skin: Option<usize>,
     joint_count: Option<usize>,
-    buffers: &[Vec<u8>],
+    data: &Data<'_>,
     warnings: &mut Vec<String>,
 ) -> Result<Part, String> {
     if !matches!(p.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
         return Err(format!("its mode is {:?}, not triangles; umbra draws triangles only", p.mode()));
     }
-    let positions = attribute(p, &Semantic::Positions, 3, None, buffers)?.ok_or("it has no POSITION attribute")?;
+    let positions = attribute(p, &Semantic::Positions, 3, None, data)?.ok_or("it has no POSITION attribute")?;
     let n = positions.len() / 3;
     if positions.iter().any(|x| !x.is_finite()) {
         return Err("a POSITION is not finite".into());
     }
-    let normals = attribute(p, &Semantic::Normals, 3, Some(n), buffers)?;
+    let normals = attribute(p, &Semantic::Normals, 3, Some(n), data)?;
     if normals.as_ref().is_some_and(|v| v.iter().any(|x| !x.is_finite())) {
         return Err("a NORMAL is not finite".into());
     }
     let indices = match p.indices() {
-        Some(acc) => ints(&acc, buffers).map_err(|e| format!("indices: {e}"))?,
+        Some(acc) => data.ints(&acc).map_err(|e| format!("indices: {e}"))?.to_vec(),
         None => (0..n as u32).collect(),
     };
     if let Some(bad) = indices.iter().find(|&&i| i as usize >= n) {
         return Err(format!("index {bad} is out of range: there are {n} vertices"));
     }
+    data.spend(n.saturating_mul(14).saturating_add(indices.len()))?;
     let indices = triangle_list(p.mode(), &indices, warnings);
     if p.morph_targets().len() > 0 {
         warnings.push(format!("primitive {}: morph targets are ignored", p.index()));
     }
     let influences = match joint_count {
-        Some(joints) if p.get(&Semantic::Joints(0)).is_some() => Some(influences(p, n, joints, buffers, warnings)?),
+        Some(joints) if p.get(&Semantic::Joints(0)).is_some() => Some(influences(p, n, joints, data, warnings)?),
         _ => None,
     };
     let vertices: Vec<Vertex> = (0..n)
@@ -227,24 +246,32 @@ fn influences(
     p: &gltf::Primitive<'_>,
     n: usize,
     joint_count: usize,
-    buffers: &[Vec<u8>],
+    data: &Data<'_>,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<SkinVertex>, String> {
     let mut all: Vec<Vec<(u16, f32)>> = vec![Vec::new(); n];
     for set in 0.. {
         let (Some(j), Some(w)) = (p.get(&Semantic::Joints(set)), p.get(&Semantic::Weights(set))) else { break };
+        if set >= MAX_JOINT_SETS {
+            return Err(format!("it has more than {MAX_JOINT_SETS} sets of joints and weights"));
+        }
         if components(&j) != 4 || components(&w) != 4 || j.count() != n || w.count() != n {
             return Err(format!("JOINTS_{set} and WEIGHTS_{set} must hold 4 values for each of the {n} vertices"));
         }
-        let joints = ints(&j, buffers).map_err(|e| format!("JOINTS_{set}: {e}"))?;
-        let weights = floats(&w, buffers).map_err(|e| format!("WEIGHTS_{set}: {e}"))?;
+        let joints = data.ints(&j).map_err(|e| format!("JOINTS_{set}: {e}"))?;
+        let weights = data.floats(&w).map_err(|e| format!("WEIGHTS_{set}: {e}"))?;
         for (v, list) in all.iter_mut().enumerate() {
             for k in 0..4 {
                 let (joint, weight) = (joints[4 * v + k], weights[4 * v + k]);
-                if weight > 0.0 && joint as usize >= joint_count {
-                    return Err(format!("vertex {v} uses joint {joint}, but its skin has {joint_count} joints"));
+                if joint as usize >= joint_count {
+                    if weight > 0.0 {
+                        return Err(format!("vertex {v} uses joint {joint}, but its skin has {joint_count} joints"));
+                    }
+                    // A joint that moves nothing may name anything; it is taken as the first.
+                    list.push((0, 0.0));
+                    continue;
                 }
-                list.push((joint.min(u16::MAX as u32) as u16, weight));
+                list.push((joint as u16, weight));
             }
         }
     }
@@ -288,7 +315,7 @@ fn flat_shaded(vertices: &[Vertex], indices: &[u32], skin: Option<&[SkinVertex]>
     mesh_data(out, indices, skin.map(|_| out_skin))
 }
 
-fn clip(a: &gltf::Animation<'_>, buffers: &[Vec<u8>], warnings: &mut Vec<String>) -> Result<Clip, String> {
+fn clip(a: &gltf::Animation<'_>, data: &Data<'_>, warnings: &mut Vec<String>) -> Result<Clip, String> {
     let name = a.name().map_or_else(|| format!("animation {}", a.index()), str::to_string);
     let mut channels = Vec::new();
     for c in a.channels() {
@@ -308,7 +335,10 @@ fn clip(a: &gltf::Animation<'_>, buffers: &[Vec<u8>], warnings: &mut Vec<String>
             gltf::animation::Interpolation::Linear => Interpolation::Linear,
             gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
         };
-        let times = floats(&sampler.input(), buffers).map_err(|e| format!("{at} input: {e}"))?;
+        if components(&sampler.input()) != 1 {
+            return Err(format!("{at}: key times must be scalars"));
+        }
+        let times = data.floats(&sampler.input()).map_err(|e| format!("{at} input: {e}"))?.to_vec();
         if times.iter().any(|t| !t.is_finite()) || times.windows(2).any(|w| w[1] < w[0]) {
             return Err(format!("{at}: key times are not finite and increasing"));
         }
@@ -317,7 +347,8 @@ fn clip(a: &gltf::Animation<'_>, buffers: &[Vec<u8>], warnings: &mut Vec<String>
         if components(&output) != width {
             return Err(format!("{at}: {property:?} keys need {width} components, not {}", components(&output)));
         }
-        let raw = floats(&output, buffers).map_err(|e| format!("{at} output: {e}"))?;
+        let raw = data.floats(&output).map_err(|e| format!("{at} output: {e}"))?;
+        data.spend(times.len() + raw.len())?;
         let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 };
         if raw.len() != times.len() * per_key * width || raw.iter().any(|v| !v.is_finite()) {
             return Err(format!(
@@ -331,9 +362,15 @@ fn clip(a: &gltf::Animation<'_>, buffers: &[Vec<u8>], warnings: &mut Vec<String>
             .chunks_exact(width)
             .map(|v| if width == 4 { Vec4::from_slice(v) } else { Vec3::from_slice(v).extend(0.0) })
             .collect();
-        let keys = values.iter().skip(per_key / 2).step_by(per_key);
-        if property == Property::Rotation && keys.clone().any(|q| q.length() < 1e-6) {
-            return Err(format!("{at}: a rotation key is not a quaternion (its length is 0)"));
+        let mut values = values;
+        if property == Property::Rotation {
+            // Keys must be unit quaternions; quantized ones are only nearly so.
+            for q in values.iter_mut().skip(per_key / 2).step_by(per_key) {
+                if q.length() < 1e-6 {
+                    return Err(format!("{at}: a rotation key is not a quaternion (its length is 0)"));
+                }
+                *q = q.normalize();
+            }
         }
         channels.push(Channel { node: c.target().node().index(), property, interpolation, times, values });
     }

@@ -91,7 +91,7 @@ fn split_glb(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), String> {
     let (mut json, mut bin, mut at) = (None, None, 12usize);
     while at + 8 <= length {
         let (size, kind) = (u32_at(bytes, at).unwrap_or(0) as usize, &bytes[at + 4..at + 8]);
-        let end = at + 8 + size;
+        let end = (at + 8).saturating_add(size);
         if end > length {
             return Err(format!("truncated .glb: a chunk at byte {at} needs {size} bytes, past the end of the file"));
         }
@@ -118,16 +118,33 @@ fn load_buffer(buffer: &gltf::Buffer<'_>, blob: Option<&[u8]>, dir: Option<&Path
             data_uri(uri).map_err(|e| format!("buffer {i}: {e}"))?
         }
         gltf::buffer::Source::Uri(uri) => {
-            if uri.contains("://") {
-                return Err(format!("buffer {i} is at {uri}; umbra reads only files next to the model"));
-            }
-            let path = dir.unwrap_or(Path::new(".")).join(percent_decode(uri));
-            std::fs::read(&path).map_err(|e| format!("buffer {i}: cannot read {}: {e}", path.display()))?
+            read_beside(dir, uri, buffer.length()).map_err(|e| format!("buffer {i}: {e}"))?
         }
     };
     if data.len() < buffer.length() {
         return Err(format!("buffer {i} is short: it declares {} bytes but holds {}", buffer.length(), data.len()));
     }
+    Ok(data)
+}
+
+/// At most `length` bytes of the file `uri` names, which must lie next to the model (or below it):
+/// not a web address, not an absolute path, no `..`, and a plain file (never a device or pipe
+/// that could hang the read).
+fn read_beside(dir: Option<&Path>, uri: &str, length: usize) -> Result<Vec<u8>, String> {
+    use std::io::Read;
+    let relative = std::path::PathBuf::from(String::from_utf8_lossy(&percent_decode(uri)).into_owned());
+    let outside = uri.contains("://")
+        || relative.components().any(|c| !matches!(c, std::path::Component::Normal(_) | std::path::Component::CurDir));
+    if outside {
+        return Err(format!("its file {uri} is not beside the model; umbra reads only files next to it"));
+    }
+    let path = dir.unwrap_or(Path::new(".")).join(relative);
+    let fail = |e: std::io::Error| format!("cannot read {}: {e}", path.display());
+    if !std::fs::metadata(&path).map_err(fail)?.is_file() {
+        return Err(format!("{} is not a plain file", path.display()));
+    }
+    let mut data = Vec::new();
+    std::fs::File::open(&path).and_then(|f| f.take(length as u64).read_to_end(&mut data)).map_err(fail)?;
     Ok(data)
 }
 
@@ -139,12 +156,12 @@ fn data_uri(uri: &str) -> Result<Vec<u8>, String> {
             .decode(payload.trim())
             .map_err(|e| format!("its data URI is not valid base64: {e}"))
     } else {
-        Ok(percent_decode(payload).into_bytes())
+        Ok(percent_decode(payload))
     }
 }
 
-/// `%20`-style escapes of a URI turned back into characters (invalid escapes stay as they are).
-fn percent_decode(s: &str) -> String {
+/// `%20`-style escapes of a URI turned back into bytes (invalid escapes stay as they are).
+fn percent_decode(s: &str) -> Vec<u8> {
     let bytes = s.as_bytes();
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;
@@ -164,7 +181,7 @@ fn percent_decode(s: &str) -> String {
             }
         }
     }
-    String::from_utf8_lossy(&out).into_owned()
+    out
 }
 
 #[cfg(test)]
@@ -175,8 +192,9 @@ mod tests {
     fn data_uris_and_escapes_decode() {
         assert_eq!(data_uri("data:application/octet-stream;base64,AAEC").unwrap(), vec![0, 1, 2]);
         assert!(data_uri("data:application/octet-stream;base64,%%%").unwrap_err().contains("base64"));
-        assert_eq!(percent_decode("my%20model.bin"), "my model.bin");
-        assert_eq!(percent_decode("100%"), "100%");
+        assert_eq!(percent_decode("my%20model.bin"), b"my model.bin");
+        assert_eq!(percent_decode("100%"), b"100%");
+        assert_eq!(data_uri("data:,%00%ff").unwrap(), vec![0, 255], "raw bytes, not text");
     }
 
     #[test]
