@@ -49,7 +49,7 @@ pub fn spawn_sample_scene(world: &mut World, settings: &Settings) -> Result<(), 
         world.spawn(animated_cube(i, settings.cubes, unit_cube));
     }
 
-    let bias = ShadowBias { constant: settings.depth_bias, slope: settings.slope_bias, normal: settings.normal_bias };
+    let bias = settings.shadow_bias();
     let sun =
         DirectionalLight { direction: SUN_DIRECTION.normalize(), color: Vec3::new(1.0, 0.95, 0.85), intensity: 1.0 };
     world.spawn((sun, ShadowMap::default(), bias));

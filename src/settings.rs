@@ -152,6 +152,11 @@ pub const DEFAULT_SPLIT_LAMBDA: f32 = 0.75;
 pub const MAX_SHADOW_MAP_SIZE: u32 = 8192;
 
 impl Settings {
+    /// The bias every light gets from these settings.
+    pub fn shadow_bias(&self) -> crate::components::ShadowBias {
+        crate::components::ShadowBias { constant: self.depth_bias, slope: self.slope_bias, normal: self.normal_bias }
+    }
+
     /// Checks every setting; the first bad one is named in the error.
     pub fn validate(&self) -> Result<(), SettingsError> {
         fn bad(name: &'static str, value: impl ToString, why: &'static str) -> Result<(), SettingsError> {

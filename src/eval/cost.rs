@@ -31,17 +31,16 @@ impl Cost {
     }
 }
 
-/// One timed frame under `settings`: GPU pass times, or the wall time of the whole frame where
-/// the device has no timestamps.
+/// One timed frame under `settings` at scene time `t`: GPU pass times, or the wall time of the
+/// whole frame where the device has no timestamps.
 fn frame(
     gpu: &Gpu,
     app: &mut App,
     renderer: &mut Renderer,
     target: (&wgpu::TextureView, u32, u32),
-    settings: &Settings,
+    (settings, t): (&Settings, f64),
 ) -> Result<PassTimes, MeasureError> {
     apply_settings(app, settings);
-    let t = app.world.resource::<crate::components::Time>().t;
     app.set_time(t);
     let start = Instant::now();
     renderer.render(gpu, &mut app.world, target.0, target.1, target.2)?;
@@ -80,9 +79,11 @@ pub fn time_all(
                 let (app, renderer) = m.parts(&name).expect("the subject exists");
                 renderer.enable_timing(gpu);
                 place_camera(&mut app.world, v.eye, v.target);
-                app.set_time(v.time);
-                let pair =
-                    (frame(gpu, app, renderer, (&view, w, h), &on)?, frame(gpu, app, renderer, (&view, w, h), &off)?);
+                let target = (&view, w, h);
+                let pair = (
+                    frame(gpu, app, renderer, target, (&on, v.time))?,
+                    frame(gpu, app, renderer, target, (&off, v.time))?,
+                );
                 if k >= 2 {
                     times[c].push(pair);
                 }

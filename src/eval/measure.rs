@@ -135,7 +135,7 @@ pub fn apply_settings(app: &mut App, settings: &Settings) {
     if app.world.resource::<Settings>() != settings {
         *app.world.resource_mut::<Settings>() = settings.clone();
     }
-    let bias = ShadowBias { constant: settings.depth_bias, slope: settings.slope_bias, normal: settings.normal_bias };
+    let bias = settings.shadow_bias();
     for mut b in app.world.query::<&mut ShadowBias>().iter_mut(&mut app.world) {
         b.set_if_neq(bias);
     }

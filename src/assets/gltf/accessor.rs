@@ -14,6 +14,9 @@ const MAX_ZERO_COMPONENTS: usize = 1 << 24;
 /// accessor; the budget stops that before memory runs out.
 pub(super) const MAX_VALUES: usize = 1 << 28;
 
+/// Reads all of one accessor's components from the buffers.
+type Decoder<T> = fn(&gltf::Accessor<'_>, &[Vec<u8>]) -> Result<Vec<T>, String>;
+
 /// A file's buffers with each accessor decoded once, and what is left of the value budget.
 pub(super) struct Data<'a> {
     buffers: &'a [Vec<u8>],
@@ -40,23 +43,27 @@ impl<'a> Data<'a> {
 
     /// The accessor's components as floats (see [`floats`]), decoded once.
     pub(super) fn floats(&self, acc: &gltf::Accessor<'_>) -> Result<Rc<Vec<f32>>, String> {
-        if let Some(v) = self.floats.borrow().get(&acc.index()) {
-            return Ok(v.clone());
-        }
-        self.spend(acc.count().saturating_mul(components(acc)))?;
-        let v = Rc::new(floats(acc, self.buffers)?);
-        self.floats.borrow_mut().insert(acc.index(), v.clone());
-        Ok(v)
+        self.cached(&self.floats, acc, floats)
     }
 
     /// The accessor's components as integers (see [`ints`]), decoded once.
     pub(super) fn ints(&self, acc: &gltf::Accessor<'_>) -> Result<Rc<Vec<u32>>, String> {
-        if let Some(v) = self.ints.borrow().get(&acc.index()) {
+        self.cached(&self.ints, acc, ints)
+    }
+
+    /// `acc` decoded by `decode`, from `cache` or, the first time, paid from the budget.
+    fn cached<T>(
+        &self,
+        cache: &RefCell<HashMap<usize, Rc<Vec<T>>>>,
+        acc: &gltf::Accessor<'_>,
+        decode: Decoder<T>,
+    ) -> Result<Rc<Vec<T>>, String> {
+        if let Some(v) = cache.borrow().get(&acc.index()) {
             return Ok(v.clone());
         }
         self.spend(acc.count().saturating_mul(components(acc)))?;
-        let v = Rc::new(ints(acc, self.buffers)?);
-        self.ints.borrow_mut().insert(acc.index(), v.clone());
+        let v = Rc::new(decode(acc, self.buffers)?);
+        cache.borrow_mut().insert(acc.index(), v.clone());
         Ok(v)
     }
 }
