@@ -62,21 +62,80 @@ impl Transform {
 #[require(Transform, WorldBounds)]
 pub struct Mesh(pub usize);
 
-/// Surface colour and Phong response.
+/// Index of a texture in the [`crate::assets::TextureLibrary`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Texture(pub usize);
+
+/// How a surface's alpha (base colour × texture × vertex colour) is used.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AlphaMode {
+    /// Alpha is ignored: the surface is solid.
+    Opaque,
+    /// Fragments with alpha below `cutoff` are not there at all (leaves, fences), in the
+    /// picture, in the shadow maps and in the ray-traced truth alike.
+    Mask {
+        /// Alpha below which a fragment is cut away.
+        cutoff: f32,
+    },
+    /// The surface is blended over what is behind it, drawn after every opaque surface, back to
+    /// front. Shadow maps and the truth cannot be half transparent: there it counts as
+    /// [`AlphaMode::Mask`] at [`BLEND_CUTOFF`].
+    Blend,
+}
+
+/// Where a blended surface counts as solid in shadow maps, the measuring view and the truth.
+pub const BLEND_CUTOFF: f32 = 0.5;
+
+impl AlphaMode {
+    /// The alpha below which the surface casts no shadow and is not measured: none for opaque.
+    #[must_use]
+    pub fn cutoff(self) -> Option<f32> {
+        match self {
+            AlphaMode::Opaque => None,
+            AlphaMode::Mask { cutoff } => Some(cutoff),
+            AlphaMode::Blend => Some(BLEND_CUTOFF),
+        }
+    }
+}
+
+/// Surface colour, Phong response and how the surface is drawn.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct Material {
-    /// Linear RGB albedo.
+    /// Linear RGB albedo (multiplied by the texture and the vertex colours).
     pub base_color: Vec3,
+    /// Alpha factor (multiplied by the texture's and the vertex colours' alpha).
+    pub opacity: f32,
     /// Strength of the specular highlight (0 = matte).
     pub specular: f32,
     /// Phong exponent: larger is a tighter highlight.
     pub shininess: f32,
+    /// Base-colour texture, if any.
+    pub texture: Option<Texture>,
+    /// How alpha is used.
+    pub alpha_mode: AlphaMode,
+    /// Drawn from both sides (the normal flipped on the back); otherwise back faces are culled.
+    pub double_sided: bool,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material::color(0.8, 0.8, 0.8)
+    }
 }
 
 impl Material {
-    /// A matte material of the given linear colour with a faint highlight.
+    /// An opaque, one-sided, untextured matte material of the given linear colour with a faint
+    /// highlight.
     pub fn color(r: f32, g: f32, b: f32) -> Self {
-        Material { base_color: Vec3::new(r, g, b), specular: 0.25, shininess: 32.0 }
+        Material {
+            base_color: Vec3::new(r, g, b),
+            opacity: 1.0,
+            specular: 0.25,
+            shininess: 32.0,
+            texture: None,
+            alpha_mode: AlphaMode::Opaque,
+            double_sided: false,
+        }
     }
 }
 
@@ -384,6 +443,11 @@ impl Input {
         }
     }
 }
+
+/// Messages for the user that systems raise while the scene runs (a broken object left out of
+/// light fitting, say); the front end prints and clears them.
+#[derive(Resource, Clone, Debug, Default, PartialEq)]
+pub struct Notices(pub Vec<String>);
 
 /// Size of the image being rendered, in pixels.
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]

@@ -106,6 +106,8 @@ impl App {
         world.insert_resource(Input::default());
         world.insert_resource(Viewport { width: 1280, height: 720 });
         world.insert_resource(MeshLibrary::default());
+        world.insert_resource(assets::TextureLibrary::default());
+        world.insert_resource(components::Notices::default());
         world.insert_resource(systems::CasterChanges::default());
         let mut update = Schedule::new(Update);
         update.configure_sets((Stage::Animate, Stage::Camera, Stage::Gameplay, Stage::Lights).chain());
@@ -144,6 +146,11 @@ impl App {
     /// Tells the app the size of the image it is rendered into.
     pub fn resize(&mut self, width: u32, height: u32) {
         *self.world.resource_mut::<Viewport>() = Viewport { width, height };
+    }
+
+    /// The messages systems raised for the user since the last call (see [`components::Notices`]).
+    pub fn take_notices(&mut self) -> Vec<String> {
+        self.world.get_resource_mut::<components::Notices>().map(|mut n| std::mem::take(&mut n.0)).unwrap_or_default()
     }
 
     /// The settings in force.

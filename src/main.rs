@@ -406,6 +406,9 @@ fn render(args: &RenderArgs) -> Result<()> {
     let mut app = app(&args.scene)?;
     let (gpu, mut renderer, _) = render_png(&mut app, args.width, args.height, args.time, &args.out)
         .with_context(|| format!("rendering {}", args.out.display()))?;
+    for notice in app.take_notices() {
+        eprintln!("warning: {notice}");
+    }
     if args.repeat == 0 {
         return Ok(());
     }

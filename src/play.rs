@@ -186,6 +186,9 @@ impl Player {
         if steps == MAX_STEPS_PER_FRAME {
             self.behind = 0.0;
         }
+        for notice in self.app.take_notices() {
+            eprintln!("warning: {notice}");
+        }
     }
 
     fn redraw(&mut self) -> Result<(), PlayError> {

@@ -4,7 +4,8 @@
 //! Everything here is a pure function of the settings, so the scene at time t is reproducible.
 
 use crate::assets::character::WALK_SPEED;
-use crate::assets::{MeshLibrary, Model, ModelError, cube, load_model, parse_model, plane};
+use crate::assets::model::MIN_MODEL_SIZE;
+use crate::assets::{MeshLibrary, Model, ModelError, TextureLibrary, cube, load_model, parse_model, plane};
 use crate::components::*;
 use crate::settings::Settings;
 use bevy_ecs::prelude::*;
@@ -85,13 +86,19 @@ pub fn spawn_sample_scene(world: &mut World, settings: &Settings) -> Result<(), 
 }
 
 /// Spawns `model` at `placement` playing `clip`: one entity for the model, one per mesh part
-/// (casting and taking shadows). Returns the model's entity.
+/// (casting and taking shadows); parts that share a mesh or a texture share it in the libraries
+/// too. Returns the model's entity.
 pub fn spawn_model(world: &mut World, model: Arc<Model>, placement: Transform, clip: Option<usize>) -> Entity {
     let root = world.spawn((ModelInstance(model.clone()), Animator { clip, speed: 1.0 }, placement)).id();
+    let mut meshes = std::collections::HashMap::new();
     for (i, part) in model.parts.iter().enumerate() {
-        let mesh = world.resource_mut::<MeshLibrary>().add(part.mesh.clone());
+        let mesh = *meshes
+            .entry(Arc::as_ptr(&part.mesh))
+            .or_insert_with(|| world.resource_mut::<MeshLibrary>().add_shared(part.mesh.clone()));
+        let texture = part.texture.clone().map(|t| world.get_resource_or_init::<TextureLibrary>().add(t));
+        let material = Material { texture, ..part.material };
         let mut e =
-            world.spawn((mesh, part.material, placement, ModelPart { root, part: i }, ShadowCaster, ShadowReceiver));
+            world.spawn((mesh, material, placement, ModelPart { root, part: i }, ShadowCaster, ShadowReceiver));
         if part.skin.is_some() {
             e.insert(Joints::default());
         }
@@ -107,7 +114,9 @@ pub fn stand_at(model: &Model, spot: Vec3) -> Transform {
         return Transform { translation: spot, ..Default::default() };
     }
     let size = (bounds.max - bounds.min).max_element();
-    let scale = if !(0.3..=3.0).contains(&size) { 3.0 / size.max(1e-6) } else { 1.0 };
+    // A model with no size (its loader warned) is placed as it is: scaling it up would only
+    // spread float error over the scene.
+    let scale = if size >= MIN_MODEL_SIZE && !(0.3..=3.0).contains(&size) { 3.0 / size } else { 1.0 };
     let foot = Vec3::new(bounds.center().x, bounds.min.y, bounds.center().z) * scale;
     Transform { translation: spot - foot, scale: Vec3::splat(scale), ..Default::default() }
 }
@@ -165,7 +174,7 @@ fn animated_cube(i: u32, n: u32, mesh: Mesh) -> impl Bundle {
     (
         mesh,
         Transform::from_xyz(radius * angle.cos(), base_y, radius * angle.sin()).with_scale(Vec3::splat(size)),
-        Material { base_color: c, specular: 0.5, shininess: 48.0 },
+        Material { specular: 0.5, shininess: 48.0, ..Material::color(c.x, c.y, c.z) },
         Spin { axis, rate: 0.4 + 1.2 * g, base: Quat::from_rotation_y(angle) },
         Bob { base_y, amplitude: 0.3 + 0.4 * g, frequency: 0.8 + 1.1 * (1.0 - g), phase: angle },
         ShadowCaster,

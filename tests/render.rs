@@ -21,7 +21,7 @@ fn cube_over_plane(settings: Settings) -> App {
         let mut meshes = app.world.resource_mut::<umbra::assets::MeshLibrary>();
         (meshes.add(plane(20.0)), meshes.add(cube(Vec3::splat(0.5))))
     };
-    let grey = Material { base_color: Vec3::splat(0.6), specular: 0.0, shininess: 1.0 };
+    let grey = Material { specular: 0.0, shininess: 1.0, ..Material::color(0.6, 0.6, 0.6) };
     app.world.spawn((ground, Transform::default(), grey, ShadowReceiver));
     app.world.spawn((block, Transform::from_xyz(0.0, 1.5, 0.0), grey, ShadowCaster, ShadowReceiver));
     app.world.spawn(camera_at(Vec3::new(0.0, 6.0, 8.0), Vec3::ZERO));

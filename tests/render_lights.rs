@@ -11,7 +11,7 @@ use umbra::render::Image;
 use umbra::{App, Settings};
 
 fn grey() -> Material {
-    Material { base_color: Vec3::splat(0.6), specular: 0.0, shininess: 1.0 }
+    Material { specular: 0.0, shininess: 1.0, ..Material::color(0.6, 0.6, 0.6) }
 }
 
 /// An app with a 60 m grey ground and a camera at `eye` looking at `target`.

@@ -13,6 +13,18 @@ pub struct Vertex {
     pub position: [f32; 3],
     /// Object-space unit normal.
     pub normal: [f32; 3],
+    /// Texture coordinates of the material's base-colour texture.
+    pub uv: [f32; 2],
+    /// Linear RGBA vertex colour (white where the mesh has none).
+    pub color: [f32; 4],
+}
+
+impl Vertex {
+    /// A white vertex at `position` with `normal` and no texture coordinates.
+    #[must_use]
+    pub fn new(position: [f32; 3], normal: [f32; 3]) -> Vertex {
+        Vertex { position, normal, uv: [0.0; 2], color: [1.0; 4] }
+    }
 }
 
 /// Which joints move a vertex of a skinned mesh, and how much (a second vertex stream).
@@ -66,7 +78,12 @@ pub struct MeshLibrary {
 impl MeshLibrary {
     /// Adds a mesh and returns the component that refers to it.
     pub fn add(&mut self, mesh: MeshData) -> crate::components::Mesh {
-        self.meshes.push(Arc::new(mesh));
+        self.add_shared(Arc::new(mesh))
+    }
+
+    /// Adds a mesh that may be shared with others (a model's instanced parts).
+    pub fn add_shared(&mut self, mesh: Arc<MeshData>) -> crate::components::Mesh {
+        self.meshes.push(mesh);
         crate::components::Mesh(self.meshes.len() - 1)
     }
 
@@ -94,7 +111,7 @@ pub fn cube(half: Vec3) -> MeshData {
             let base = vertices.len() as u32;
             for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
                 let p = (n + u * a + v * b) * half;
-                vertices.push(Vertex { position: p.to_array(), normal: n.to_array() });
+                vertices.push(Vertex::new(p.to_array(), n.to_array()));
             }
             indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
         }
@@ -107,7 +124,7 @@ pub fn plane(size: f32) -> MeshData {
     let h = size * 0.5;
     let n = [0.0, 1.0, 0.0];
     let vertices =
-        [(-h, h), (h, h), (h, -h), (-h, -h)].map(|(x, z)| Vertex { position: [x, 0.0, z], normal: n }).to_vec();
+        [(-h, h), (h, h), (h, -h), (-h, -h)].map(|(x, z)| Vertex::new([x, 0.0, z], n)).to_vec();
     MeshData::new(vertices, vec![0, 1, 2, 0, 2, 3])
 }
 

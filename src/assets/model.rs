@@ -6,9 +6,15 @@
 use super::clip::Clip;
 use super::mesh::MeshData;
 use super::skin::posed_bounds;
+use super::texture::TextureData;
 use crate::components::{Material, Transform};
 use crate::shadow::Aabb;
 use glam::Mat4;
+use std::sync::Arc;
+
+/// Models smaller than this across (metres) are taken to have no size: placed unscaled, with a
+/// warning, rather than blown up to a sensible size by an absurd factor.
+pub const MIN_MODEL_SIZE: f32 = 1e-3;
 
 /// One node of the tree.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,19 +36,22 @@ pub struct Skin {
     pub inverse_bind: Vec<Mat4>,
 }
 
-/// One mesh with one material, drawn at a node (rigid) or deformed by a skin.
+/// One mesh with one material, drawn at a node (rigid) or deformed by a skin. Nodes that
+/// instance the same mesh share its data.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Part {
     /// The node it belongs to.
     pub node: usize,
     /// Its triangles (skinned: in the bind pose, with joint influences).
-    pub mesh: MeshData,
-    /// Its colour.
+    pub mesh: Arc<MeshData>,
+    /// Its colour and how it is drawn (its texture is in `texture`).
     pub material: Material,
+    /// Its base-colour texture, if it has one that could be read.
+    pub texture: Option<Arc<TextureData>>,
     /// The skin that deforms it, if any; then the node's own transform is not used.
     pub skin: Option<usize>,
     /// For a skinned part, the box around what each joint moves, in joint space.
-    pub joint_boxes: Vec<crate::shadow::Aabb>,
+    pub joint_boxes: Arc<[Aabb]>,
 }
 
 /// A whole model as loaded from a file.

@@ -42,6 +42,7 @@ pub fn skin_vertices(mesh: &MeshData, joints: &[Mat4]) -> Vec<Vertex> {
             Vertex {
                 position: m.transform_point3(Vec3::from(v.position)).to_array(),
                 normal: transform_normal(&m, Vec3::from(v.normal)).to_array(),
+                ..*v
             }
         })
         .collect()

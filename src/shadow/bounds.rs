@@ -2,6 +2,10 @@
 
 use glam::{Mat4, Vec3};
 
+/// Farthest from the origin, in metres, that a box may reach and still be fitted into shadow
+/// maps: beyond it (or not finite at all) the box is a broken object, not part of the scene.
+pub const MAX_WORLD_EXTENT: f32 = 1.0e5;
+
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
@@ -33,6 +37,14 @@ impl Aabb {
     /// The smallest box holding both boxes.
     pub fn union(self, other: Aabb) -> Aabb {
         Aabb { min: self.min.min(other.min), max: self.max.max(other.max) }
+    }
+
+    /// True when the box holds points and lies within [`MAX_WORLD_EXTENT`] of the origin: a box
+    /// light fitting can use.
+    #[must_use]
+    pub fn is_usable(&self) -> bool {
+        let finite = self.min.is_finite() && self.max.is_finite();
+        finite && !self.is_empty() && self.min.abs().max(self.max.abs()).max_element() <= MAX_WORLD_EXTENT
     }
 
     /// True when the box holds no point.
@@ -104,6 +116,17 @@ pub fn intersects_clip_volume(view_proj: &Mat4, b: &Aabb) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn only_finite_boxes_within_the_world_are_usable() {
+        assert!(Aabb::new(Vec3::splat(-1.0), Vec3::ONE).is_usable());
+        assert!(Aabb::new(Vec3::ZERO, Vec3::ZERO).is_usable(), "a point is a box");
+        assert!(!Aabb::EMPTY.is_usable());
+        assert!(!Aabb::new(Vec3::ZERO, Vec3::new(f32::NAN, 1.0, 1.0)).is_usable());
+        assert!(!Aabb { min: Vec3::splat(f32::NAN), max: Vec3::splat(f32::NAN) }.is_usable());
+        assert!(!Aabb::new(Vec3::ZERO, Vec3::splat(f32::INFINITY)).is_usable());
+        assert!(!Aabb::new(Vec3::ZERO, Vec3::new(0.0, 2.0 * MAX_WORLD_EXTENT, 0.0)).is_usable());
+    }
 
     #[test]
     fn grow_and_union_hold_their_inputs() {

@@ -7,7 +7,7 @@ mod bounds;
 mod cascade;
 mod fit;
 
-pub use bounds::{Aabb, frustum_corners, intersects_clip_volume};
+pub use bounds::{Aabb, MAX_WORLD_EXTENT, frustum_corners, intersects_clip_volume};
 pub use cascade::{
     FitMode, MAX_CASCADES, SceneBounds, ViewFrustum, blend_bands, depth_step, fit_cascade, split_depths,
 };

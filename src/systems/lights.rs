@@ -4,8 +4,8 @@
 
 use crate::assets::MeshLibrary;
 use crate::components::{
-    Camera, DirectionalLight, Joints, Mesh, ShadowBias, ShadowCaster, ShadowLayer, ShadowMap, SpotLight, Transform,
-    Viewport, WorldBounds,
+    Camera, DirectionalLight, Joints, Mesh, Notices, ShadowBias, ShadowCaster, ShadowLayer, ShadowMap, SpotLight,
+    Transform, Viewport, WorldBounds,
 };
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{
@@ -13,7 +13,7 @@ use crate::shadow::{
     spot_projection,
 };
 use bevy_ecs::prelude::*;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The lights the main pass uses, in the order it uses them: the first sun, then at most
@@ -94,6 +94,39 @@ pub fn track_casters(
             old => changes.0.extend(old.map(|o| o.bounds).into_iter().chain([bounds.0])),
         }
     }
+    // A broken box (not finite, or light years away) would dirty every layer; it is left out of
+    // light fitting too (see `usable_boxes`).
+    changes.0.retain(Aabb::is_usable);
+}
+
+/// The boxes of `query` that light fitting can use; each entity whose box is broken (not finite,
+/// or beyond [`crate::shadow::MAX_WORLD_EXTENT`]) is left out and named once in `notices`, so
+/// that one broken object cannot spoil every other shadow.
+fn usable_boxes<'a>(
+    boxes: impl Iterator<Item = (Entity, &'a WorldBounds)>,
+    told: &mut HashSet<Entity>,
+    notices: Option<&mut Notices>,
+) -> Vec<Aabb> {
+    let mut broken = Vec::new();
+    let usable = boxes
+        .filter(|(e, b)| {
+            let usable = b.0.is_usable();
+            // Nothing to fit is not broken: a mesh with no vertices, a part not posed yet.
+            if !usable && b.0 != Aabb::EMPTY && told.insert(*e) {
+                broken.push(format!(
+                    "entity {e} has bounds {:?}..{:?}: left out of shadow fitting",
+                    b.0.min.to_array(),
+                    b.0.max.to_array()
+                ));
+            }
+            usable
+        })
+        .map(|(_, b)| b.0)
+        .collect();
+    if let Some(notices) = notices {
+        notices.0.extend(broken);
+    }
+    usable
 }
 
 /// Assigns shadow-map layers, recomputes every shadowed light's projections and sets dirty flags.
@@ -109,9 +142,11 @@ pub fn update_light_matrices(
     viewport: Res<Viewport>,
     changes: Res<CasterChanges>,
     mut last_maps: Local<Option<(u32, crate::settings::ShadowFaces, CasterCulling)>>,
+    mut told: Local<HashSet<Entity>>,
+    mut notices: Option<ResMut<Notices>>,
     cameras: Query<(&Camera, Ref<Transform>)>,
-    casters: Query<&WorldBounds, With<ShadowCaster>>,
-    visible: Query<&WorldBounds, With<Mesh>>,
+    casters: Query<(Entity, &WorldBounds), With<ShadowCaster>>,
+    visible: Query<(Entity, &WorldBounds), With<Mesh>>,
     mut suns: Query<(Ref<DirectionalLight>, Ref<ShadowBias>, &mut ShadowMap), Without<SpotLight>>,
     mut spots: Query<(Ref<SpotLight>, Ref<Transform>, Ref<ShadowBias>, &mut ShadowMap), Without<DirectionalLight>>,
 ) {
@@ -127,8 +162,9 @@ pub fn update_light_matrices(
         (CasterCulling::CameraView, Some((c, t))) => intersects_clip_volume(&c.view_proj(&t, viewport.aspect()), b),
         _ => true,
     };
-    let caster_boxes: Vec<Aabb> = casters.iter().map(|b| b.0).filter(in_view).collect();
-    let seen_boxes: Vec<Aabb> = visible.iter().map(|b| b.0).collect();
+    let mut caster_boxes = usable_boxes(casters.iter(), &mut told, notices.as_deref_mut());
+    caster_boxes.retain(in_view);
+    let seen_boxes = usable_boxes(visible.iter(), &mut told, notices.as_deref_mut());
     let scene = SceneBounds { casters: &caster_boxes, receivers: &seen_boxes };
     let mut next_layer = 0;
     for (i, (sun, bias, mut map)) in suns.iter_mut().enumerate() {

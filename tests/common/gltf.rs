@@ -236,3 +236,44 @@ impl TestModel {
         (serde_json::to_vec_pretty(&json).unwrap(), self.bin.clone())
     }
 }
+
+/// An RGBA PNG of `width` x `height` texels.
+pub fn png_rgba(width: u32, height: u32, rgba: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    let mut encoder = png::Encoder::new(&mut out, width, height);
+    encoder.set_color(png::ColorType::Rgba);
+    encoder.write_header().unwrap().write_image_data(rgba).unwrap();
+    out
+}
+
+/// A `n` x `n` checker of two RGBA colours, `a` at texel (0, 0).
+pub fn checker(n: u32, a: [u8; 4], b: [u8; 4]) -> Vec<u8> {
+    (0..n * n).flat_map(|i| if (i % n + i / n) % 2 == 0 { a } else { b }).collect()
+}
+
+impl TestModel {
+    /// Gives the column texture coordinates (u round the column, v up it) and a base-colour
+    /// texture whose image is `png` (stored in the buffer), sampled by `sampler` (JSON, or none).
+    pub fn with_texture(mut self, png: &[u8], sampler: Option<Value>) -> TestModel {
+        let uv: Vec<f32> = (0..12).flat_map(|i| [(i % 4) as f32 / 4.0, (i / 4) as f32 / 2.0]).collect();
+        let uv = push(&mut self.json, &mut self.bin, floats(&uv), json!({ "componentType": 5126, "count": 12, "type": "VEC2" }));
+        self.json["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = json!(uv);
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        let views = self.json["bufferViews"].as_array_mut().unwrap();
+        views.push(json!({ "buffer": 0, "byteOffset": self.bin.len(), "byteLength": png.len() }));
+        let view = views.len() - 1;
+        self.bin.extend_from_slice(png);
+        self.json["buffers"][0]["byteLength"] = json!(self.bin.len());
+        self.json["images"] = json!([{ "bufferView": view, "mimeType": "image/png", "name": "checker" }]);
+        let mut texture = json!({ "source": 0 });
+        if let Some(sampler) = sampler {
+            self.json["samplers"] = json!([sampler]);
+            texture["sampler"] = json!(0);
+        }
+        self.json["textures"] = json!([texture]);
+        self.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({ "index": 0 });
+        self
+    }
+}

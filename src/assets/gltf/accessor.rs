@@ -1,44 +1,43 @@
 //! Reading accessors with every range checked: a broken offset, stride or count is an error
 //! that says which accessor and by how much, never a panic or an out-of-bounds read.
 
+use super::budget::Budget;
 use gltf::accessor::{DataType, Dimensions};
-use std::cell::{Cell, RefCell};
+use std::borrow::Cow;
+use std::cell::RefCell;
 use std::collections::HashMap;
 use std::rc::Rc;
 
 /// Most components an accessor without a buffer view (all zeros) may have.
 const MAX_ZERO_COMPONENTS: usize = 1 << 24;
 
-/// Most values (components, vertices, keys) one file may make umbra hold: about 1 GB. The file
-/// itself may be small and still ask for more, by pointing many meshes or channels at one large
-/// accessor; the budget stops that before memory runs out.
-pub(super) const MAX_VALUES: usize = 1 << 28;
-
 /// Reads all of one accessor's components from the buffers.
-type Decoder<T> = fn(&gltf::Accessor<'_>, &[Vec<u8>]) -> Result<Vec<T>, String>;
+type Decoder<T> = fn(&gltf::Accessor<'_>, &[Cow<'_, [u8]>]) -> Result<Vec<T>, String>;
 
-/// A file's buffers with each accessor decoded once, and what is left of the value budget.
+/// A file's buffers with each accessor decoded once, and the budget of what is built from them.
 pub(super) struct Data<'a> {
-    buffers: &'a [Vec<u8>],
+    buffers: &'a [Cow<'a, [u8]>],
     floats: RefCell<HashMap<usize, Rc<Vec<f32>>>>,
     ints: RefCell<HashMap<usize, Rc<Vec<u32>>>>,
-    left: Cell<usize>,
+    /// Bytes left to build with (see [`super::MAX_DECODED_BYTES`]).
+    pub budget: Budget,
+    /// The file uses KHR_mesh_quantization: vertex attributes may be small integers.
+    pub quantized: bool,
 }
 
 impl<'a> Data<'a> {
-    pub(super) fn new(buffers: &'a [Vec<u8>]) -> Self {
-        Data { buffers, floats: RefCell::default(), ints: RefCell::default(), left: Cell::new(MAX_VALUES) }
+    pub(super) fn new(buffers: &'a [Cow<'a, [u8]>], quantized: bool) -> Self {
+        Data { buffers, floats: RefCell::default(), ints: RefCell::default(), budget: Budget::decoded(), quantized }
     }
 
-    /// Takes `n` values from the budget, or says the model is too large.
+    /// Takes `n` bytes from the budget, or says the model is too large.
     pub(super) fn spend(&self, n: usize) -> Result<(), String> {
-        match self.left.get().checked_sub(n) {
-            Some(left) => {
-                self.left.set(left);
-                Ok(())
-            }
-            None => Err(format!("the model is too large: it needs more than {MAX_VALUES} values")),
-        }
+        self.budget.spend(n as u64)
+    }
+
+    /// The bytes of buffer view `view`, checked against its buffer.
+    pub(super) fn view(&self, view: &gltf::buffer::View<'_>) -> Result<&'a [u8], String> {
+        view_bytes(view, self.buffers)
     }
 
     /// The accessor's components as floats (see [`floats`]), decoded once.
@@ -61,21 +60,105 @@ impl<'a> Data<'a> {
         if let Some(v) = cache.borrow().get(&acc.index()) {
             return Ok(v.clone());
         }
-        self.spend(acc.count().saturating_mul(components(acc)))?;
+        self.spend(acc.count().saturating_mul(components(acc)).saturating_mul(size_of::<T>()))?;
         let v = Rc::new(decode(acc, self.buffers)?);
         cache.borrow_mut().insert(acc.index(), v.clone());
         Ok(v)
     }
 }
 
+/// Which component types (and whether normalized) glTF allows for one use of an accessor.
+pub(super) type Formats = &'static [(DataType, bool)];
+
+/// Floats only.
+pub(super) const FLOAT: Formats = &[(DataType::F32, false)];
+/// Floats, or unsigned bytes and shorts normalized to 0..1.
+pub(super) const FLOAT_OR_UNORM: Formats = &[(DataType::F32, false), (DataType::U8, true), (DataType::U16, true)];
+/// Floats, or any byte or short normalized (rotation keys).
+pub(super) const FLOAT_OR_NORM: Formats = &[
+    (DataType::F32, false),
+    (DataType::I8, true),
+    (DataType::U8, true),
+    (DataType::I16, true),
+    (DataType::U16, true),
+];
+/// Any byte or short, normalized or not, or floats (KHR_mesh_quantization's positions).
+pub(super) const QUANTIZED: Formats = &[
+    (DataType::F32, false),
+    (DataType::I8, true),
+    (DataType::I8, false),
+    (DataType::U8, true),
+    (DataType::U8, false),
+    (DataType::I16, true),
+    (DataType::I16, false),
+    (DataType::U16, true),
+    (DataType::U16, false),
+];
+/// Signed bytes and shorts normalized, or floats (KHR_mesh_quantization's normals).
+pub(super) const FLOAT_OR_SNORM: Formats = &[(DataType::F32, false), (DataType::I8, true), (DataType::I16, true)];
+/// Unsigned bytes and shorts, not normalized (joint indices).
+pub(super) const UINT_SMALL: Formats = &[(DataType::U8, false), (DataType::U16, false)];
+/// Unsigned bytes, shorts and ints, not normalized (vertex indices).
+pub(super) const UINT: Formats = &[(DataType::U8, false), (DataType::U16, false), (DataType::U32, false)];
+
+fn format_name(ty: DataType, normalized: bool) -> String {
+    let name = match ty {
+        DataType::I8 => "signed bytes",
+        DataType::U8 => "unsigned bytes",
+        DataType::I16 => "signed shorts",
+        DataType::U16 => "unsigned shorts",
+        DataType::U32 => "unsigned ints",
+        DataType::F32 => "floats",
+    };
+    if normalized { format!("normalized {name}") } else { name.to_string() }
+}
+
+/// Refuses an accessor whose component type glTF does not allow for `what` (with `extension`
+/// named when it is what would allow it).
+pub(super) fn check_format(
+    acc: &gltf::Accessor<'_>,
+    allowed: Formats,
+    what: &str,
+    extension: Option<&str>,
+) -> Result<(), String> {
+    let found = (acc.data_type(), acc.normalized());
+    if allowed.contains(&found) {
+        return Ok(());
+    }
+    let names: Vec<String> = allowed.iter().map(|&(t, n)| format_name(t, n)).collect();
+    let unless = extension.map_or(String::new(), |e| format!(" (more with the extension {e}, which the file does not use)"));
+    Err(format!(
+        "{what} (accessor {}) holds {}, but glTF allows only {} there{unless}",
+        acc.index(),
+        format_name(found.0, found.1),
+        names.join(", ")
+    ))
+}
+
+/// Refuses a vertex attribute whose elements do not start on 4-byte boundaries, as glTF asks.
+pub(super) fn check_vertex_alignment(acc: &gltf::Accessor<'_>, what: &str) -> Result<(), String> {
+    let Some(view) = acc.view() else { return Ok(()) };
+    let (cols, _, column) = shape(acc.dimensions(), acc.data_type().size());
+    let stride = view.stride().unwrap_or(cols * column);
+    if !acc.offset().is_multiple_of(4) || !stride.is_multiple_of(4) {
+        return Err(format!(
+            "{what} (accessor {}): each element of a vertex attribute must start on a 4-byte boundary, \
+             but its elements are {stride} bytes apart from byte {}",
+            acc.index(),
+            acc.offset()
+        ));
+    }
+    Ok(())
+}
+
 /// Every component of every element as f32; normalized integers map to 0..1 or -1..1.
-fn floats(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<f32>, String> {
+fn floats(acc: &gltf::Accessor<'_>, buffers: &[Cow<'_, [u8]>]) -> Result<Vec<f32>, String> {
     let (ty, normalized) = (acc.data_type(), acc.normalized());
     decode(acc, buffers, |b| to_f32(b, ty, normalized))
 }
 
 /// Every component of every element as an integer; floats are refused.
-fn ints(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
+fn ints(acc: &gltf::Accessor<'_>, buffers: &[Cow<'_, [u8]>]) -> Result<Vec<u32>, String> {
     let ty = acc.data_type();
     if ty == DataType::F32 {
         return Err(format!("accessor {} holds floats where integers are needed", acc.index()));
@@ -102,7 +185,7 @@ fn shape(dims: Dimensions, size: usize) -> (usize, usize, usize) {
 
 fn decode<T: Copy + Default>(
     acc: &gltf::Accessor<'_>,
-    buffers: &[Vec<u8>],
+    buffers: &[Cow<'_, [u8]>],
     f: impl Fn(&[u8]) -> T,
 ) -> Result<Vec<T>, String> {
     let i = acc.index();
@@ -166,7 +249,7 @@ fn apply_sparse<T>(
     count: usize,
     comps: usize,
     size: usize,
-    buffers: &[Vec<u8>],
+    buffers: &[Cow<'_, [u8]>],
     f: &impl Fn(&[u8]) -> T,
     out: &mut [T],
 ) -> Result<(), String> {
@@ -203,7 +286,7 @@ fn apply_sparse<T>(
 }
 
 /// The bytes of a buffer view, checked against its buffer.
-fn view_bytes<'a>(view: &gltf::buffer::View<'_>, buffers: &'a [Vec<u8>]) -> Result<&'a [u8], String> {
+fn view_bytes<'a>(view: &gltf::buffer::View<'_>, buffers: &'a [Cow<'a, [u8]>]) -> Result<&'a [u8], String> {
     let buffer = &buffers[view.buffer().index()];
     let end = view.offset().checked_add(view.length());
     match end {
@@ -252,11 +335,9 @@ mod tests {
     }
 
     #[test]
-    fn the_value_budget_runs_out_instead_of_memory() {
-        let data = Data::new(&[]);
-        data.spend(MAX_VALUES - 10).unwrap();
-        data.spend(10).unwrap();
-        assert!(data.spend(1).unwrap_err().contains("too large"));
+    fn formats_are_named_when_refused() {
+        assert_eq!(format_name(DataType::U8, true), "normalized unsigned bytes");
+        assert!(QUANTIZED.contains(&(DataType::U8, false)) && !FLOAT_OR_UNORM.contains(&(DataType::U8, false)));
     }
 
     #[test]

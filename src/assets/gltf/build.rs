@@ -1,86 +1,160 @@
 //! From a validated document to a [`Model`]: nodes, mesh parts, skins and clips, each checked.
+//!
+//! Every (mesh, primitive) is built once and shared by the nodes that instance it, so a file of
+//! many nodes costs little more than its node tree; the tree, the parts and all that is decoded
+//! are paid from the model's budget.
 
-use super::accessor::{Data, components};
+use super::accessor::{Data, FLOAT, check_format, components};
+use super::budget::{Budget, MAX_PARTS};
 use super::container::Source;
-use crate::assets::clip::{Channel, Clip, Interpolation, Property};
-use crate::assets::mesh::{MeshData, SkinVertex, Vertex};
-use crate::assets::model::{Model, Node, Part, Skin, hierarchy};
-use crate::assets::skin::{InfluenceFixes, MAX_JOINTS, four_largest, joint_boxes};
-use crate::components::{Material, Transform};
-use glam::{Mat4, Quat, Vec3, Vec4};
-use gltf::mesh::{Mode, Semantic};
+use super::keys::clip;
+use super::material::Materials;
+use super::primitive::{Shape, shape};
+use crate::assets::mesh::MeshData;
+use crate::assets::model::{MIN_MODEL_SIZE, Model, Node, Part, Skin, hierarchy};
+use crate::assets::skin::{MAX_JOINTS, joint_boxes};
+use crate::components::Transform;
+use crate::shadow::Aabb;
+use glam::{Mat4, Quat, Vec3};
+use std::collections::HashMap;
+use std::sync::Arc;
 
-/// Most sets of joints and weights a primitive may have (four influences each).
-const MAX_JOINT_SETS: u32 = 8;
+/// A (mesh, primitive) drawn by a skin (or rigid), as the file has it or mirrored.
+type ShapeKey = (usize, usize, Option<usize>, bool);
 
-/// Builds the model; `warnings` collects what was mended.
-pub(super) fn build(src: &Source, name: &str, warnings: &mut Vec<String>) -> Result<Model, String> {
+/// Builds the model; `warnings` collects what was mended or ignored.
+pub(super) fn build(src: &Source, name: &str, input: &Budget, warnings: &mut Vec<String>) -> Result<Model, String> {
     let doc = &src.doc;
-    let nodes = nodes(doc)?;
-    let children: Vec<Vec<usize>> = doc.nodes().map(|n| n.children().map(|c| c.index()).collect()).collect();
+    let data = Data::new(&src.buffers, doc.extensions_used().any(|e| e == "KHR_mesh_quantization"));
+    let all_nodes: Vec<gltf::Node<'_>> = doc.nodes().collect();
+    let children: Vec<Vec<usize>> = all_nodes.iter().map(|n| n.children().map(|c| c.index()).collect()).collect();
     let (parents, order) = hierarchy(&children)?;
-    let nodes = nodes.into_iter().zip(parents).map(|((name, rest), parent)| Node { name, parent, rest }).collect();
-    let data = Data::new(&src.buffers);
+    let nodes = nodes(&all_nodes, &parents, &data)?;
     let skins = doc.skins().map(|s| skin(&s, &data)).collect::<Result<Vec<_>, _>>()?;
-    let mut parts = Vec::new();
-    for node in scene_nodes(doc, &children) {
-        let node = doc.nodes().nth(node).ok_or("a scene names a missing node")?;
+    let scene = scene_nodes(doc, &children);
+    count_parts(&all_nodes, &scene)?;
+    let mut model = Model { name: name.to_string(), nodes, order, parts: Vec::new(), skins, clips: Vec::new(), warnings: Vec::new() };
+    let globals = model.globals(&model.rest_locals());
+    let mut materials = Materials::new(src, input, &data, warnings);
+    let mut shapes: HashMap<ShapeKey, Option<Shape>> = HashMap::new();
+    let mut boxes: HashMap<(usize, usize, usize), Arc<[Aabb]>> = HashMap::new();
+    for &n in &scene {
+        let node = &all_nodes[n];
         let Some(mesh) = node.mesh() else { continue };
         let skin = node.skin().map(|s| s.index());
         for primitive in mesh.primitives() {
-            let at = format!("mesh {} primitive {}", mesh.index(), primitive.index());
             let at = match mesh.name() {
-                Some(n) => format!("{at} ({n})"),
-                None => at,
+                Some(name) => format!("mesh {} primitive {} ({name})", mesh.index(), primitive.index()),
+                None => format!("mesh {} primitive {}", mesh.index(), primitive.index()),
             };
-            let joints = skin.map(|s| skins[s].joints.len());
-            let part =
-                part(&primitive, node.index(), skin, joints, &data, warnings).map_err(|e| format!("{at}: {e}"))?;
-            let part = match (part.skin, &part.mesh.skin) {
-                (Some(s), Some(_)) => Part { joint_boxes: joint_boxes(&part.mesh, &skins[s].inverse_bind), ..part },
-                (Some(_), None) => {
-                    warnings.push(format!("{at}: its node has a skin but the mesh has no joints; drawn rigid"));
-                    Part { skin: None, ..part }
+            let key = (mesh.index(), primitive.index(), skin, false);
+            if !shapes.contains_key(&key) {
+                let joints = skin.map(|s| model.skins[s].joints.len());
+                let built = shape(&primitive, joints, &data, &mut materials, warnings).map_err(|e| format!("{at}: {e}"))?;
+                match &built {
+                    None => warnings.push(format!("{at} has no whole triangle: nothing to draw")),
+                    Some(s) if skin.is_some() && s.mesh.skin.is_none() => {
+                        warnings.push(format!("{at}: its node has a skin but the mesh has no joints; drawn rigid"))
+                    }
+                    _ => {}
                 }
-                _ => part,
+                shapes.insert(key, built);
+            }
+            let Some(base) = shapes[&key].clone() else { continue };
+            let skin = skin.filter(|_| base.mesh.skin.is_some());
+            // A rigid part under a mirroring transform is wound the other way round, as the
+            // format asks, so that its outside still faces out.
+            let shape = if skin.is_none() && globals[n].determinant() < 0.0 {
+                let mirrored = (key.0, key.1, key.2, true);
+                if !shapes.contains_key(&mirrored) {
+                    shapes.insert(mirrored, Some(Shape { mesh: Arc::new(turned(&base.mesh)), ..base.clone() }));
+                    data.spend(base.mesh.indices.len() * 4)?;
+                }
+                shapes[&mirrored].clone().unwrap_or(base)
+            } else {
+                base
             };
-            parts.push(part);
+            let joint_boxes = match skin {
+                Some(s) => match boxes.get(&(key.0, key.1, s)) {
+                    Some(b) => b.clone(),
+                    None => {
+                        let b: Arc<[Aabb]> = joint_boxes(&shape.mesh, &model.skins[s].inverse_bind).into();
+                        data.spend(b.len() * size_of::<Aabb>())?;
+                        boxes.insert((key.0, key.1, s), b.clone());
+                        b
+                    }
+                },
+                None => Arc::new([]),
+            };
+            data.spend(size_of::<Part>())?;
+            model.parts.push(Part {
+                node: n,
+                mesh: shape.mesh,
+                material: shape.material,
+                texture: shape.texture,
+                skin,
+                joint_boxes,
+            });
         }
     }
-    let clips = doc.animations().map(|a| clip(&a, &data, warnings)).collect::<Result<_, _>>()?;
-    let mut model = Model { name: name.to_string(), nodes, order, parts, skins, clips, warnings: Vec::new() };
-    turn_mirrored_parts(&mut model);
+    model.clips = doc.animations().map(|a| clip(&a, &data, &src.untargeted, warnings)).collect::<Result<_, _>>()?;
+    check_size(&model, warnings)?;
     Ok(model)
 }
 
-/// A rigid part whose node is mirrored (a negative determinant) has its triangles wound the other
-/// way round, as the format asks, so that its outside still faces out.
-fn turn_mirrored_parts(model: &mut Model) {
-    let globals = model.globals(&model.rest_locals());
-    for part in model.parts.iter_mut().filter(|p| p.skin.is_none() && globals[p.node].determinant() < 0.0) {
-        for t in part.mesh.indices.chunks_exact_mut(3) {
-            t.swap(1, 2);
-        }
+/// Refuses a model whose rest pose is not finite, and warns of one with no size (it is placed
+/// as it is rather than scaled up by an absurd factor).
+fn check_size(model: &Model, warnings: &mut Vec<String>) -> Result<(), String> {
+    let bounds = model.rest_bounds();
+    if bounds.is_empty() {
+        return Ok(());
     }
+    if !(bounds.min.is_finite() && bounds.max.is_finite()) {
+        return Err("its rest pose is not finite: its node transforms multiply out past what a float holds".into());
+    }
+    let size = (bounds.max - bounds.min).max_element();
+    if size < MIN_MODEL_SIZE {
+        warnings.push(format!("it is {size} m across in its rest pose (all its vertices at one point): placed unscaled"));
+    }
+    Ok(())
 }
 
-/// Each node's name and rest transform.
-fn nodes(doc: &gltf::Document) -> Result<Vec<(String, Transform)>, String> {
-    doc.nodes()
-        .map(|n| {
+/// The same triangles wound the other way round.
+fn turned(mesh: &MeshData) -> MeshData {
+    let mut out = mesh.clone();
+    for t in out.indices.chunks_exact_mut(3) {
+        t.swap(1, 2);
+    }
+    out
+}
+
+/// Refuses a scene that would draw more parts than umbra draws, before any is built.
+fn count_parts(nodes: &[gltf::Node<'_>], scene: &[usize]) -> Result<(), String> {
+    let parts = scene.iter().filter_map(|&n| nodes[n].mesh()).fold(0usize, |a, m| a.saturating_add(m.primitives().len()));
+    if parts > MAX_PARTS {
+        return Err(format!(
+            "its scene draws {parts} mesh parts (each node draws every primitive of its mesh); umbra draws at most {MAX_PARTS}"
+        ));
+    }
+    Ok(())
+}
+
+/// Each node with its name, parent and rest transform, paid from the budget.
+fn nodes(all: &[gltf::Node<'_>], parents: &[Option<usize>], data: &Data<'_>) -> Result<Vec<Node>, String> {
+    all.iter()
+        .zip(parents)
+        .map(|(n, &parent)| {
             let (t, r, s) = n.transform().decomposed();
-            let rest = Transform {
-                translation: Vec3::from(t),
-                rotation: Quat::from_array(r).normalize(),
-                scale: Vec3::from(s),
-            };
+            let rest = Transform { translation: Vec3::from(t), rotation: Quat::from_array(r).normalize(), scale: Vec3::from(s) };
             if !(rest.translation.is_finite() && rest.rotation.is_finite() && rest.scale.is_finite()) {
                 return Err(format!(
                     "node {} has a transform that is not a finite translation, rotation and scale",
                     n.index()
                 ));
             }
-            Ok((n.name().map_or_else(|| format!("node {}", n.index()), str::to_string), rest))
+            let name = n.name().map_or_else(|| format!("node {}", n.index()), str::to_string);
+            data.spend(size_of::<Node>() + name.len() + n.children().len() * size_of::<usize>())?;
+            Ok(Node { name, parent, rest })
         })
         .collect()
 }
@@ -110,12 +184,14 @@ fn skin(s: &gltf::Skin<'_>, data: &Data<'_>) -> Result<Skin, String> {
     if joints.is_empty() || joints.len() > MAX_JOINTS {
         return Err(format!("{at} has {} joints; umbra takes 1 to {MAX_JOINTS}", joints.len()));
     }
+    data.spend(joints.len() * (size_of::<usize>() + size_of::<Mat4>()))?;
     let inverse_bind = match s.inverse_bind_matrices() {
         None => vec![Mat4::IDENTITY; joints.len()],
         Some(acc) => {
             if components(&acc) != 16 {
                 return Err(format!("{at}: its inverse bind matrices are not 4x4 matrices"));
             }
+            check_format(&acc, FLOAT, &format!("{at}: inverse bind matrices"), None)?;
             let m: Vec<Mat4> = data
                 .floats(&acc)
                 .map_err(|e| format!("{at}: {e}"))?
@@ -136,244 +212,4 @@ fn skin(s: &gltf::Skin<'_>, data: &Data<'_>) -> Result<Skin, String> {
         }
     };
     Ok(Skin { joints, inverse_bind })
-}
-
-/// Reads an attribute of `n` elements of `comps` components as floats.
-fn attribute(
-    p: &gltf::Primitive<'_>,
-    semantic: &Semantic,
-    comps: usize,
-    n: Option<usize>,
-    data: &Data<'_>,
-) -> Result<Option<std::rc::Rc<Vec<f32>>>, String> {
-    let Some(acc) = p.get(semantic) else { return Ok(None) };
-    let name = semantic.to_string();
-    if components(&acc) != comps {
-        return Err(format!("{name} has {} components per element, not {comps}", components(&acc)));
-    }
-    if let Some(n) = n.filter(|&n| n != acc.count()) {
-        return Err(format!("{name} has {} elements but POSITION has {n}", acc.count()));
-    }
-    data.floats(&acc).map(Some).map_err(|e| format!("{name}: {e}"))
-}
-
-fn part(
-    p: &gltf::Primitive<'_>,
-    node: usize,
-    skin: Option<usize>,
-    joint_count: Option<usize>,
-    data: &Data<'_>,
-    warnings: &mut Vec<String>,
-) -> Result<Part, String> {
-    if !matches!(p.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
-        return Err(format!("its mode is {:?}, not triangles; umbra draws triangles only", p.mode()));
-    }
-    let positions = attribute(p, &Semantic::Positions, 3, None, data)?.ok_or("it has no POSITION attribute")?;
-    let n = positions.len() / 3;
-    if positions.iter().any(|x| !x.is_finite()) {
-        return Err("a POSITION is not finite".into());
-    }
-    let normals = attribute(p, &Semantic::Normals, 3, Some(n), data)?;
-    if normals.as_ref().is_some_and(|v| v.iter().any(|x| !x.is_finite())) {
-        return Err("a NORMAL is not finite".into());
-    }
-    let indices = match p.indices() {
-        Some(acc) => data.ints(&acc).map_err(|e| format!("indices: {e}"))?.to_vec(),
-        None => (0..n as u32).collect(),
-    };
-    if let Some(bad) = indices.iter().find(|&&i| i as usize >= n) {
-        return Err(format!("index {bad} is out of range: there are {n} vertices"));
-    }
-    data.spend(n.saturating_mul(14).saturating_add(indices.len()))?;
-    let indices = triangle_list(p.mode(), &indices, warnings);
-    if p.morph_targets().len() > 0 {
-        warnings.push(format!("primitive {}: morph targets are ignored", p.index()));
-    }
-    let influences = match joint_count {
-        Some(joints) if p.get(&Semantic::Joints(0)).is_some() => Some(influences(p, n, joints, data, warnings)?),
-        _ => None,
-    };
-    let vertices: Vec<Vertex> = (0..n)
-        .map(|i| Vertex {
-            position: [positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]],
-            normal: normals.as_ref().map_or([0.0; 3], |v| [v[3 * i], v[3 * i + 1], v[3 * i + 2]]),
-        })
-        .collect();
-    let mesh = match normals {
-        Some(_) => mesh_data(vertices, indices, influences),
-        None => flat_shaded(&vertices, &indices, influences.as_deref()),
-    };
-    let c = p.material().pbr_metallic_roughness().base_color_factor();
-    let material = Material::color(c[0], c[1], c[2]);
-    Ok(Part { node, mesh, material, skin, joint_boxes: Vec::new() })
-}
-
-fn mesh_data(vertices: Vec<Vertex>, indices: Vec<u32>, skin: Option<Vec<SkinVertex>>) -> MeshData {
-    match skin {
-        Some(skin) => MeshData::skinned(vertices, indices, skin),
-        None => MeshData::new(vertices, indices),
-    }
-}
-
-/// Strips and fans turned into a plain triangle list.
-fn triangle_list(mode: Mode, indices: &[u32], warnings: &mut Vec<String>) -> Vec<u32> {
-    match mode {
-        Mode::TriangleStrip => (2..indices.len())
-            .flat_map(|k| {
-                if k % 2 == 0 {
-                    [indices[k - 2], indices[k - 1], indices[k]]
-                } else {
-                    [indices[k - 1], indices[k - 2], indices[k]]
-                }
-            })
-            .collect(),
-        Mode::TriangleFan => (2..indices.len()).flat_map(|k| [indices[0], indices[k - 1], indices[k]]).collect(),
-        _ => {
-            if !indices.len().is_multiple_of(3) {
-                warnings.push(format!(
-                    "{} indices are not whole triangles; the last {} are ignored",
-                    indices.len(),
-                    indices.len() % 3
-                ));
-            }
-            indices[..indices.len() / 3 * 3].to_vec()
-        }
-    }
-}
-
-/// Every vertex's four strongest joints, normalized; sets beyond JOINTS_0 are merged in.
-fn influences(
-    p: &gltf::Primitive<'_>,
-    n: usize,
-    joint_count: usize,
-    data: &Data<'_>,
-    warnings: &mut Vec<String>,
-) -> Result<Vec<SkinVertex>, String> {
-    let mut all: Vec<Vec<(u16, f32)>> = vec![Vec::new(); n];
-    for set in 0.. {
-        let (Some(j), Some(w)) = (p.get(&Semantic::Joints(set)), p.get(&Semantic::Weights(set))) else { break };
-        if set >= MAX_JOINT_SETS {
-            return Err(format!("it has more than {MAX_JOINT_SETS} sets of joints and weights"));
-        }
-        if components(&j) != 4 || components(&w) != 4 || j.count() != n || w.count() != n {
-            return Err(format!("JOINTS_{set} and WEIGHTS_{set} must hold 4 values for each of the {n} vertices"));
-        }
-        let joints = data.ints(&j).map_err(|e| format!("JOINTS_{set}: {e}"))?;
-        let weights = data.floats(&w).map_err(|e| format!("WEIGHTS_{set}: {e}"))?;
-        for (v, list) in all.iter_mut().enumerate() {
-            for k in 0..4 {
-                let (joint, weight) = (joints[4 * v + k], weights[4 * v + k]);
-                if joint as usize >= joint_count {
-                    if weight > 0.0 {
-                        return Err(format!("vertex {v} uses joint {joint}, but its skin has {joint_count} joints"));
-                    }
-                    // A joint that moves nothing may name anything; it is taken as the first.
-                    list.push((0, 0.0));
-                    continue;
-                }
-                list.push((joint as u16, weight));
-            }
-        }
-    }
-    let mut fixed = [0usize; 3];
-    let out = all
-        .iter()
-        .map(|list| {
-            let (v, fixes): (SkinVertex, InfluenceFixes) = four_largest(list);
-            for (count, happened) in fixed.iter_mut().zip([fixes.dropped, fixes.renormalized, fixes.unweighted]) {
-                *count += happened as usize;
-            }
-            v
-        })
-        .collect();
-    let what = [
-        "had more than 4 joints: kept the 4 largest, renormalized",
-        "had weights not summing to 1: normalized",
-        "had no weight: tied to their first joint",
-    ];
-    for (count, what) in fixed.iter().zip(what) {
-        if *count > 0 {
-            warnings.push(format!("primitive {}: {count} vertices {what}", p.index()));
-        }
-    }
-    Ok(out)
-}
-
-/// One vertex per triangle corner with the face normal, for meshes that give no normals.
-fn flat_shaded(vertices: &[Vertex], indices: &[u32], skin: Option<&[SkinVertex]>) -> MeshData {
-    let mut out = Vec::with_capacity(indices.len());
-    let mut out_skin = Vec::with_capacity(if skin.is_some() { indices.len() } else { 0 });
-    for t in indices.chunks_exact(3) {
-        let p = [t[0], t[1], t[2]].map(|i| Vec3::from(vertices[i as usize].position));
-        let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero().to_array();
-        for (k, &i) in t.iter().enumerate() {
-            out.push(Vertex { position: p[k].to_array(), normal });
-            out_skin.extend(skin.map(|s| s[i as usize]));
-        }
-    }
-    let indices = (0..out.len() as u32).collect();
-    mesh_data(out, indices, skin.map(|_| out_skin))
-}
-
-fn clip(a: &gltf::Animation<'_>, data: &Data<'_>, warnings: &mut Vec<String>) -> Result<Clip, String> {
-    let name = a.name().map_or_else(|| format!("animation {}", a.index()), str::to_string);
-    let mut channels = Vec::new();
-    for c in a.channels() {
-        let at = format!("animation {} channel {}", a.index(), c.index());
-        let property = match c.target().property() {
-            gltf::animation::Property::Translation => Property::Translation,
-            gltf::animation::Property::Rotation => Property::Rotation,
-            gltf::animation::Property::Scale => Property::Scale,
-            gltf::animation::Property::MorphTargetWeights => {
-                warnings.push(format!("{at}: morph target weights are ignored"));
-                continue;
-            }
-        };
-        let sampler = c.sampler();
-        let interpolation = match sampler.interpolation() {
-            gltf::animation::Interpolation::Step => Interpolation::Step,
-            gltf::animation::Interpolation::Linear => Interpolation::Linear,
-            gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
-        };
-        if components(&sampler.input()) != 1 {
-            return Err(format!("{at}: key times must be scalars"));
-        }
-        let times = data.floats(&sampler.input()).map_err(|e| format!("{at} input: {e}"))?.to_vec();
-        if times.iter().any(|t| !t.is_finite()) || times.windows(2).any(|w| w[1] < w[0]) {
-            return Err(format!("{at}: key times are not finite and increasing"));
-        }
-        let width = if property == Property::Rotation { 4 } else { 3 };
-        let output = sampler.output();
-        if components(&output) != width {
-            return Err(format!("{at}: {property:?} keys need {width} components, not {}", components(&output)));
-        }
-        let raw = data.floats(&output).map_err(|e| format!("{at} output: {e}"))?;
-        data.spend(times.len() + raw.len())?;
-        let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 };
-        if raw.len() != times.len() * per_key * width || raw.iter().any(|v| !v.is_finite()) {
-            return Err(format!(
-                "{at}: {} key times need {} finite values, found {}",
-                times.len(),
-                times.len() * per_key,
-                raw.len() / width
-            ));
-        }
-        let values: Vec<Vec4> = raw
-            .chunks_exact(width)
-            .map(|v| if width == 4 { Vec4::from_slice(v) } else { Vec3::from_slice(v).extend(0.0) })
-            .collect();
-        let mut values = values;
-        if property == Property::Rotation {
-            // Keys must be unit quaternions; quantized ones are only nearly so.
-            for q in values.iter_mut().skip(per_key / 2).step_by(per_key) {
-                if q.length() < 1e-6 {
-                    return Err(format!("{at}: a rotation key is not a quaternion (its length is 0)"));
-                }
-                *q = q.normalize();
-            }
-        }
-        channels.push(Channel { node: c.target().node().index(), property, interpolation, times, values });
-    }
-    let duration = channels.iter().filter_map(|c| c.times.last()).fold(0.0f32, |a, &b| a.max(b));
-    Ok(Clip { name, channels, duration })
 }

@@ -208,7 +208,7 @@ fn shimmer(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureEr
     // Fixed points on the ground every 10 cm (those under a box stay dark and never flip).
     let points: Vec<Vertex> = (0..=120)
         .flat_map(|i| (0..=100).map(move |j| Vec3::new(-6.0 + i as f32 * 0.1, 0.0, -6.0 + j as f32 * 0.1)))
-        .map(|p| Vertex { position: p.to_array(), normal: [0.0, 1.0, 0.0] })
+        .map(|p| Vertex::new(p.to_array(), [0.0, 1.0, 0.0]))
         .collect();
     let gpu = m.gpu();
     let (app, renderer) = m.parts("shimmer").expect("the subject exists");

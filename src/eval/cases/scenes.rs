@@ -10,7 +10,7 @@ use glam::Vec3;
 use std::sync::Arc;
 
 fn grey() -> Material {
-    Material { base_color: Vec3::splat(0.6), specular: 0.0, shininess: 1.0 }
+    Material { specular: 0.0, shininess: 1.0, ..Material::color(0.6, 0.6, 0.6) }
 }
 
 /// The direction sunlight travels for a sun `elevation` degrees above the horizon, coming from
