@@ -3,17 +3,44 @@ struct Object {
     model: mat4x4<f32>,
     // Inverse-transpose of the model matrix, for normals under non-uniform scale.
     normal_matrix: mat4x4<f32>,
-    // rgb: linear albedo; w: 1 if the surface receives shadows.
-    color: vec4<f32>,
-    // x: specular strength, y: Phong exponent.
-    phong: vec4<f32>,
-    // x: first matrix of this object's joints in the palette (skinned objects only).
-    skin: vec4<u32>,
+    // Linear RGBA base colour factor.
+    base_color: vec4<f32>,
+    // Strength of the specular highlight.
+    specular: f32,
+    // Phong exponent.
+    shininess: f32,
+    // Alpha below which a masked surface is cut away (blended ones too, in shadow maps and the
+    // measuring view).
+    alpha_cutoff: f32,
+    // 1 if the surface takes shadows.
+    receives_shadows: u32,
+    // First matrix of this object's joints in the palette (skinned objects only).
+    first_joint: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 };
 
 @group(1) @binding(0) var<uniform> object: Object;
 
+// The base-colour texture of the object's material, white when it has none (bind group 2).
+@group(2) @binding(0) var base_color_texture: texture_2d<f32>;
+@group(2) @binding(1) var base_color_sampler: sampler;
+
+// What this pipeline does with alpha, fixed when it is built: cut away fragments below the
+// object's cutoff, or blend with alpha.
+override ALPHA_MASK: bool = false;
+override ALPHA_BLEND: bool = false;
+
 struct VertexIn {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    @location(4) uv: vec2<f32>,
+    @location(5) color: vec4<f32>,
 };
+
+// The surface's colour and alpha: base colour factor x texture x vertex colour (fragment
+// stages only: the texture is sampled with derivatives).
+fn surface_color(uv: vec2<f32>, vertex_color: vec4<f32>) -> vec4<f32> {
+    return object.base_color * textureSample(base_color_texture, base_color_sampler, uv) * vertex_color;
+}

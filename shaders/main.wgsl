@@ -61,32 +61,52 @@ struct VertexOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) color: vec4<f32>,
 };
 
-// A vertex at model-space `position` with `normal`, placed by the object's model matrix.
-fn place(position: vec4<f32>, normal: vec3<f32>) -> VertexOut {
+// Vertex `v` moved to model-space `position` and `normal`, placed by the object's model matrix.
+fn place(v: VertexIn, position: vec4<f32>, normal: vec3<f32>) -> VertexOut {
     let world = object.model * position;
     var out: VertexOut;
     out.clip = frame.view_proj * world;
     out.world = world.xyz;
     out.normal = (object.normal_matrix * vec4<f32>(normal, 0.0)).xyz;
+    out.uv = v.uv;
+    out.color = v.color;
     return out;
 }
 
 @vertex
 fn vs_main(v: VertexIn) -> VertexOut {
-    return place(vec4<f32>(v.position, 1.0), v.normal);
+    return place(v, vec4<f32>(v.position, 1.0), v.normal);
 }
 
 @vertex
 fn vs_main_skinned(v: VertexIn, s: SkinIn) -> VertexOut {
     let m = skin_matrix(s);
-    return place(m * vec4<f32>(v.position, 1.0), skin_normal(m, v.normal));
+    return place(v, m * vec4<f32>(v.position, 1.0), skin_normal(m, v.normal));
 }
 
 // True where shadows are looked up at all: shadows on and the surface receives them.
 fn receives_shadows() -> bool {
-    return frame.misc.y > 0.5 && object.color.w > 0.5;
+    return frame.misc.y > 0.5 && object.receives_shadows == 1u;
+}
+
+// The surface at a fragment, with fragments cut away where a masked pipeline's surface is not
+// there. Its normal faces the viewer: a back face (only drawn for double-sided materials) has
+// its normal flipped.
+struct Surface {
+    albedo: vec4<f32>,
+    normal: vec3<f32>,
+};
+
+fn surface(in: VertexOut, front: bool) -> Surface {
+    let albedo = surface_color(in.uv, in.color);
+    if (ALPHA_MASK && albedo.a < object.alpha_cutoff) {
+        discard;
+    }
+    return Surface(albedo, normalize(in.normal) * select(-1.0, 1.0, front));
 }
 
 // A visibility weakened by the shadow strength setting.
@@ -191,7 +211,7 @@ fn cookie_bilinear(uv: vec2<f32>, layer: u32) -> f32 {
 fn phong(n: vec3<f32>, l: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>) -> vec3<f32> {
     let n_dot_l = max(dot(n, l), 0.0);
     let r = reflect(-l, n);
-    let spec = object.phong.x * pow(max(dot(r, v), 0.0), object.phong.y);
+    let spec = object.specular * pow(max(dot(r, v), 0.0), object.shininess);
     return albedo * n_dot_l + vec3<f32>(spec) * step(0.0, dot(n, l));
 }
 
@@ -203,12 +223,10 @@ struct Shaded {
     visibility: vec4<f32>,
 };
 
-fn shade(in: VertexOut) -> Shaded {
-    let n = normalize(in.normal);
+fn shade(in: VertexOut, n: vec3<f32>, albedo: vec3<f32>) -> Shaded {
     let p = in.world;
     let v = normalize(frame.camera_position.xyz - p);
     let depth = dot(p - frame.camera_position.xyz, frame.camera_forward.xyz);
-    let albedo = object.color.rgb;
     var out = Shaded(albedo * frame.misc.x, vec4<f32>(-1.0));
 
     let sun = sun_sample(p, n, depth, receives_shadows());
@@ -233,8 +251,9 @@ fn shade(in: VertexOut) -> Shaded {
 }
 
 @fragment
-fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
-    return vec4<f32>(shade(in).color, 1.0);
+fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let s = surface(in, front);
+    return vec4<f32>(shade(in, s.normal, s.albedo.rgb).color, select(1.0, s.albedo.a, ALPHA_BLEND));
 }
 
 // The measuring view of the same fragment (never used for play): where the visible surface is,
@@ -249,12 +268,13 @@ struct DebugOut {
 };
 
 @fragment
-fn fs_debug(in: VertexOut) -> DebugOut {
-    let shaded = shade(in);
+fn fs_debug(in: VertexOut, @builtin(front_facing) front: bool) -> DebugOut {
+    let s = surface(in, front);
+    let shaded = shade(in, s.normal, s.albedo.rgb);
     let depth = dot(in.world - frame.camera_position.xyz, frame.camera_forward.xyz);
     return DebugOut(
         bitcast<vec4<u32>>(vec4<f32>(in.world, 1.0)),
-        bitcast<vec4<u32>>(vec4<f32>(normalize(in.normal), depth)),
+        bitcast<vec4<u32>>(vec4<f32>(s.normal, depth)),
         bitcast<vec4<u32>>(shaded.visibility),
     );
 }
@@ -268,8 +288,13 @@ struct ProbeOut {
     @location(1) @interpolate(flat) normal: vec3<f32>,
 };
 
+struct ProbeIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+};
+
 @vertex
-fn vs_probe(@builtin(vertex_index) i: u32, v: VertexIn) -> ProbeOut {
+fn vs_probe(@builtin(vertex_index) i: u32, v: ProbeIn) -> ProbeOut {
     let width = max(frame.counts.z, 1u);
     let height = max(frame.counts.w, 1u);
     let pixel = vec2<f32>(f32(i % width) + 0.5, f32(i / width) + 0.5);

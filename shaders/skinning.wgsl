@@ -6,12 +6,12 @@ struct SkinIn {
     @location(3) weights: vec4<f32>,
 };
 
-// Every skinned object's joint matrices (model space), one after another (bind group 2).
-@group(2) @binding(0) var<storage, read> joints: array<mat4x4<f32>>;
+// Every skinned object's joint matrices (model space), one after another (bind group 3).
+@group(3) @binding(0) var<storage, read> joints: array<mat4x4<f32>>;
 
 // The blend of joint matrices that moves this vertex.
 fn skin_matrix(s: SkinIn) -> mat4x4<f32> {
-    let base = object.skin.x;
+    let base = object.first_joint;
     return joints[base + s.joints.x] * s.weights.x
         + joints[base + s.joints.y] * s.weights.y
         + joints[base + s.joints.z] * s.weights.z

@@ -7,66 +7,139 @@
 //! of a position 60 m away (about 0.05 mm) and far below the thinnest caster tested (2 cm poles),
 //! so a surface never shadows itself and no real occluder is skipped.
 
-use crate::assets::MeshLibrary;
 use crate::assets::skin::skin_vertices;
-use crate::components::{DirectionalLight, Joints, Mesh, ShadowCaster, SpotLight, Transform};
+use crate::assets::{MeshLibrary, TextureData, TextureLibrary};
+use crate::components::{DirectionalLight, Joints, Material, Mesh, ShadowCaster, SpotLight, Transform};
 use crate::render::DebugFrame;
 use crate::systems::light_order;
 use bevy_ecs::prelude::*;
-use glam::{Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 use obvhs::cwbvh::CwBvh;
 use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle;
+use std::sync::Arc;
 
 /// How far shadow rays start off the surface, in metres (see the module notes).
 pub const RAY_OFFSET: f32 = 0.002;
+
+/// Where a cut-out caster's surface is there: alpha (texture × vertex colour × the material's
+/// opacity) at or above its cutoff, sampled at a ray's hit as the shadow pass samples it.
+#[derive(Clone, Debug)]
+pub struct Cutout {
+    /// Texture coordinates at the three corners.
+    pub uv: [Vec2; 3],
+    /// Alpha before the texture (vertex colour × opacity) at the three corners.
+    pub alpha: [f32; 3],
+    /// The base-colour texture, if any.
+    pub texture: Option<Arc<TextureData>>,
+    /// Alpha below which the surface is not there.
+    pub cutoff: f32,
+}
+
+impl Cutout {
+    /// True when the surface is there at barycentric weights `w` of the triangle.
+    #[must_use]
+    pub fn solid_at(&self, w: Vec3) -> bool {
+        let uv = self.uv[0] * w.x + self.uv[1] * w.y + self.uv[2] * w.z;
+        let alpha = self.alpha[0] * w.x + self.alpha[1] * w.y + self.alpha[2] * w.z;
+        alpha * self.texture.as_ref().map_or(1.0, |t| t.alpha(uv)) >= self.cutoff
+    }
+}
+
+/// One triangle of a shadow caster, in world space, and its cutout if its material has one.
+#[derive(Clone, Debug)]
+pub struct CasterTriangle {
+    /// The corners.
+    pub corners: [Vec3; 3],
+    /// Where the surface is there (none: everywhere).
+    pub cutout: Option<Cutout>,
+}
 
 /// The shadow casters of a scene as triangles in a BVH.
 pub struct Occluders {
     bvh: CwBvh,
     triangles: Vec<Triangle>,
+    /// For each triangle, its cutout, if any.
+    cutouts: Vec<Option<Cutout>>,
 }
 
 /// World-space triangles of every shadow caster of `world` as it is now: each mesh skinned on
-/// the CPU with the joint matrices the GPU was given, then placed by its model matrix.
-pub fn caster_triangles(world: &mut World) -> Vec<[Vec3; 3]> {
+/// the CPU with the joint matrices the GPU was given, then placed by its model matrix; masked
+/// and blended materials carry their cutout (blended ones cut at [`crate::components::BLEND_CUTOFF`],
+/// as in the shadow pass).
+pub fn caster_triangles(world: &mut World) -> Vec<CasterTriangle> {
     let mut out = Vec::new();
-    let mut casters = world.query_filtered::<(&Mesh, &Transform, Option<&Joints>), With<ShadowCaster>>();
+    let mut casters =
+        world.query_filtered::<(&Mesh, &Transform, Option<&Joints>, Option<&Material>), With<ShadowCaster>>();
     let library = world.resource::<MeshLibrary>();
-    for (mesh, transform, joints) in casters.iter(world) {
+    let textures = world.get_resource::<TextureLibrary>();
+    for (mesh, transform, joints, material) in casters.iter(world) {
         let Some(data) = library.get(*mesh) else { continue };
         let vertices = match joints {
             Some(j) if data.skin.is_some() => skin_vertices(data, &j.0),
             _ => data.vertices.clone(),
         };
+        let material = material.copied().unwrap_or_default();
+        let texture = material.texture.and_then(|t| textures.and_then(|l| l.get(t)).cloned());
         let model = transform.matrix();
         for t in data.indices.chunks_exact(3) {
-            let corner = |k: usize| model.transform_point3(Vec3::from(vertices[t[k] as usize].position));
-            out.push([corner(0), corner(1), corner(2)]);
+            let [a, b, c] = [0, 1, 2].map(|k| &vertices[t[k] as usize]);
+            let cutout = material.alpha_mode.cutoff().map(|cutoff| Cutout {
+                uv: [a, b, c].map(|v| Vec2::from(v.uv)),
+                alpha: [a, b, c].map(|v| v.color[3] * material.opacity),
+                texture: texture.clone(),
+                cutoff,
+            });
+            let corners = [a, b, c].map(|v| model.transform_point3(Vec3::from(v.position)));
+            out.push(CasterTriangle { corners, cutout });
         }
     }
     out
 }
 
 impl Occluders {
-    /// A BVH over `triangles`.
+    /// A BVH over solid `triangles`.
     pub fn new(triangles: &[[Vec3; 3]]) -> Occluders {
-        let triangles: Vec<Triangle> = triangles
-            .iter()
-            .filter(|t| t.iter().all(|p| p.is_finite()))
-            .map(|t| Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() })
-            .collect();
+        Occluders::with_cutouts(triangles.iter().map(|&corners| CasterTriangle { corners, cutout: None }).collect())
+    }
+
+    /// A BVH over caster triangles, some of them cut out.
+    pub fn with_cutouts(triangles: Vec<CasterTriangle>) -> Occluders {
+        let (triangles, cutouts): (Vec<Triangle>, Vec<Option<Cutout>>) = triangles
+            .into_iter()
+            .filter(|t| t.corners.iter().all(|p| p.is_finite()))
+            .map(|t| {
+                let [v0, v1, v2] = t.corners.map(Into::into);
+                (Triangle { v0, v1, v2 }, t.cutout)
+            })
+            .unzip();
         let bvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(
             &triangles,
             obvhs::BvhBuildParams::fast_build(),
             &mut std::time::Duration::default(),
         );
-        Occluders { bvh, triangles }
+        Occluders { bvh, triangles, cutouts }
     }
 
     /// The casters of `world` as they are now.
     pub fn from_world(world: &mut World) -> Occluders {
-        Occluders::new(&caster_triangles(world))
+        Occluders::with_cutouts(caster_triangles(world))
+    }
+
+    /// Distance along `r` to BVH primitive `i`, infinite where it misses or its cutout is not
+    /// there.
+    fn hit(&self, r: &Ray, i: usize) -> f32 {
+        let k = self.bvh.primitive_indices[i] as usize;
+        let tri = &self.triangles[k];
+        let t = tri.intersect(r);
+        match &self.cutouts[k] {
+            Some(cutout) if t.is_finite() => {
+                let p = Vec3::from(r.origin + r.direction * t);
+                let w = barycentric(p, [tri.v0.into(), tri.v1.into(), tri.v2.into()]);
+                if cutout.solid_at(w) { t } else { f32::INFINITY }
+            }
+            _ => t,
+        }
     }
 
     /// True when a caster lies on the segment from `origin` along unit `dir` up to `max`.
@@ -75,7 +148,7 @@ impl Occluders {
             return false;
         }
         let ray = Ray::new(origin.into(), positive_zeros(dir), 0.0, max);
-        !self.bvh.ray_traverse_miss(ray, |r, i| self.triangles[self.bvh.primitive_indices[i] as usize].intersect(r))
+        !self.bvh.ray_traverse_miss(ray, |r, i| self.hit(r, i))
     }
 
     /// Distance along unit `dir` from `origin` to the nearest caster, if any.
@@ -85,10 +158,22 @@ impl Occluders {
         }
         let mut hit = RayHit::none();
         let ray = Ray::new_inf(origin.into(), positive_zeros(dir));
-        self.bvh
-            .ray_traverse(ray, &mut hit, |r, i| self.triangles[self.bvh.primitive_indices[i] as usize].intersect(r))
-            .then_some(hit.t)
+        self.bvh.ray_traverse(ray, &mut hit, |r, i| self.hit(r, i)).then_some(hit.t)
     }
+}
+
+/// Barycentric weights of `p` (in the triangle's plane) against `corners`.
+fn barycentric(p: Vec3, [a, b, c]: [Vec3; 3]) -> Vec3 {
+    let (e1, e2, d) = (b - a, c - a, p - a);
+    let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let det = d11 * d22 - d12 * d12;
+    if det.abs() <= f32::MIN_POSITIVE {
+        return Vec3::X;
+    }
+    let (dp1, dp2) = (d.dot(e1), d.dot(e2));
+    let v = (d22 * dp1 - d12 * dp2) / det;
+    let w = (d11 * dp2 - d12 * dp1) / det;
+    Vec3::new(1.0 - v - w, v, w)
 }
 
 /// `d` with any -0.0 made +0.0: the BVH picks its traversal order from the sign bits of the
@@ -318,6 +403,39 @@ mod tests {
             radius: 0.1,
         };
         assert!(short.truth(&occ, Vec3::ZERO, Vec3::Y, &disc).is_none(), "out of range");
+    }
+
+    #[test]
+    fn cut_out_casters_stop_rays_only_where_they_are_there() {
+        // A quad at height 2 whose left half (u < 0.5) is cut away by its vertex alpha.
+        let [a, b, c, d] = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].map(|(x, z)| Vec3::new(x, 2.0, z));
+        let cut = |corners: [Vec3; 3]| CasterTriangle {
+            corners,
+            cutout: Some(Cutout {
+                uv: corners.map(|p| Vec2::new((p.x + 1.0) / 2.0, 0.0)),
+                alpha: corners.map(|p| (p.x + 1.0) / 2.0),
+                texture: None,
+                cutoff: 0.5,
+            }),
+        };
+        let occ = Occluders::with_cutouts(vec![cut([a, b, c]), cut([a, c, d])]);
+        assert!(occ.occluded(Vec3::new(0.5, 0.0, 0.1), Vec3::Y, f32::INFINITY), "alpha 0.75");
+        assert!(!occ.occluded(Vec3::new(-0.5, 0.0, 0.1), Vec3::Y, f32::INFINITY), "alpha 0.25: cut away");
+        assert_eq!(occ.first_hit(Vec3::new(-0.5, 0.0, 0.3), Vec3::Y), None);
+        // A solid quad below the cut-away part still stops the ray: traversal goes on past it.
+        let mut both = vec![cut([a, b, c]), cut([a, c, d])];
+        both.extend(unit_quad_at(1.0).into_iter().map(|corners| CasterTriangle { corners, cutout: None }));
+        let occ = Occluders::with_cutouts(both);
+        assert_eq!(occ.first_hit(Vec3::new(-0.5, 0.0, 0.3), Vec3::Y), Some(1.0));
+        assert_eq!(occ.first_hit(Vec3::new(-0.5, 3.0, 0.3), Vec3::NEG_Y), Some(2.0), "from above, the solid quad");
+    }
+
+    #[test]
+    fn barycentric_weights_rebuild_the_point() {
+        let t = [Vec3::ZERO, Vec3::X * 2.0, Vec3::new(0.0, 1.0, 3.0)];
+        let w = barycentric(Vec3::new(0.5, 0.25, 0.75), t);
+        assert!((t[0] * w.x + t[1] * w.y + t[2] * w.z).abs_diff_eq(Vec3::new(0.5, 0.25, 0.75), 1e-6));
+        assert_eq!(barycentric(Vec3::ONE, [Vec3::ZERO; 3]), Vec3::X, "a degenerate triangle");
     }
 
     #[test]

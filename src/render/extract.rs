@@ -19,10 +19,18 @@ pub const MAX_SPOTS: usize = 8;
 pub struct ObjectUniform {
     model: Mat4,
     normal_matrix: Mat4,
-    color: Vec4,
-    phong: Vec4,
-    /// x: the object's first matrix in the joint palette (skinned objects only).
-    skin: [u32; 4],
+    /// Linear RGBA base colour factor.
+    base_color: Vec4,
+    specular: f32,
+    shininess: f32,
+    /// Alpha below which a masked surface (and, in shadow maps and the measuring view, a
+    /// blended one) is cut away; 0 for opaque.
+    alpha_cutoff: f32,
+    /// 1 if the surface takes shadows.
+    pub receives_shadows: u32,
+    /// The object's first matrix in the joint palette (skinned objects only).
+    first_joint: u32,
+    _pad: [u32; 3],
 }
 
 #[repr(C)]
@@ -74,6 +82,12 @@ pub struct DrawItem {
     pub caster: bool,
     /// Deformed by joint matrices from [`FrameData::joints`].
     pub skinned: bool,
+    /// Its material's base-colour texture.
+    pub texture: Option<Texture>,
+    /// How its material uses alpha.
+    pub alpha: AlphaMode,
+    /// Drawn from both sides.
+    pub double_sided: bool,
 }
 
 /// Which light a shadow-map layer belongs to.
@@ -122,6 +136,9 @@ pub struct FrameData {
     pub camera_view_proj: Mat4,
     /// The joint matrices of every skinned object, one after another.
     pub joints: Vec<Mat4>,
+    /// The order the main pass draws [`FrameData::items`] in: every opaque and masked object,
+    /// then the blended ones from the farthest to the nearest.
+    pub draw_order: Vec<usize>,
 }
 
 /// Shortest distance over which the sun's shadow fades to nothing at the shadow distance, as a
@@ -227,19 +244,33 @@ pub fn extract(world: &mut World) -> FrameData {
             )>()
             .iter(world)
             .map(|(mesh, t, bounds, material, skin, caster, receiver)| {
-                let m = material.copied().unwrap_or(Material::color(0.8, 0.8, 0.8));
+                let m = material.copied().unwrap_or_default();
                 let model = t.matrix();
                 let object = ObjectUniform {
                     model,
                     normal_matrix: model.inverse().transpose(),
-                    color: m.base_color.extend(receiver as u32 as f32),
-                    phong: Vec4::new(m.specular, m.shininess.max(1.0), 0.0, 0.0),
-                    skin: [joints.len() as u32, 0, 0, 0],
+                    base_color: m.base_color.extend(m.opacity),
+                    specular: m.specular,
+                    shininess: m.shininess.max(1.0),
+                    alpha_cutoff: m.alpha_mode.cutoff().unwrap_or(0.0),
+                    receives_shadows: receiver as u32,
+                    first_joint: joints.len() as u32,
+                    _pad: [0; 3],
                 };
                 joints.extend(skin.map_or(&[][..], |s| &s.0));
-                (DrawItem { mesh: *mesh, object, caster, skinned: skin.is_some() }, bounds.0)
+                let item = DrawItem {
+                    mesh: *mesh,
+                    object,
+                    caster,
+                    skinned: skin.is_some(),
+                    texture: m.texture,
+                    alpha: m.alpha_mode,
+                    double_sided: m.double_sided,
+                };
+                (item, bounds.0)
             })
             .collect();
+        let draw_order = draw_order(&items, eye);
 
     let cull_to = (settings.caster_culling == CasterCulling::CameraView).then_some(&camera_view_proj);
     let mut layers = Vec::new();
@@ -281,7 +312,19 @@ pub fn extract(world: &mut World) -> FrameData {
         ),
     };
     let items = items.into_iter().map(|(item, _)| item).collect();
-    FrameData { frame, items, layers, camera_view_proj, joints }
+    FrameData { frame, items, layers, camera_view_proj, joints, draw_order }
+}
+
+/// Opaque and masked objects in their own order, then blended ones back to front (by the
+/// distance from `eye` to the centre of their bounds), so each blends over what is behind it.
+fn draw_order(items: &[(DrawItem, Aabb)], eye: Vec3) -> Vec<usize> {
+    let blended = |i: &usize| items[*i].0.alpha == AlphaMode::Blend;
+    let mut order: Vec<usize> = (0..items.len()).filter(|i| !blended(i)).collect();
+    let mut back: Vec<(f32, usize)> =
+        (0..items.len()).filter(blended).map(|i| (items[i].1.center().distance_squared(eye), i)).collect();
+    back.sort_by(|a, b| b.0.total_cmp(&a.0));
+    order.extend(back.into_iter().map(|(_, i)| i));
+    order
 }
 
 #[cfg(test)]
@@ -290,7 +333,7 @@ mod tests {
 
     #[test]
     fn uniform_sizes_match_the_wgsl_layout() {
-        // WGSL: Object = 2 mat4 + 3 vec4; Sun = 2 vec4 + 4 mat4 + 5 vec4; Spot = 3 vec4 + mat4 +
+        // WGSL: Object = 2 mat4 + vec4 + 8 scalars; Sun = 2 vec4 + 4 mat4 + 5 vec4; Spot = 3 vec4 + mat4 +
         // 2 vec4; Frame = mat4 + 2 vec4 + Sun + 8 Spot + 3 vec4.
         assert_eq!(std::mem::size_of::<ObjectUniform>(), 176);
         assert_eq!(std::mem::size_of::<SunUniform>(), 32 + 256 + 80);
@@ -305,7 +348,7 @@ mod tests {
         let data = extract(&mut app.world);
         let ground = data.items.iter().filter(|i| !i.caster).count();
         assert_eq!(ground, 1, "only the ground is not a caster");
-        assert!(data.items.iter().all(|i| i.object.color.w == 1.0), "all sample surfaces receive");
+        assert!(data.items.iter().all(|i| i.object.receives_shadows == 1), "all sample surfaces receive");
         let cascades = Settings::default().cascades as usize;
         assert_eq!(data.layers.len(), cascades + 2, "the sun's cascades, then one layer per spot");
         let order: Vec<u32> = data.layers.iter().map(|l| l.layer).collect();

@@ -1,11 +1,12 @@
 //! The main pass: Phong lighting from the camera, each light's share scaled by its shadow test.
 
-use super::extract::{FrameData, FrameUniform};
-use super::mesh::{Drawables, JointPalette, PipelineDesc, PipelinePair};
+use super::extract::{DrawItem, FrameData, FrameUniform};
+use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
+use super::texture::MaterialTextures;
 use super::shadow_pass::ShadowMaps;
 use super::timing::PassTimer;
 use crate::assets::{COOKIE_SIZE, cookie_image};
-use crate::components::Cookie;
+use crate::components::{AlphaMode, Cookie};
 
 /// Depth format of the camera's depth buffer.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -14,9 +15,9 @@ const SKY: wgpu::Color = wgpu::Color { r: 0.38, g: 0.55, b: 0.78, a: 1.0 };
 
 /// Pipeline, frame uniform and the bind group that ties in the shadow maps.
 pub struct MainPass {
-    pipelines: PipelinePair,
+    pipelines: Pipelines,
     /// The measuring pipelines (world position, normal, visibility), built on first use.
-    debug: Option<PipelinePair>,
+    debug: Option<Pipelines>,
     /// The probe pipeline (shadow tests at given points), built on first use.
     probe: Option<wgpu::RenderPipeline>,
     module: wgpu::ShaderModule,
@@ -26,12 +27,42 @@ pub struct MainPass {
 }
 
 /// Where one main pass draws: its colour targets with their clear colours, the depth buffer,
-/// the pipelines, and the timer to stamp it with.
+/// the pipelines (the picture's, or the measuring view's), and the timer to stamp it with.
 struct Pass<'a> {
     colors: &'a [(&'a wgpu::TextureView, wgpu::Color)],
     depth: &'a wgpu::TextureView,
-    pipelines: &'a PipelinePair,
+    pipelines: &'a Pipelines,
+    measuring: bool,
     timer: Option<&'a PassTimer>,
+}
+
+/// How an object is drawn in the main pass: back faces culled unless its material is double
+/// sided; in the measuring view (integer targets, which cannot blend) a blended surface counts
+/// as masked at its cutoff, as it does in the shadow maps and the truth.
+fn main_variant(item: &DrawItem, measuring: bool) -> Variant {
+    let alpha = match item.alpha {
+        AlphaMode::Opaque => AlphaClass::Opaque,
+        AlphaMode::Mask { .. } => AlphaClass::Mask,
+        AlphaMode::Blend if measuring => AlphaClass::Mask,
+        AlphaMode::Blend => AlphaClass::Blend,
+    };
+    let cull = (!item.double_sided).then_some(wgpu::Face::Back);
+    Variant { skinned: item.skinned, cull, alpha }
+}
+
+/// The main pass's shader module, its pieces joined in the order they depend on each other.
+fn main_module(device: &wgpu::Device) -> wgpu::ShaderModule {
+    let source = concat!(
+        include_str!("../../shaders/common.wgsl"),
+        include_str!("../../shaders/skinning.wgsl"),
+        include_str!("../../shaders/shadow_sampling.wgsl"),
+        include_str!("../../shaders/cascades.wgsl"),
+        include_str!("../../shaders/main.wgsl")
+    );
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("main.wgsl"),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    })
 }
 
 /// Format of the measuring pass's three targets (world position, normal, visibility): 32-bit
@@ -77,6 +108,7 @@ impl MainPass {
         device: &wgpu::Device,
         object_layout: &wgpu::BindGroupLayout,
         palette: &JointPalette,
+        textures: &MaterialTextures,
         format: wgpu::TextureFormat,
         maps: &ShadowMaps,
     ) -> Self {
@@ -135,28 +167,16 @@ impl MainPass {
             compare: Some(wgpu::CompareFunction::LessEqual),
             ..Default::default()
         });
-        let source = concat!(
-            include_str!("../../shaders/common.wgsl"),
-            include_str!("../../shaders/skinning.wgsl"),
-            include_str!("../../shaders/shadow_sampling.wgsl"),
-            include_str!("../../shaders/cascades.wgsl"),
-            include_str!("../../shaders/main.wgsl")
-        );
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("main.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
-        let targets = [Some(format.into())];
-        let desc = PipelineDesc {
+        let module = main_module(device);
+        let recipe = Recipe {
             label: "main",
-            module: &module,
+            module: module.clone(),
             vertex: "vs_main",
-            fragment: Some(("fs_main", &targets)),
-            groups: [&frame_layout, object_layout],
+            fragment: "fs_main",
+            targets: vec![Some(format.into())],
             depth: depth_test(),
-            cull: Some(wgpu::Face::Back),
         };
-        let pipelines = PipelinePair::new(device, &desc, palette);
+        let pipelines = Pipelines::new(device, recipe, [&frame_layout, object_layout], palette, textures);
         let cookies = cookie_buffer(device);
         let frame = FrameResources { layout: frame_layout, buffer: frame_buffer, shadow_sampler: sampler, cookies };
         let bind_group = frame.bind(device, maps);
@@ -165,21 +185,28 @@ impl MainPass {
     }
 
     /// Builds the measuring pipelines if they are not built yet.
-    pub fn ensure_debug(&mut self, device: &wgpu::Device, palette: &JointPalette) {
+    pub fn ensure_debug(&mut self, device: &wgpu::Device, palette: &JointPalette, textures: &MaterialTextures) {
         if self.debug.is_some() {
             return;
         }
-        let targets = [Some(DEBUG_FORMAT.into()), Some(DEBUG_FORMAT.into()), Some(DEBUG_FORMAT.into())];
-        let desc = PipelineDesc {
+        let recipe = Recipe {
             label: "measure",
-            module: &self.module,
+            module: self.module.clone(),
             vertex: "vs_main",
-            fragment: Some(("fs_debug", &targets)),
-            groups: [&self.frame.layout, &self.object_layout],
+            fragment: "fs_debug",
+            targets: vec![Some(DEBUG_FORMAT.into()); 3],
             depth: depth_test(),
-            cull: Some(wgpu::Face::Back),
         };
-        self.debug = Some(PipelinePair::new(device, &desc, palette));
+        let groups = [&self.frame.layout, &self.object_layout];
+        self.debug = Some(Pipelines::new(device, recipe, groups, palette, textures));
+    }
+
+    /// Builds the pipelines the objects of `data` need (measuring ones too, once those exist).
+    pub fn prepare(&mut self, device: &wgpu::Device, data: &FrameData) {
+        self.pipelines.prepare(device, data.items.iter().map(|i| main_variant(i, false)));
+        if let Some(debug) = &mut self.debug {
+            debug.prepare(device, data.items.iter().map(|i| main_variant(i, true)));
+        }
     }
 
     /// Points the pass at new shadow maps after they were re-created.
@@ -269,7 +296,7 @@ impl MainPass {
         with: Drawables<'_>,
         timer: Option<&PassTimer>,
     ) {
-        let pass = Pass { colors: &[(color, SKY)], depth, pipelines: &self.pipelines, timer };
+        let pass = Pass { colors: &[(color, SKY)], depth, pipelines: &self.pipelines, measuring: false, timer };
         self.encode_into(queue, encoder, pass, data, with);
     }
 
@@ -287,7 +314,7 @@ impl MainPass {
     ) {
         let Some(debug) = &self.debug else { return };
         let clear = targets.each_ref().map(|t| (t, wgpu::Color::TRANSPARENT));
-        let pass = Pass { colors: &clear, depth, pipelines: debug, timer };
+        let pass = Pass { colors: &clear, depth, pipelines: debug, measuring: true, timer };
         self.encode_into(queue, encoder, pass, data, with);
     }
 
@@ -295,7 +322,7 @@ impl MainPass {
         &self,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        Pass { colors, depth, pipelines, timer }: Pass<'_>,
+        Pass { colors, depth, pipelines, measuring, timer }: Pass<'_>,
         data: &FrameData,
         with: Drawables<'_>,
     ) {
@@ -324,7 +351,8 @@ impl MainPass {
             multiview_mask: None,
         });
         pass.set_bind_group(0, &self.bind_group, &[]);
-        pipelines.draw(&mut pass, with, &data.items, 0..data.items.len());
+        let order = data.draw_order.iter().map(|&i| (i, main_variant(&data.items[i], measuring)));
+        pipelines.draw(&mut pass, with, &data.items, order);
     }
 }
 

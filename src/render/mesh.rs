@@ -1,8 +1,11 @@
-//! Drawing meshes: their GPU buffers, the joint palette that skinned meshes read, and every
-//! pipeline built twice, once for rigid meshes and once for skinned ones.
+//! Drawing meshes: their GPU buffers, the joint palette that skinned meshes read, and the
+//! pipelines of a pass, one for each variant (rigid or skinned, which faces, what alpha does)
+//! the scene's objects need, each built the first time it is needed.
 
 use super::extract::DrawItem;
+use super::texture::MaterialTextures;
 use super::uniform_array::UniformArray;
+use std::collections::HashMap;
 use crate::assets::{MeshData, SkinVertex, Vertex};
 use glam::Mat4;
 use wgpu::util::DeviceExt;
@@ -33,9 +36,10 @@ impl GpuMesh {
     }
 }
 
-/// How the shaders read a [`Vertex`] (locations 0, 1) and a [`SkinVertex`] (locations 2, 3).
+/// How the shaders read a [`Vertex`] (locations 0, 1, 4, 5) and a [`SkinVertex`] (locations 2, 3).
 fn vertex_layouts(skinned: bool) -> Vec<Option<wgpu::VertexBufferLayout<'static>>> {
-    const VERTEX: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+    const VERTEX: [wgpu::VertexAttribute; 4] =
+        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 4 => Float32x2, 5 => Float32x4];
     const SKIN: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![2 => Uint16x4, 3 => Float32x4];
     let layout = |stride, attributes| {
         Some(wgpu::VertexBufferLayout { array_stride: stride, step_mode: wgpu::VertexStepMode::Vertex, attributes })
@@ -108,7 +112,8 @@ impl JointPalette {
     }
 }
 
-/// What every pass draws from: the uploaded meshes, the per-object uniforms and the joints.
+/// What every pass draws from: the uploaded meshes, the per-object uniforms, the joints and the
+/// material textures.
 #[derive(Clone, Copy)]
 pub struct Drawables<'a> {
     /// Meshes by library index.
@@ -117,98 +122,169 @@ pub struct Drawables<'a> {
     pub objects: &'a UniformArray,
     /// The joint palette of skinned items.
     pub joints: &'a JointPalette,
+    /// The base-colour textures.
+    pub textures: &'a MaterialTextures,
 }
 
-/// What a pipeline pair is made of: one shader module, a vertex entry point `vertex` (and
-/// `{vertex}_skinned`), an optional fragment stage, bind groups 0 and 1, and the depth test.
-pub struct PipelineDesc<'a> {
-    /// Debug label.
-    pub label: &'a str,
-    /// The shader module holding every entry point.
-    pub module: &'a wgpu::ShaderModule,
-    /// The rigid vertex entry point.
-    pub vertex: &'a str,
-    /// Fragment entry point and colour targets, or none for depth only.
-    pub fragment: Option<(&'a str, &'a [Option<wgpu::ColorTargetState>])>,
-    /// Layouts of bind groups 0 and 1.
-    pub groups: [&'a wgpu::BindGroupLayout; 2],
-    /// Depth format and test.
-    pub depth: wgpu::DepthStencilState,
+/// How a pipeline treats a surface's alpha.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AlphaClass {
+    /// Ignored.
+    Opaque,
+    /// Fragments below the object's cutoff are discarded.
+    Mask,
+    /// Blended over what is behind, without writing depth.
+    Blend,
+}
+
+/// What differs between the pipelines of one pass, chosen per object as it is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Variant {
+    /// Deformed by joints (the `_skinned` vertex entry point and the joint palette).
+    pub skinned: bool,
     /// Which faces are not drawn.
     pub cull: Option<wgpu::Face>,
+    /// What alpha does.
+    pub alpha: AlphaClass,
 }
 
-/// The same pipeline for rigid meshes and for skinned meshes.
-pub struct PipelinePair {
-    rigid: wgpu::RenderPipeline,
-    skinned: wgpu::RenderPipeline,
+/// What every pipeline of a pass shares: one shader module with a vertex entry point `vertex`
+/// (and `{vertex}_skinned`) and a fragment entry point, its colour targets (none for depth
+/// only, where opaque objects get no fragment stage at all), bind groups 0 and 1, and the depth
+/// test. The fragment stage is told through the pipeline constants `ALPHA_MASK` and
+/// `ALPHA_BLEND` what alpha does.
+pub struct Recipe {
+    /// Debug label.
+    pub label: &'static str,
+    /// The shader module holding every entry point.
+    pub module: wgpu::ShaderModule,
+    /// The rigid vertex entry point.
+    pub vertex: &'static str,
+    /// The fragment entry point.
+    pub fragment: &'static str,
+    /// Colour targets; empty for a depth-only pass.
+    pub targets: Vec<Option<wgpu::ColorTargetState>>,
+    /// Depth format and test (depth writes are turned off for blended objects).
+    pub depth: wgpu::DepthStencilState,
 }
 
-impl PipelinePair {
-    /// Builds both pipelines; the skinned one also binds `palette` as group 2.
-    pub fn new(device: &wgpu::Device, desc: &PipelineDesc<'_>, palette: &JointPalette) -> Self {
-        let build = |skinned: bool| {
-            let groups: Vec<Option<&wgpu::BindGroupLayout>> = if skinned {
-                vec![Some(desc.groups[0]), Some(desc.groups[1]), Some(&palette.layout)]
-            } else {
-                vec![Some(desc.groups[0]), Some(desc.groups[1])]
-            };
-            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(desc.label),
-                bind_group_layouts: &groups,
+/// The pipelines of one pass, built from one [`Recipe`] for each [`Variant`] the scene needs.
+pub struct Pipelines {
+    recipe: Recipe,
+    /// Layouts for rigid and skinned objects.
+    layouts: [wgpu::PipelineLayout; 2],
+    built: HashMap<Variant, wgpu::RenderPipeline>,
+}
+
+impl Pipelines {
+    /// The pipelines of `recipe`, bind groups 0 and 1 laid out as `groups`; group 2 holds the
+    /// material texture and, for skinned objects, group 3 the joint palette.
+    pub fn new(
+        device: &wgpu::Device,
+        recipe: Recipe,
+        groups: [&wgpu::BindGroupLayout; 2],
+        palette: &JointPalette,
+        textures: &MaterialTextures,
+    ) -> Self {
+        let layout = |skinned: bool| {
+            let mut all = vec![Some(groups[0]), Some(groups[1]), Some(&textures.layout)];
+            if skinned {
+                all.push(Some(&palette.layout));
+            }
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(recipe.label),
+                bind_group_layouts: &all,
                 immediate_size: 0,
-            });
-            let entry = if skinned { format!("{}_skinned", desc.vertex) } else { desc.vertex.to_string() };
-            let buffers = vertex_layouts(skinned);
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(desc.label),
-                layout: Some(&layout),
-                vertex: wgpu::VertexState {
-                    module: desc.module,
-                    entry_point: Some(&entry),
-                    compilation_options: Default::default(),
-                    buffers: &buffers,
-                },
-                primitive: wgpu::PrimitiveState { cull_mode: desc.cull, ..Default::default() },
-                depth_stencil: Some(desc.depth.clone()),
-                multisample: Default::default(),
-                fragment: desc.fragment.map(|(entry, targets)| wgpu::FragmentState {
-                    module: desc.module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    targets,
-                }),
-                multiview_mask: None,
-                cache: None,
             })
         };
-        PipelinePair { rigid: build(false), skinned: build(true) }
+        let layouts = [layout(false), layout(true)];
+        Pipelines { recipe, layouts, built: HashMap::new() }
     }
 
-    /// Draws the objects `which` of `items`, switching to the skinned pipeline (and binding the
-    /// joint palette) for skinned objects; bind group 0 must already be set.
+    /// Builds the pipelines of `variants` that are not built yet.
+    pub fn prepare(&mut self, device: &wgpu::Device, variants: impl IntoIterator<Item = Variant>) {
+        for v in variants {
+            if !self.built.contains_key(&v) {
+                let pipeline = self.build(device, v);
+                self.built.insert(v, pipeline);
+            }
+        }
+    }
+
+    fn build(&self, device: &wgpu::Device, v: Variant) -> wgpu::RenderPipeline {
+        let r = &self.recipe;
+        let entry = if v.skinned { format!("{}_skinned", r.vertex) } else { r.vertex.to_string() };
+        let blend = v.alpha == AlphaClass::Blend;
+        let constants = [("ALPHA_MASK", (v.alpha == AlphaClass::Mask) as u32 as f64), ("ALPHA_BLEND", blend as u32 as f64)];
+        let targets: Vec<Option<wgpu::ColorTargetState>> = r
+            .targets
+            .iter()
+            .map(|t| {
+                t.clone().map(|t| wgpu::ColorTargetState {
+                    blend: blend.then_some(wgpu::BlendState {
+                        color: wgpu::BlendState::ALPHA_BLENDING.color,
+                        alpha: wgpu::BlendComponent::OVER,
+                    }),
+                    ..t
+                })
+            })
+            .collect();
+        let fragment = (!r.targets.is_empty() || v.alpha != AlphaClass::Opaque).then(|| wgpu::FragmentState {
+            module: &r.module,
+            entry_point: Some(r.fragment),
+            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+            targets: &targets,
+        });
+        let depth = wgpu::DepthStencilState { depth_write_enabled: Some(!blend), ..r.depth.clone() };
+        let buffers = vertex_layouts(v.skinned);
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(r.label),
+            layout: Some(&self.layouts[v.skinned as usize]),
+            vertex: wgpu::VertexState {
+                module: &r.module,
+                entry_point: Some(&entry),
+                compilation_options: Default::default(),
+                buffers: &buffers,
+            },
+            primitive: wgpu::PrimitiveState { cull_mode: v.cull, ..Default::default() },
+            depth_stencil: Some(depth),
+            multisample: Default::default(),
+            fragment,
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+
+    /// Draws the objects `which` of `items`, each with the pipeline of its variant (built by
+    /// [`Pipelines::prepare`]; objects whose variant is not built are skipped), binding its
+    /// uniform, texture and joints; bind group 0 must already be set.
     pub fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         with: Drawables<'_>,
         items: &[DrawItem],
-        which: impl IntoIterator<Item = usize>,
+        which: impl IntoIterator<Item = (usize, Variant)>,
     ) {
-        let Drawables { meshes, objects, joints: palette } = with;
-        let mut bound: Option<bool> = None;
-        for i in which {
-            let Some((item, Some(mesh))) =
-                items.get(i).map(|item| (item, meshes.get(item.mesh.0).and_then(Option::as_ref)))
-            else {
+        let Drawables { meshes, objects, joints: palette, textures } = with;
+        let mut bound: Option<Variant> = None;
+        let mut texture: Option<Option<crate::components::Texture>> = None;
+        for (i, variant) in which {
+            let (Some(item), Some(pipeline)) = (items.get(i), self.built.get(&variant)) else { continue };
+            let Some(mesh) = meshes.get(item.mesh.0).and_then(Option::as_ref) else { continue };
+            let skin = mesh.skin.as_ref().filter(|_| variant.skinned);
+            if variant.skinned && skin.is_none() {
                 continue;
-            };
-            let skin = mesh.skin.as_ref().filter(|_| item.skinned);
-            if bound != Some(skin.is_some()) {
-                pass.set_pipeline(if skin.is_some() { &self.skinned } else { &self.rigid });
-                if skin.is_some() {
-                    pass.set_bind_group(2, &palette.bind_group, &[]);
+            }
+            if bound != Some(variant) {
+                pass.set_pipeline(pipeline);
+                if variant.skinned {
+                    pass.set_bind_group(3, &palette.bind_group, &[]);
                 }
-                bound = Some(skin.is_some());
+                bound = Some(variant);
+            }
+            if texture != Some(item.texture) {
+                pass.set_bind_group(2, textures.bind_group(item.texture), &[]);
+                texture = Some(item.texture);
             }
             pass.set_bind_group(1, &objects.bind_group, &[objects.offset(i)]);
             pass.set_vertex_buffer(0, mesh.vertices.slice(..));

@@ -12,6 +12,7 @@ mod mesh;
 mod readback;
 mod renderer;
 mod shadow_pass;
+mod texture;
 mod timing;
 mod uniform_array;
 

@@ -3,11 +3,12 @@
 use super::extract::{ObjectUniform, extract};
 use super::main_pass::{DEPTH_FORMAT, MainPass};
 use super::mesh::{Drawables, GpuMesh, JointPalette};
+use super::texture::MaterialTextures;
 use super::shadow_pass::{ShadowPass, ShadowStats};
 use super::timing::{PassTimer, PassTimes};
 use super::uniform_array::UniformArray;
 use super::{Gpu, RenderError};
-use crate::assets::MeshLibrary;
+use crate::assets::{MeshLibrary, TextureLibrary};
 use crate::settings::Settings;
 use bevy_ecs::prelude::*;
 
@@ -23,6 +24,7 @@ enum Output<'a> {
 pub struct Renderer {
     objects: UniformArray,
     joints: JointPalette,
+    textures: MaterialTextures,
     meshes: Vec<Option<GpuMesh>>,
     shadow: ShadowPass,
     main: MainPass,
@@ -46,10 +48,11 @@ impl Renderer {
             wgpu::ShaderStages::VERTEX_FRAGMENT,
         );
         let joints = JointPalette::new(device);
-        let shadow = ShadowPass::new(device, &objects.layout, &joints, 16);
-        let main = MainPass::new(device, &objects.layout, &joints, format, &shadow.maps);
+        let textures = MaterialTextures::new(device, &gpu.queue);
+        let shadow = ShadowPass::new(device, &objects.layout, &joints, &textures, 16);
+        let main = MainPass::new(device, &objects.layout, &joints, &textures, format, &shadow.maps);
         gpu.check_errors()?;
-        Ok(Renderer { objects, joints, meshes: Vec::new(), shadow, main, depth: None, timer: None })
+        Ok(Renderer { objects, joints, textures, meshes: Vec::new(), shadow, main, depth: None, timer: None })
     }
 
     /// Renders the world as it is now into `target` (`width` x `height` pixels), drawing only the
@@ -75,7 +78,7 @@ impl Renderer {
         width: u32,
         height: u32,
     ) -> Result<(), RenderError> {
-        self.main.ensure_debug(&gpu.device, &self.joints);
+        self.main.ensure_debug(&gpu.device, &self.joints, &self.textures);
         self.draw(gpu, world, (width, height), Output::Measure(targets))
     }
 
@@ -121,8 +124,12 @@ impl Renderer {
             return Err(RenderError::ShadowMapTooLarge { size: settings.shadow_map_size, max });
         }
         self.upload_new_meshes(device, world.resource::<MeshLibrary>());
+        if let Some(library) = world.get_resource::<TextureLibrary>() {
+            self.textures.upload_new(device, queue, library);
+        }
         let depth = self.ensure_depth(device, width, height);
         let data = extract(world);
+        self.main.prepare(device, &data);
         let layer_count = data.layers.iter().map(|l| l.layer as usize + 1).max().unwrap_or(0);
         if self.shadow.ensure_maps(device, settings.shadow_map_size, layer_count) {
             self.main.rebind(device, &self.shadow.maps);
@@ -131,7 +138,8 @@ impl Renderer {
         self.objects.write(device, queue, &objects);
         self.joints.write(device, queue, &data.joints);
 
-        let drawables = Drawables { meshes: &self.meshes, objects: &self.objects, joints: &self.joints };
+        let drawables =
+            Drawables { meshes: &self.meshes, objects: &self.objects, joints: &self.joints, textures: &self.textures };
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         if let Some(timer) = &mut self.timer {
             timer.begin();

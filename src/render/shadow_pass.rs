@@ -3,8 +3,10 @@
 //! A layer's map is kept from frame to frame and drawn again only when the version the world
 //! gives it differs from the one it was drawn at (its light was dirty).
 
-use super::extract::{FrameData, LayerDraw, LightId};
-use super::mesh::{Drawables, JointPalette, PipelineDesc, PipelinePair};
+use super::extract::{DrawItem, FrameData, LayerDraw, LightId};
+use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
+use super::texture::MaterialTextures;
+use crate::components::AlphaMode;
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
 use crate::settings::ShadowFaces;
@@ -26,12 +28,9 @@ pub struct ShadowMaps {
     pub array_view: wgpu::TextureView,
 }
 
-/// Pipeline, per-layer matrices and the shadow-map array.
+/// Pipelines, per-layer matrices and the shadow-map array.
 pub struct ShadowPass {
-    /// Every face drawn ([`ShadowFaces::Both`]).
-    pipelines: PipelinePair,
-    /// Faces turned towards the light culled ([`ShadowFaces::Back`]).
-    back_faces: PipelinePair,
+    pipelines: Pipelines,
     layer_uniforms: UniformArray,
     /// The current shadow maps.
     pub maps: ShadowMaps,
@@ -93,6 +92,7 @@ impl ShadowPass {
         device: &wgpu::Device,
         object_layout: &wgpu::BindGroupLayout,
         palette: &JointPalette,
+        textures: &MaterialTextures,
         size: u32,
     ) -> Self {
         let layer_uniforms = UniformArray::new(device, "shadow layers", 64, wgpu::ShaderStages::VERTEX);
@@ -105,12 +105,12 @@ impl ShadowPass {
             label: Some("shadow.wgsl"),
             source: wgpu::ShaderSource::Wgsl(source.into()),
         });
-        let desc = PipelineDesc {
+        let recipe = Recipe {
             label: "shadow",
-            module: &module,
+            module,
             vertex: "vs_shadow",
-            fragment: None,
-            groups: [&layer_uniforms.layout, object_layout],
+            fragment: "fs_shadow",
+            targets: Vec::new(),
             depth: wgpu::DepthStencilState {
                 format: SHADOW_FORMAT,
                 depth_write_enabled: Some(true),
@@ -119,16 +119,11 @@ impl ShadowPass {
                 // Biasing is done when sampling, in texel units, so it works the same on every backend.
                 bias: Default::default(),
             },
-            // Both faces: a one-sided surface (the ground, a leaf) blocks light from either side,
-            // as it does in the ray-traced truth; on closed meshes the faces towards the light are
-            // nearer and win the depth test anyway.
-            cull: None,
         };
-        let pipelines = PipelinePair::new(device, &desc, palette);
-        // The light looks along its -Z like a camera, so the faces it sees are front faces.
-        let back_faces = PipelinePair::new(device, &PipelineDesc { cull: Some(wgpu::Face::Front), ..desc }, palette);
+        let groups = [&layer_uniforms.layout, object_layout];
+        let pipelines = Pipelines::new(device, recipe, groups, palette, textures);
         let maps = ShadowMaps::new(device, size, 2);
-        ShadowPass { pipelines, back_faces, layer_uniforms, maps, drawn: vec![None; 2] }
+        ShadowPass { pipelines, layer_uniforms, maps, drawn: vec![None; 2] }
     }
 
     /// Makes sure the maps are `size` texels and hold `layers`; true if they were re-created
@@ -174,6 +169,8 @@ impl ShadowPass {
             .collect();
         let matrices: Vec<Mat4> = todo.iter().map(|l| l.view_proj).collect();
         self.layer_uniforms.write::<Mat4>(device, queue, &matrices);
+        let variant = |i: usize| (i, shadow_variant(&data.items[i], faces));
+        self.pipelines.prepare(device, todo.iter().flat_map(|l| l.casters.iter().map(|&i| variant(i).1)));
         for (slot, layer) in todo.iter().enumerate() {
             let view = &self.maps.layer_views[layer.layer as usize];
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -189,11 +186,7 @@ impl ShadowPass {
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &self.layer_uniforms.bind_group, &[self.layer_uniforms.offset(slot)]);
-            let pipelines = match faces {
-                ShadowFaces::Both => &self.pipelines,
-                ShadowFaces::Back => &self.back_faces,
-            };
-            pipelines.draw(&mut pass, with, &data.items, layer.casters.iter().copied());
+            self.pipelines.draw(&mut pass, with, &data.items, layer.casters.iter().map(|&i| variant(i)));
             drop(pass);
             if let Some(drawn) = self.drawn.get_mut(layer.layer as usize) {
                 *drawn = Some(layer.version);
@@ -201,6 +194,18 @@ impl ShadowPass {
         }
         stats
     }
+}
+
+/// How a caster is drawn into a shadow map. Both faces by default: a one-sided surface (the
+/// ground, a leaf) blocks light from either side, as it does in the ray-traced truth, and on
+/// closed meshes the faces towards the light are nearer and win the depth test anyway. With
+/// [`ShadowFaces::Back`] the faces turned towards the light (front faces: the light looks along
+/// its -Z like a camera) are culled, but never those of a double-sided material. A blended
+/// caster is cut out like a masked one.
+fn shadow_variant(item: &DrawItem, faces: ShadowFaces) -> Variant {
+    let cull = (faces == ShadowFaces::Back && !item.double_sided).then_some(wgpu::Face::Front);
+    let alpha = if item.alpha == AlphaMode::Opaque { AlphaClass::Opaque } else { AlphaClass::Mask };
+    Variant { skinned: item.skinned, cull, alpha }
 }
 
 /// Layers to allocate for `needed`: at least 2 (GL cannot view a single-layer texture as an

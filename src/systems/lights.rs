@@ -364,6 +364,32 @@ mod tests {
     }
 
     #[test]
+    fn broken_caster_bounds_are_left_out_of_fitting_and_named_once() {
+        let mut world = world();
+        world.insert_resource(Notices::default());
+        world.spawn((Camera::default(), Transform::from_xyz(0.0, 2.0, 6.0)));
+        let sun = DirectionalLight { direction: Vec3::new(0.3, -1.0, 0.2), color: Vec3::ONE, intensity: 1.0 };
+        let light = world.spawn((sun, ShadowMap::default())).id();
+        let pillar = WorldBounds(Aabb::new(Vec3::new(-0.5, 0.0, -0.5), Vec3::new(0.5, 6.0, 0.5)));
+        world.spawn((Mesh(0), pillar, ShadowCaster));
+        let mut schedule = Schedule::default();
+        schedule.add_systems(update_light_matrices);
+        schedule.run(&mut world);
+        let matrices = |world: &World| world.get::<ShadowMap>(light).unwrap().layers.iter().map(|l| l.view_proj).collect::<Vec<_>>();
+        let clean = matrices(&world);
+        // A caster a million metres tall over the pillar, and one whose bounds are NaN.
+        let huge = WorldBounds(Aabb::new(Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 1.5e6, 1.0)));
+        world.spawn((Mesh(0), huge, ShadowCaster));
+        world.spawn((Mesh(0), WorldBounds(Aabb { min: Vec3::NAN, max: Vec3::NAN }), ShadowCaster));
+        schedule.run(&mut world);
+        schedule.run(&mut world);
+        assert_eq!(matrices(&world), clean, "the cascades are fitted as if they were not there");
+        let notices = &world.resource::<Notices>().0;
+        assert_eq!(notices.len(), 2, "each named once: {notices:?}");
+        assert!(notices.iter().all(|n| n.contains("left out of shadow fitting")), "{notices:?}");
+    }
+
+    #[test]
     fn layers_are_given_sun_cascades_first_then_spots() {
         let mut world = world();
         world.resource_mut::<Settings>().cascades = 3;

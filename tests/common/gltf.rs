@@ -277,3 +277,46 @@ impl TestModel {
         self
     }
 }
+
+/// A 2 m square in the XY plane facing +Z (corners at ±1), with texture coordinates u = (x + 1)
+/// / 2 and v = (1 - y) / 2, drawn with `material` (JSON); `image` (JSON, its data from `png` if
+/// given, stored in the buffer) is its base-colour texture when given, sampled nearest.
+pub fn quad_glb(material: Value, image: Option<(Value, Option<&[u8]>)>) -> Vec<u8> {
+    let mut bin = Vec::new();
+    let mut json = json!({
+        "asset": { "version": "2.0" },
+        "scene": 0, "scenes": [{ "nodes": [0] }], "nodes": [{ "mesh": 0 }],
+        "buffers": [{ "byteLength": 0 }], "bufferViews": [], "accessors": [],
+        "materials": [material],
+    });
+    let corners = [(-1.0f32, -1.0f32), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    let positions: Vec<f32> = corners.iter().flat_map(|&(x, y)| [x, y, 0.0]).collect();
+    let normals: Vec<f32> = corners.iter().flat_map(|_| [0.0, 0.0, 1.0]).collect();
+    let uvs: Vec<f32> = corners.iter().flat_map(|&(x, y)| [(x + 1.0) / 2.0, (1.0 - y) / 2.0]).collect();
+    let pos = push(&mut json, &mut bin, floats(&positions),
+        json!({ "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1.0, -1.0, 0.0], "max": [1.0, 1.0, 0.0] }));
+    let nor = push(&mut json, &mut bin, floats(&normals), json!({ "componentType": 5126, "count": 4, "type": "VEC3" }));
+    let uv = push(&mut json, &mut bin, floats(&uvs), json!({ "componentType": 5126, "count": 4, "type": "VEC2" }));
+    let indices: Vec<u8> = [0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()).collect();
+    let idx = push(&mut json, &mut bin, indices, json!({ "componentType": 5123, "count": 6, "type": "SCALAR" }));
+    json["meshes"] = json!([{ "primitives": [{
+        "attributes": { "POSITION": pos, "NORMAL": nor, "TEXCOORD_0": uv }, "indices": idx, "material": 0 }] }]);
+    if let Some((mut image, png)) = image {
+        if let Some(png) = png {
+            while !bin.len().is_multiple_of(4) {
+                bin.push(0);
+            }
+            let views = json["bufferViews"].as_array_mut().unwrap();
+            views.push(json!({ "buffer": 0, "byteOffset": bin.len(), "byteLength": png.len() }));
+            image["bufferView"] = json!(views.len() - 1);
+            image["mimeType"] = json!("image/png");
+            bin.extend_from_slice(png);
+        }
+        json["images"] = json!([image]);
+        json["samplers"] = json!([{ "magFilter": 9728, "minFilter": 9728 }]);
+        json["textures"] = json!([{ "source": 0, "sampler": 0 }]);
+        json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({ "index": 0 });
+    }
+    json["buffers"][0]["byteLength"] = json!(bin.len());
+    TestModel { json, bin }.glb()
+}
