@@ -133,3 +133,32 @@ fn the_shadow_follows_the_character_as_it_walks() {
     let moved = walker_at(t1) - walker_at(t0);
     assert!((c1 - c0).distance(moved) < 0.3, "the shadow moved {:?}, the character {moved:?}", c1 - c0);
 }
+
+#[test]
+fn the_character_wears_its_striped_texture() {
+    let mut app = App::empty(Settings { shadow_map_size: 1024, ambient: 0.2, ..Settings::default() }).unwrap();
+    let model = Arc::new(parse_model(CHARACTER_GLB, None, "character.glb").unwrap());
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+    assert!(model.parts.iter().filter(|p| p.texture.is_some()).count() == 1, "the shirt is textured");
+    spawn_model(&mut app.world, model, Transform::default(), None);
+    let sun = DirectionalLight { direction: Vec3::new(0.0, -0.3, -1.0).normalize(), color: Vec3::ONE, intensity: 1.0 };
+    app.world.spawn((sun, ShadowMap::default()));
+    app.world.spawn(camera_at(Vec3::new(0.0, 1.2, 2.0), Vec3::new(0.0, 1.2, 0.0)));
+    let image = common::render(&mut app, 0.0);
+    // Down the front of the torso, a pixel every centimetre: cream and navy bands alternate.
+    let bands: Vec<bool> = (0..45)
+        .filter_map(|k| {
+            let (x, y) = common::pixel_of(&mut app, Vec3::new(0.0, 1.38 - 0.01 * k as f32, 0.12));
+            let [r, _, b, _] = image.pixel(x, y)?;
+            let (r, b) = (r as i32, b as i32);
+            match (r > 150 && r + 10 > b, b > r + 30) {
+                (true, false) => Some(true),
+                (false, true) => Some(false),
+                _ => None,
+            }
+        })
+        .collect();
+    let changes = bands.windows(2).filter(|w| w[0] != w[1]).count();
+    let (cream, navy) = (bands.iter().filter(|&&c| c).count(), bands.iter().filter(|&&c| !c).count());
+    assert!(cream > 8 && navy > 8 && changes >= 4, "{cream} cream, {navy} navy, {changes} changes: {bands:?}");
+}

@@ -125,7 +125,13 @@ fn a_users_model_is_placed_in_the_scene_or_named_in_a_clear_error() {
     );
     let glb = model.glb();
     std::fs::write(dir.join("cut.glb"), &glb[..glb.len() - 100]).unwrap();
-    for (file, says) in [("cut.glb", "cut.glb: truncated .glb"), ("missing.glb", "missing.glb: cannot read it")] {
+    let refusals = [
+        ("cut.glb", "cut.glb: truncated .glb"),
+        ("missing.glb", "missing.glb: cannot read it"),
+        ("/dev/zero", "/dev/zero: it is a device, not a file"),
+        (".", "it is a directory"),
+    ];
+    for (file, says) in refusals {
         let out = umbra(&["render", "--model", file, "--out", "x.png"], &dir);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success() && stderr.contains(says) && !stderr.contains("panicked"), "{stderr}");

@@ -353,3 +353,80 @@ fn materials_carry_alpha_mode_sides_and_vertex_colours() {
     assert_eq!(plain.parts[0].material.alpha_mode, AlphaMode::Opaque);
     assert_eq!(plain.parts[0].mesh.vertices[0].color, [1.0; 4]);
 }
+
+/// JSON pointers to every value inside `v`.
+fn pointers(v: &serde_json::Value, at: String, out: &mut Vec<String>) {
+    match v {
+        serde_json::Value::Object(m) => m.iter().for_each(|(k, x)| pointers(x, format!("{at}/{k}"), out)),
+        serde_json::Value::Array(a) => a.iter().enumerate().for_each(|(i, x)| pointers(x, format!("{at}/{i}"), out)),
+        _ => {}
+    }
+    out.push(at);
+}
+
+/// The .glb of `json` with `bin`.
+fn glb_of(json: &serde_json::Value, bin: &[u8]) -> Vec<u8> {
+    TestModel { json: json.clone(), bin: bin.to_vec() }.glb()
+}
+
+#[test]
+fn structured_corruptions_never_panic() {
+    // Every value of the JSON of a textured model and of the character, in turn, replaced by
+    // values meant to break a loader: negative, zero, huge, the wrong type, empty. Each gives
+    // a model or an error; whatever loads must pose.
+    let textured = TestModel::new().with_texture(&png_rgba(4, 4, &checker(4, [255; 4], [0; 4])), None);
+    let glb = umbra::scene::CHARACTER_GLB;
+    let json_len = u32::from_le_bytes([glb[12], glb[13], glb[14], glb[15]]) as usize;
+    let character = TestModel {
+        json: serde_json::from_slice(&glb[20..20 + json_len]).unwrap(),
+        bin: glb[28 + json_len..].to_vec(),
+    };
+    let hostile = [
+        json!(-1),
+        json!(0),
+        json!(3),
+        json!(65535),
+        json!(4294967296u64),
+        json!(1e30),
+        json!("x"),
+        json!(null),
+        json!([]),
+        json!({}),
+    ];
+    let mut outcomes = (0, 0);
+    for (model, every) in [(&textured, 1), (&character, 7)] {
+        let mut all = Vec::new();
+        pointers(&model.json, String::new(), &mut all);
+        for (k, at) in all.iter().enumerate().filter(|(k, at)| k % every == 0 && !at.is_empty()) {
+            for value in &hostile {
+                let mut json = model.json.clone();
+                *json.pointer_mut(at).unwrap() = value.clone();
+                match parse_model(&glb_of(&json, &model.bin), None, "corrupt.glb") {
+                    Ok(m) => {
+                        outcomes.0 += 1;
+                        let globals = m.pose(m.clips.first().map(|_| 0), 0.4 + k as f32 * 1e-3);
+                        for part in &m.parts {
+                            let _ = m.part_bounds(part, &globals, &glam::Mat4::IDENTITY);
+                        }
+                    }
+                    Err(e) => {
+                        outcomes.1 += 1;
+                        assert!(e.to_string().starts_with("corrupt.glb: "), "{e}");
+                    }
+                }
+            }
+        }
+    }
+    // And the texture's bytes flipped one at a time: a warning at worst.
+    let view = textured.json["images"][0]["bufferView"].as_u64().unwrap() as usize;
+    let start = textured.json["bufferViews"][view]["byteOffset"].as_u64().unwrap() as usize;
+    let len = textured.json["bufferViews"][view]["byteLength"].as_u64().unwrap() as usize;
+    for i in 0..len {
+        let mut bin = textured.bin.clone();
+        bin[start + i] ^= 0x5a;
+        let m = parse_model(&glb_of(&textured.json, &bin), None, "flipped.glb").expect("a broken image only warns");
+        assert!(m.parts[0].texture.is_some() || m.warnings.iter().any(|w| w.contains("image 0")), "{i}");
+    }
+    eprintln!("{} corrupted files loaded, {} refused", outcomes.0, outcomes.1);
+    assert!(outcomes.0 > 100 && outcomes.1 > 1000, "{outcomes:?}");
+}

@@ -57,6 +57,11 @@ impl GlbBuilder {
         self.accessors.len() - 1
     }
 
+    /// Raw bytes (an encoded image) in a buffer view of their own; returns the view.
+    pub(super) fn bytes(&mut self, data: &[u8]) -> usize {
+        self.view(data, None)
+    }
+
     /// Unsigned shorts, `width` per element.
     pub(super) fn shorts(&mut self, data: &[u16], width: usize, target: Option<u32>) -> usize {
         let view = self.view(bytemuck::cast_slice(data), target);

@@ -48,7 +48,26 @@ fn at(bone: u16) -> Vec3 {
     Vec3::from(BONES[bone as usize].2)
 }
 
-/// The character's four surfaces: shirt, skin, trousers, shoes, each with its linear colour.
+/// The shirt's stripes: one cream and one navy band per repeat of the texture.
+const STRIPE_COLOURS: [[u8; 4]; 2] = [[236, 228, 208, 255], [28, 38, 92, 255]];
+
+/// Stripe pairs per metre of height on the shirt (a band every 8 cm or so).
+const STRIPES_PER_METRE: f32 = 6.0;
+
+/// The shirt's texture: 4x16 texels, the top half cream and the bottom half navy, as a PNG.
+fn stripes_png() -> Vec<u8> {
+    let rgba: Vec<u8> = (0..16).flat_map(|row| [STRIPE_COLOURS[row / 8]; 4]).flatten().collect();
+    let mut out = Vec::new();
+    let mut encoder = png::Encoder::new(&mut out, 4, 16);
+    encoder.set_color(png::ColorType::Rgba);
+    if let Ok(mut writer) = encoder.write_header() {
+        let _ = writer.write_image_data(&rgba);
+    }
+    out
+}
+
+/// The character's four surfaces: shirt (striped by a texture, so white itself), skin,
+/// trousers, shoes, each with its linear colour.
 fn surfaces() -> [(&'static str, [f32; 3], MeshBuilder); 4] {
     let mut shirt = MeshBuilder::default();
     let mut skin = MeshBuilder::default();
@@ -85,7 +104,7 @@ fn surfaces() -> [(&'static str, [f32; 3], MeshBuilder); 4] {
         shoes.cuboid(centre, Vec3::new(0.05, 0.045, 0.13), one(foot));
     }
     [
-        ("shirt", [0.20, 0.33, 0.62], shirt),
+        ("shirt", [1.0, 1.0, 1.0], shirt),
         ("skin", [0.80, 0.56, 0.42], skin),
         ("trousers", [0.16, 0.15, 0.17], trousers),
         ("shoes", [0.35, 0.18, 0.09], shoes),
@@ -134,17 +153,23 @@ pub fn character_glb() -> Vec<u8> {
     let (mut meshes, mut materials) = (Vec::new(), Vec::new());
     let mut primitives = Vec::new();
     for (i, (name, color, mesh)) in surfaces().into_iter().enumerate() {
-        let attributes = json!({
+        let mut attributes = json!({
             "POSITION": glb.floats(&mesh.positions(), 3, true, Some(ARRAY_BUFFER)),
             "NORMAL": glb.floats(&mesh.normals(), 3, false, Some(ARRAY_BUFFER)),
             "JOINTS_0": glb.shorts(&mesh.joints(), 4, Some(ARRAY_BUFFER)),
             "WEIGHTS_0": glb.floats(&mesh.weights(), 4, false, Some(ARRAY_BUFFER)),
         });
         let indices = glb.shorts(&mesh.indices, 1, Some(ELEMENT_ARRAY_BUFFER));
+        let mut pbr = json!({ "baseColorFactor": [color[0], color[1], color[2], 1.0], "metallicFactor": 0.0,
+            "roughnessFactor": 0.8 });
+        if name == "shirt" {
+            attributes["TEXCOORD_0"] = json!(glb.floats(&mesh.stripes(STRIPES_PER_METRE), 2, false, Some(ARRAY_BUFFER)));
+            pbr["baseColorTexture"] = json!({ "index": 0 });
+        }
         primitives.push(json!({ "attributes": attributes, "indices": indices, "material": i }));
-        materials.push(json!({ "name": name, "pbrMetallicRoughness": {
-            "baseColorFactor": [color[0], color[1], color[2], 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8 } }));
+        materials.push(json!({ "name": name, "pbrMetallicRoughness": pbr }));
     }
+    let stripes = glb.bytes(&stripes_png());
     meshes.push(json!({ "name": "body", "primitives": primitives }));
 
     let mut nodes: Vec<_> = BONES
@@ -193,6 +218,9 @@ pub fn character_glb() -> Vec<u8> {
         "nodes": nodes,
         "meshes": meshes,
         "materials": materials,
+        "images": [{ "name": "stripes", "bufferView": stripes, "mimeType": "image/png" }],
+        "samplers": [{ "magFilter": 9729, "minFilter": 9987, "wrapS": 10497, "wrapT": 10497 }],
+        "textures": [{ "sampler": 0, "source": 0 }],
         "skins": [skin],
         "animations": [{ "name": "walk", "samplers": samplers, "channels": channels }],
     });

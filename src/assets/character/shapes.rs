@@ -110,6 +110,12 @@ impl MeshBuilder {
         self.points.iter().flat_map(|p| p.0.to_array()).collect()
     }
 
+    /// Texture coordinates for horizontal stripes: v grows with the bind-pose height,
+    /// `per_metre` texture repeats a metre; u is the same everywhere.
+    pub(super) fn stripes(&self, per_metre: f32) -> Vec<f32> {
+        self.points.iter().flat_map(|p| [0.5, p.0.y * per_metre]).collect()
+    }
+
     /// Unit normals, three floats per vertex.
     pub(super) fn normals(&self) -> Vec<f32> {
         self.points.iter().flat_map(|p| p.1.to_array()).collect()
