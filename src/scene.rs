@@ -97,8 +97,7 @@ pub fn spawn_model(world: &mut World, model: Arc<Model>, placement: Transform, c
             .or_insert_with(|| world.resource_mut::<MeshLibrary>().add_shared(part.mesh.clone()));
         let texture = part.texture.clone().map(|t| world.get_resource_or_init::<TextureLibrary>().add(t));
         let material = Material { texture, ..part.material };
-        let mut e =
-            world.spawn((mesh, material, placement, ModelPart { root, part: i }, ShadowCaster, ShadowReceiver));
+        let mut e = world.spawn((mesh, material, placement, ModelPart { root, part: i }, ShadowCaster, ShadowReceiver));
         if part.skin.is_some() {
             e.insert(Joints::default());
         }

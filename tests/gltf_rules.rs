@@ -43,7 +43,9 @@ fn accepted(change: impl FnOnce(&mut TestModel)) -> Model {
 fn load_in_time(path: &Path) -> Result<Model, String> {
     let (tx, rx) = mpsc::channel();
     let path = path.to_path_buf();
-    std::thread::spawn(move || tx.send(load_model(&path).map_err(|e| e.to_string())));
+    std::thread::spawn(move || {
+        let _ = tx.send(load_model(&path).map_err(|e| e.to_string()));
+    });
     rx.recv_timeout(Duration::from_secs(20)).expect("loading hung")
 }
 
@@ -206,7 +208,10 @@ fn layouts_that_break_the_rules_are_refused_by_the_rule() {
         m.json["accessors"][1]["byteOffset"] = json!(2);
         m.json["accessors"][1]["count"] = json!(11);
     });
-    assert!(err.contains("accessor 1 starts at byte") && err.contains("not on a multiple of its 4-byte components"), "{err}");
+    assert!(
+        err.contains("accessor 1 starts at byte") && err.contains("not on a multiple of its 4-byte components"),
+        "{err}"
+    );
     let err = refused(|m| m.json["buffers"][0]["byteLength"] = json!(100));
     assert!(err.contains("past the 100 bytes that buffer 0 declares"), "{err}");
     // Positions stored as bytes need KHR_mesh_quantization.
@@ -250,7 +255,11 @@ fn a_model_with_no_size_is_placed_unscaled_and_one_not_finite_is_refused() {
         m.json["accessors"][same]["max"] = json!([0.5, 0.5, 0.5]);
         m.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(same);
     });
-    assert!(model.warnings.iter().any(|w| w.contains("0 m across") && w.contains("placed unscaled")), "{:?}", model.warnings);
+    assert!(
+        model.warnings.iter().any(|w| w.contains("0 m across") && w.contains("placed unscaled")),
+        "{:?}",
+        model.warnings
+    );
     let placed = umbra::scene::stand_at(&model, Vec3::ZERO);
     assert_eq!(placed.scale, Vec3::ONE, "not blown up by millions");
     let err = refused(|m| {
@@ -291,7 +300,10 @@ fn textures_are_read_with_their_sampler_and_shared() {
     let texture = model.parts[0].texture.as_ref().expect("a texture");
     assert_eq!((texture.image.width, texture.image.height, texture.image.levels.len()), (4, 4, 3));
     assert_eq!(texture.image.levels[0], red_blue);
-    assert_eq!((texture.sampling.mag, texture.sampling.min, texture.sampling.mipmap), (Filter::Nearest, Filter::Nearest, Some(Filter::Nearest)));
+    assert_eq!(
+        (texture.sampling.mag, texture.sampling.min, texture.sampling.mipmap),
+        (Filter::Nearest, Filter::Nearest, Some(Filter::Nearest))
+    );
     assert_eq!(texture.sampling.wrap, [Wrap::ClampToEdge, Wrap::MirroredRepeat]);
     let uv: Vec<[f32; 2]> = model.parts[0].mesh.vertices.iter().map(|v| v.uv).collect();
     assert_eq!((uv[5], uv[11]), ([0.25, 0.5], [0.75, 1.0]));
@@ -314,7 +326,10 @@ fn a_missing_or_broken_image_is_a_warning_and_the_factor_alone_is_used() {
     assert!(model.parts[0].texture.is_none());
     assert_eq!(model.parts[0].material.base_color, Vec3::new(0.2, 0.4, 0.6));
     assert!(
-        model.warnings.iter().any(|w| w.contains("image 0 (gone.png) cannot be read") && w.contains("base colour alone")),
+        model
+            .warnings
+            .iter()
+            .any(|w| w.contains("image 0 (gone.png) cannot be read") && w.contains("base colour alone")),
         "{:?}",
         model.warnings
     );

@@ -21,7 +21,8 @@ const BLUE: [u8; 4] = [0, 0, 255, 255];
 
 /// An empty scene: optionally a ground plane, a sun travelling along `sun`, a camera.
 fn scene(ground: bool, sun: Vec3, eye: Vec3, target: Vec3) -> App {
-    let mut app = App::empty(Settings { shadow_map_size: 1024, cascades: 2, ambient: 0.1, ..Settings::default() }).unwrap();
+    let mut app =
+        App::empty(Settings { shadow_map_size: 1024, cascades: 2, ambient: 0.1, ..Settings::default() }).unwrap();
     if ground {
         let mesh = app.world.resource_mut::<MeshLibrary>().add(plane(20.0));
         app.world.spawn((mesh, Material::color(0.6, 0.6, 0.6), ShadowReceiver));
@@ -154,7 +155,11 @@ fn blended_surfaces_are_drawn_over_what_is_behind_them() {
     place(&mut app, &quad_glb(glass, None), Transform::from_xyz(0.0, 1.5, 0.0));
     // An opaque blue wall behind the glass, spawned after it: it is still drawn first.
     let wall = app.world.resource_mut::<MeshLibrary>().add(umbra::assets::cube(Vec3::new(3.0, 3.0, 0.1)));
-    app.world.spawn((wall, Transform::from_xyz(0.0, 1.5, -1.0), Material { specular: 0.0, ..Material::color(0.0, 0.0, 1.0) }));
+    app.world.spawn((
+        wall,
+        Transform::from_xyz(0.0, 1.5, -1.0),
+        Material { specular: 0.0, ..Material::color(0.0, 0.0, 1.0) },
+    ));
     let image = render(&mut app, 0.0);
     let [r, _, b] = rgb(&mut app, &image, Vec3::new(0.0, 1.5, 0.0));
     assert!(r > 60.0 && b > 60.0, "red glass over a blue wall shows both: {r} {b}");
@@ -181,6 +186,7 @@ fn a_model_with_no_size_leaves_every_other_shadow_as_it_was() {
     };
     let without = frame(None);
     let with = frame(Some(path));
-    let differ = (0..SIZE * SIZE).filter(|&i| without.pixel(i % SIZE, i / SIZE) != with.pixel(i % SIZE, i / SIZE)).count();
+    let differ =
+        (0..SIZE * SIZE).filter(|&i| without.pixel(i % SIZE, i / SIZE) != with.pixel(i % SIZE, i / SIZE)).count();
     assert_eq!(differ, 0, "{differ} pixels changed");
 }

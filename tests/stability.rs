@@ -104,7 +104,9 @@ fn probes_make_the_same_shadow_tests_as_the_pixels_they_sit_on() {
     let picked: Vec<usize> = (0..frame.position.len()).filter(|&i| frame.covered(i)).step_by(37).collect();
     let points: Vec<umbra::assets::Vertex> = picked
         .iter()
-        .map(|&i| umbra::assets::Vertex::new(frame.position[i].truncate().to_array(), frame.normal[i].truncate().to_array()))
+        .map(|&i| {
+            umbra::assets::Vertex::new(frame.position[i].truncate().to_array(), frame.normal[i].truncate().to_array())
+        })
         .collect();
     let probed = umbra::render::probe_visibility(&gpu, &mut renderer, &mut app, &points).unwrap();
     let shadowed = picked.iter().filter(|&&i| (0.0..0.5).contains(&frame.visibility[i].x)).count();

@@ -123,8 +123,7 @@ pub fn cube(half: Vec3) -> MeshData {
 pub fn plane(size: f32) -> MeshData {
     let h = size * 0.5;
     let n = [0.0, 1.0, 0.0];
-    let vertices =
-        [(-h, h), (h, h), (h, -h), (-h, -h)].map(|(x, z)| Vertex::new([x, 0.0, z], n)).to_vec();
+    let vertices = [(-h, h), (h, h), (h, -h), (-h, -h)].map(|(x, z)| Vertex::new([x, 0.0, z], n)).to_vec();
     MeshData::new(vertices, vec![0, 1, 2, 0, 2, 3])
 }
 

@@ -242,7 +242,8 @@ fn half(level: &[u8], w: u32, h: u32) -> (Vec<u8>, u32, u32) {
     };
     for y in 0..nh {
         for x in 0..nw {
-            let four = [texel(2 * x, 2 * y), texel(2 * x + 1, 2 * y), texel(2 * x, 2 * y + 1), texel(2 * x + 1, 2 * y + 1)];
+            let four =
+                [texel(2 * x, 2 * y), texel(2 * x + 1, 2 * y), texel(2 * x, 2 * y + 1), texel(2 * x + 1, 2 * y + 1)];
             for c in 0..3 {
                 out.push(to_srgb(four.iter().map(|t| to_linear(t[c])).sum::<f32>() / 4.0));
             }
@@ -257,7 +258,8 @@ mod tests {
     use super::*;
 
     fn checker(n: u32) -> ImageData {
-        let rgba = (0..n * n).flat_map(|i| if (i % n + i / n) % 2 == 0 { [255, 0, 0, 255] } else { [0, 0, 255, 0] });
+        let rgba =
+            (0..n * n).flat_map(|i| if (i % n + i / n).is_multiple_of(2) { [255, 0, 0, 255] } else { [0, 0, 255, 0] });
         ImageData::new("checker", n, n, rgba.collect())
     }
 

@@ -270,7 +270,7 @@ pub fn extract(world: &mut World) -> FrameData {
                 (item, bounds.0)
             })
             .collect();
-        let draw_order = draw_order(&items, eye);
+    let draw_order = draw_order(&items, eye);
 
     let cull_to = (settings.caster_culling == CasterCulling::CameraView).then_some(&camera_view_proj);
     let mut layers = Vec::new();

@@ -2,8 +2,8 @@
 
 use super::extract::{DrawItem, FrameData, FrameUniform};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
-use super::texture::MaterialTextures;
 use super::shadow_pass::ShadowMaps;
+use super::texture::MaterialTextures;
 use super::timing::PassTimer;
 use crate::assets::{COOKIE_SIZE, cookie_image};
 use crate::components::{AlphaMode, Cookie};

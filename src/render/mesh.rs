@@ -5,9 +5,9 @@
 use super::extract::DrawItem;
 use super::texture::MaterialTextures;
 use super::uniform_array::UniformArray;
-use std::collections::HashMap;
 use crate::assets::{MeshData, SkinVertex, Vertex};
 use glam::Mat4;
+use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 
 /// A mesh in GPU memory; a skinned mesh has a second vertex stream of joint influences.
@@ -215,7 +215,8 @@ impl Pipelines {
         let r = &self.recipe;
         let entry = if v.skinned { format!("{}_skinned", r.vertex) } else { r.vertex.to_string() };
         let blend = v.alpha == AlphaClass::Blend;
-        let constants = [("ALPHA_MASK", (v.alpha == AlphaClass::Mask) as u32 as f64), ("ALPHA_BLEND", blend as u32 as f64)];
+        let constants =
+            [("ALPHA_MASK", (v.alpha == AlphaClass::Mask) as u32 as f64), ("ALPHA_BLEND", blend as u32 as f64)];
         let targets: Vec<Option<wgpu::ColorTargetState>> = r
             .targets
             .iter()

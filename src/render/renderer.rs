@@ -3,8 +3,8 @@
 use super::extract::{ObjectUniform, extract};
 use super::main_pass::{DEPTH_FORMAT, MainPass};
 use super::mesh::{Drawables, GpuMesh, JointPalette};
-use super::texture::MaterialTextures;
 use super::shadow_pass::{ShadowPass, ShadowStats};
+use super::texture::MaterialTextures;
 use super::timing::{PassTimer, PassTimes};
 use super::uniform_array::UniformArray;
 use super::{Gpu, RenderError};

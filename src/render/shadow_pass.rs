@@ -6,9 +6,9 @@
 use super::extract::{DrawItem, FrameData, LayerDraw, LightId};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
 use super::texture::MaterialTextures;
-use crate::components::AlphaMode;
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
+use crate::components::AlphaMode;
 use crate::settings::ShadowFaces;
 use bevy_ecs::prelude::*;
 use glam::Mat4;

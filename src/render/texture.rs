@@ -68,7 +68,6 @@ impl MaterialTextures {
     pub fn bind_group(&self, texture: Option<Texture>) -> &wgpu::BindGroup {
         texture.and_then(|t| self.textures.get(t.0)).unwrap_or(&self.white)
     }
-
 }
 
 impl Uploads {
@@ -81,7 +80,8 @@ impl Uploads {
         image: &Arc<ImageData>,
         sampling: Sampling,
     ) -> wgpu::BindGroup {
-        let (_, view) = self.images.entry(Arc::as_ptr(image)).or_insert_with(|| (image.clone(), upload(device, queue, image)));
+        let (_, view) =
+            self.images.entry(Arc::as_ptr(image)).or_insert_with(|| (image.clone(), upload(device, queue, image)));
         let view = view.clone();
         let sampler = self.samplers.entry(sampling).or_insert_with(|| sampler(device, sampling)).clone();
         device.create_bind_group(&wgpu::BindGroupDescriptor {

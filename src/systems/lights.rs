@@ -375,7 +375,9 @@ mod tests {
         let mut schedule = Schedule::default();
         schedule.add_systems(update_light_matrices);
         schedule.run(&mut world);
-        let matrices = |world: &World| world.get::<ShadowMap>(light).unwrap().layers.iter().map(|l| l.view_proj).collect::<Vec<_>>();
+        let matrices = |world: &World| {
+            world.get::<ShadowMap>(light).unwrap().layers.iter().map(|l| l.view_proj).collect::<Vec<_>>()
+        };
         let clean = matrices(&world);
         // A caster a million metres tall over the pillar, and one whose bounds are NaN.
         let huge = WorldBounds(Aabb::new(Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 1.5e6, 1.0)));

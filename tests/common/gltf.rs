@@ -248,7 +248,7 @@ pub fn png_rgba(width: u32, height: u32, rgba: &[u8]) -> Vec<u8> {
 
 /// A `n` x `n` checker of two RGBA colours, `a` at texel (0, 0).
 pub fn checker(n: u32, a: [u8; 4], b: [u8; 4]) -> Vec<u8> {
-    (0..n * n).flat_map(|i| if (i % n + i / n) % 2 == 0 { a } else { b }).collect()
+    (0..n * n).flat_map(|i| if (i % n + i / n).is_multiple_of(2) { a } else { b }).collect()
 }
 
 impl TestModel {
@@ -256,7 +256,12 @@ impl TestModel {
     /// texture whose image is `png` (stored in the buffer), sampled by `sampler` (JSON, or none).
     pub fn with_texture(mut self, png: &[u8], sampler: Option<Value>) -> TestModel {
         let uv: Vec<f32> = (0..12).flat_map(|i| [(i % 4) as f32 / 4.0, (i / 4) as f32 / 2.0]).collect();
-        let uv = push(&mut self.json, &mut self.bin, floats(&uv), json!({ "componentType": 5126, "count": 12, "type": "VEC2" }));
+        let uv = push(
+            &mut self.json,
+            &mut self.bin,
+            floats(&uv),
+            json!({ "componentType": 5126, "count": 12, "type": "VEC2" }),
+        );
         self.json["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = json!(uv);
         while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
@@ -293,8 +298,12 @@ pub fn quad_glb(material: Value, image: Option<(Value, Option<&[u8]>)>) -> Vec<u
     let positions: Vec<f32> = corners.iter().flat_map(|&(x, y)| [x, y, 0.0]).collect();
     let normals: Vec<f32> = corners.iter().flat_map(|_| [0.0, 0.0, 1.0]).collect();
     let uvs: Vec<f32> = corners.iter().flat_map(|&(x, y)| [(x + 1.0) / 2.0, (1.0 - y) / 2.0]).collect();
-    let pos = push(&mut json, &mut bin, floats(&positions),
-        json!({ "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1.0, -1.0, 0.0], "max": [1.0, 1.0, 0.0] }));
+    let pos = push(
+        &mut json,
+        &mut bin,
+        floats(&positions),
+        json!({ "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1.0, -1.0, 0.0], "max": [1.0, 1.0, 0.0] }),
+    );
     let nor = push(&mut json, &mut bin, floats(&normals), json!({ "componentType": 5126, "count": 4, "type": "VEC3" }));
     let uv = push(&mut json, &mut bin, floats(&uvs), json!({ "componentType": 5126, "count": 4, "type": "VEC2" }));
     let indices: Vec<u8> = [0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()).collect();

@@ -163,7 +163,8 @@ pub fn character_glb() -> Vec<u8> {
         let mut pbr = json!({ "baseColorFactor": [color[0], color[1], color[2], 1.0], "metallicFactor": 0.0,
             "roughnessFactor": 0.8 });
         if name == "shirt" {
-            attributes["TEXCOORD_0"] = json!(glb.floats(&mesh.stripes(STRIPES_PER_METRE), 2, false, Some(ARRAY_BUFFER)));
+            attributes["TEXCOORD_0"] =
+                json!(glb.floats(&mesh.stripes(STRIPES_PER_METRE), 2, false, Some(ARRAY_BUFFER)));
             pbr["baseColorTexture"] = json!({ "index": 0 });
         }
         primitives.push(json!({ "attributes": attributes, "indices": indices, "material": i }));

@@ -75,13 +75,8 @@ pub(super) const FLOAT: Formats = &[(DataType::F32, false)];
 /// Floats, or unsigned bytes and shorts normalized to 0..1.
 pub(super) const FLOAT_OR_UNORM: Formats = &[(DataType::F32, false), (DataType::U8, true), (DataType::U16, true)];
 /// Floats, or any byte or short normalized (rotation keys).
-pub(super) const FLOAT_OR_NORM: Formats = &[
-    (DataType::F32, false),
-    (DataType::I8, true),
-    (DataType::U8, true),
-    (DataType::I16, true),
-    (DataType::U16, true),
-];
+pub(super) const FLOAT_OR_NORM: Formats =
+    &[(DataType::F32, false), (DataType::I8, true), (DataType::U8, true), (DataType::I16, true), (DataType::U16, true)];
 /// Any byte or short, normalized or not, or floats (KHR_mesh_quantization's positions).
 pub(super) const QUANTIZED: Formats = &[
     (DataType::F32, false),
@@ -126,7 +121,8 @@ pub(super) fn check_format(
         return Ok(());
     }
     let names: Vec<String> = allowed.iter().map(|&(t, n)| format_name(t, n)).collect();
-    let unless = extension.map_or(String::new(), |e| format!(" (more with the extension {e}, which the file does not use)"));
+    let unless =
+        extension.map_or(String::new(), |e| format!(" (more with the extension {e}, which the file does not use)"));
     Err(format!(
         "{what} (accessor {}) holds {}, but glTF allows only {} there{unless}",
         acc.index(),

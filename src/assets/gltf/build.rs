@@ -17,6 +17,7 @@ use crate::components::Transform;
 use crate::shadow::Aabb;
 use glam::{Mat4, Quat, Vec3};
 use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 use std::sync::Arc;
 
 /// A (mesh, primitive) drawn by a skin (or rigid), as the file has it or mirrored.
@@ -33,7 +34,15 @@ pub(super) fn build(src: &Source, name: &str, input: &Budget, warnings: &mut Vec
     let skins = doc.skins().map(|s| skin(&s, &data)).collect::<Result<Vec<_>, _>>()?;
     let scene = scene_nodes(doc, &children);
     count_parts(&all_nodes, &scene)?;
-    let mut model = Model { name: name.to_string(), nodes, order, parts: Vec::new(), skins, clips: Vec::new(), warnings: Vec::new() };
+    let mut model = Model {
+        name: name.to_string(),
+        nodes,
+        order,
+        parts: Vec::new(),
+        skins,
+        clips: Vec::new(),
+        warnings: Vec::new(),
+    };
     let globals = model.globals(&model.rest_locals());
     let mut materials = Materials::new(src, input, &data, warnings);
     let mut shapes: HashMap<ShapeKey, Option<Shape>> = HashMap::new();
@@ -48,29 +57,36 @@ pub(super) fn build(src: &Source, name: &str, input: &Budget, warnings: &mut Vec
                 None => format!("mesh {} primitive {}", mesh.index(), primitive.index()),
             };
             let key = (mesh.index(), primitive.index(), skin, false);
-            if !shapes.contains_key(&key) {
-                let joints = skin.map(|s| model.skins[s].joints.len());
-                let built = shape(&primitive, joints, &data, &mut materials, warnings).map_err(|e| format!("{at}: {e}"))?;
-                match &built {
-                    None => warnings.push(format!("{at} has no whole triangle: nothing to draw")),
-                    Some(s) if skin.is_some() && s.mesh.skin.is_none() => {
-                        warnings.push(format!("{at}: its node has a skin but the mesh has no joints; drawn rigid"))
+            let base = match shapes.entry(key) {
+                Entry::Occupied(e) => e.get().clone(),
+                Entry::Vacant(e) => {
+                    let joints = skin.map(|s| model.skins[s].joints.len());
+                    let built =
+                        shape(&primitive, joints, &data, &mut materials, warnings).map_err(|e| format!("{at}: {e}"))?;
+                    match &built {
+                        None => warnings.push(format!("{at} has no whole triangle: nothing to draw")),
+                        Some(s) if skin.is_some() && s.mesh.skin.is_none() => {
+                            warnings.push(format!("{at}: its node has a skin but the mesh has no joints; drawn rigid"))
+                        }
+                        _ => {}
                     }
-                    _ => {}
+                    e.insert(built).clone()
                 }
-                shapes.insert(key, built);
-            }
-            let Some(base) = shapes[&key].clone() else { continue };
+            };
+            let Some(base) = base else { continue };
             let skin = skin.filter(|_| base.mesh.skin.is_some());
             // A rigid part under a mirroring transform is wound the other way round, as the
             // format asks, so that its outside still faces out.
             let shape = if skin.is_none() && globals[n].determinant() < 0.0 {
-                let mirrored = (key.0, key.1, key.2, true);
-                if !shapes.contains_key(&mirrored) {
-                    shapes.insert(mirrored, Some(Shape { mesh: Arc::new(turned(&base.mesh)), ..base.clone() }));
-                    data.spend(base.mesh.indices.len() * 4)?;
+                match shapes.entry((key.0, key.1, key.2, true)) {
+                    Entry::Occupied(e) => e.get().clone().unwrap_or(base),
+                    Entry::Vacant(e) => {
+                        data.spend(base.mesh.indices.len() * 4)?;
+                        let turned = Shape { mesh: Arc::new(turned(&base.mesh)), ..base };
+                        e.insert(Some(turned.clone()));
+                        turned
+                    }
                 }
-                shapes[&mirrored].clone().unwrap_or(base)
             } else {
                 base
             };
@@ -114,7 +130,8 @@ fn check_size(model: &Model, warnings: &mut Vec<String>) -> Result<(), String> {
     }
     let size = (bounds.max - bounds.min).max_element();
     if size < MIN_MODEL_SIZE {
-        warnings.push(format!("it is {size} m across in its rest pose (all its vertices at one point): placed unscaled"));
+        warnings
+            .push(format!("it is {size} m across in its rest pose (all its vertices at one point): placed unscaled"));
     }
     Ok(())
 }
@@ -130,7 +147,8 @@ fn turned(mesh: &MeshData) -> MeshData {
 
 /// Refuses a scene that would draw more parts than umbra draws, before any is built.
 fn count_parts(nodes: &[gltf::Node<'_>], scene: &[usize]) -> Result<(), String> {
-    let parts = scene.iter().filter_map(|&n| nodes[n].mesh()).fold(0usize, |a, m| a.saturating_add(m.primitives().len()));
+    let parts =
+        scene.iter().filter_map(|&n| nodes[n].mesh()).fold(0usize, |a, m| a.saturating_add(m.primitives().len()));
     if parts > MAX_PARTS {
         return Err(format!(
             "its scene draws {parts} mesh parts (each node draws every primitive of its mesh); umbra draws at most {MAX_PARTS}"
@@ -145,7 +163,11 @@ fn nodes(all: &[gltf::Node<'_>], parents: &[Option<usize>], data: &Data<'_>) -> 
         .zip(parents)
         .map(|(n, &parent)| {
             let (t, r, s) = n.transform().decomposed();
-            let rest = Transform { translation: Vec3::from(t), rotation: Quat::from_array(r).normalize(), scale: Vec3::from(s) };
+            let rest = Transform {
+                translation: Vec3::from(t),
+                rotation: Quat::from_array(r).normalize(),
+                scale: Vec3::from(s),
+            };
             if !(rest.translation.is_finite() && rest.rotation.is_finite() && rest.scale.is_finite()) {
                 return Err(format!(
                     "node {} has a transform that is not a finite translation, rotation and scale",

@@ -9,7 +9,7 @@ use serde::de::{IgnoredAny, SeqAccess, Visitor};
 /// An element of a JSON array as the census sees it.
 trait Summary: for<'de> Deserialize<'de> {
     /// Objects it holds besides itself (a mesh's primitives).
-    fn inner(&self) -> usize {
+    fn objects_inside(&self) -> usize {
         0
     }
     /// True when the census must remember where it is.
@@ -45,7 +45,7 @@ impl<'de, T: Summary> Deserialize<'de> for Array<T> {
             fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Array<T>, A::Error> {
                 let mut out = Array::default();
                 while let Some(item) = seq.next_element::<T>()? {
-                    out.inner = out.inner.saturating_add(item.inner());
+                    out.inner = out.inner.saturating_add(item.objects_inside());
                     if item.keep() {
                         out.kept.push((out.len, item));
                     }
@@ -65,7 +65,7 @@ struct Mesh {
 }
 
 impl Summary for Mesh {
-    fn inner(&self) -> usize {
+    fn objects_inside(&self) -> usize {
         self.primitives.len
     }
 }
@@ -96,7 +96,7 @@ struct Animation {
 }
 
 impl Summary for Animation {
-    fn inner(&self) -> usize {
+    fn objects_inside(&self) -> usize {
         self.channels.len.saturating_add(self.samplers.len)
     }
     fn keep(&self) -> bool {
@@ -140,7 +140,11 @@ impl Census {
 
     /// Every (animation, channel) whose target names no node.
     pub(super) fn untargeted(&self) -> Vec<(usize, usize)> {
-        self.animations.kept.iter().flat_map(|(a, anim)| anim.channels.kept.iter().map(move |(c, _)| (*a, *c))).collect()
+        self.animations
+            .kept
+            .iter()
+            .flat_map(|(a, anim)| anim.channels.kept.iter().map(move |(c, _)| (*a, *c)))
+            .collect()
     }
 
     /// Refuses a file with more objects than umbra reads, naming the most numerous kind.

@@ -99,7 +99,9 @@ fn check_layout(doc: &gltf::Document) -> Result<(), String> {
             ));
         }
         if let Some(stride) = view.stride().filter(|s| !s.is_multiple_of(4)) {
-            return Err(format!("buffer view {v}: its byteStride of {stride} bytes is not a multiple of 4, as glTF requires"));
+            return Err(format!(
+                "buffer view {v}: its byteStride of {stride} bytes is not a multiple of 4, as glTF requires"
+            ));
         }
     }
     for animation in doc.animations() {
@@ -213,7 +215,9 @@ fn load_buffer<'a>(
         gltf::buffer::Source::Bin => {
             Cow::Borrowed(blob.ok_or(format!("buffer {i} is the .glb's binary chunk, but there is none"))?)
         }
-        gltf::buffer::Source::Uri(uri) => Cow::Owned(read_uri(uri, dir, input).map_err(|e| format!("buffer {i}: {e}"))?),
+        gltf::buffer::Source::Uri(uri) => {
+            Cow::Owned(read_uri(uri, dir, input).map_err(|e| format!("buffer {i}: {e}"))?)
+        }
     };
     if data.len() < buffer.length() {
         return Err(format!("buffer {i} is short: it declares {} bytes but holds {}", buffer.length(), data.len()));

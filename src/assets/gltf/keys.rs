@@ -68,7 +68,12 @@ fn channel(
     data.spend((times.len() + raw.len()) * 4)?;
     let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 };
     if raw.len() != times.len() * per_key * width {
-        return Err(format!("{} key times need {} values, found {}", times.len(), times.len() * per_key, raw.len() / width));
+        return Err(format!(
+            "{} key times need {} values, found {}",
+            times.len(),
+            times.len() * per_key,
+            raw.len() / width
+        ));
     }
     let mut values: Vec<Vec4> = raw
         .chunks_exact(width)
@@ -85,7 +90,8 @@ fn channel(
         // Keys must be unit quaternions; quantized ones are only nearly so, and some files write
         // them at any scale.
         for (i, q) in values.iter_mut().enumerate().skip(per_key / 2).step_by(per_key) {
-            *q = unit(*q).ok_or_else(|| format!("rotation {} has length 0: it is no rotation", key_name(i, per_key)))?;
+            *q =
+                unit(*q).ok_or_else(|| format!("rotation {} has length 0: it is no rotation", key_name(i, per_key)))?;
         }
     }
     let node = c.target().node().index();

@@ -45,15 +45,7 @@ impl<'s, 'd> Materials<'s, 'd> {
                     .into(),
             );
         }
-        Materials {
-            doc,
-            dir: src.dir,
-            input,
-            data,
-            textures: HashMap::new(),
-            images: HashMap::new(),
-            failed: None,
-        }
+        Materials { doc, dir: src.dir, input, data, textures: HashMap::new(), images: HashMap::new(), failed: None }
     }
 
     /// Material `m` as umbra draws it, its base-colour texture, and the texture-coordinate set

@@ -45,6 +45,9 @@ const COLOR: Rule = Rule { widths: &[3, 4], formats: FLOAT_OR_UNORM, quantized: 
 const JOINTS: Rule = Rule { widths: &[4], formats: UINT_SMALL, quantized: UINT_SMALL };
 const WEIGHTS: Rule = Rule { widths: &[4], formats: FLOAT_OR_UNORM, quantized: FLOAT_OR_UNORM };
 
+/// An attribute read as floats, with its components per element.
+type Attribute = (usize, Rc<Vec<f32>>);
+
 /// Reads attribute `semantic` of primitive `p` under `rule`: `n` elements (POSITION's count) if
 /// given, as floats.
 fn attribute(
@@ -53,7 +56,7 @@ fn attribute(
     rule: &Rule,
     n: Option<usize>,
     data: &Data<'_>,
-) -> Result<Option<(usize, Rc<Vec<f32>>)>, String> {
+) -> Result<Option<Attribute>, String> {
     let Some(acc) = p.get(semantic) else { return Ok(None) };
     let name = semantic.to_string();
     check(&acc, &name, rule, n, data)?;
@@ -90,7 +93,8 @@ pub(super) fn shape(
     if !matches!(p.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
         return Err(format!("its mode is {:?}, not triangles; umbra draws triangles only", p.mode()));
     }
-    let (_, positions) = attribute(p, &Semantic::Positions, &POSITION, None, data)?.ok_or("it has no POSITION attribute")?;
+    let (_, positions) =
+        attribute(p, &Semantic::Positions, &POSITION, None, data)?.ok_or("it has no POSITION attribute")?;
     let n = positions.len() / 3;
     if let Some(i) = positions.iter().position(|x| !x.is_finite()) {
         return Err(format!("POSITION {} is not finite", i / 3));
