@@ -2,14 +2,9 @@
 
 mod common;
 
+use common::scratch;
 use std::path::PathBuf;
 use std::process::{Command, Output};
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("umbra-cli-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn umbra(args: &[&str], dir: &PathBuf) -> Output {
     Command::new(env!("CARGO_BIN_EXE_umbra"))

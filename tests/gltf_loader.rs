@@ -5,31 +5,12 @@
 mod common;
 
 use common::gltf::*;
+use common::scratch;
 use glam::{Mat4, Quat, Vec3};
 use serde_json::json;
 use std::path::Path;
 use umbra::assets::skin::skin_vertices;
 use umbra::assets::{Model, load_model, parse_model};
-
-fn scratch(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("umbra-gltf-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn load(model: &TestModel) -> Model {
-    parse_model(&model.glb(), None, "test.glb").unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// The error text for a broken copy of the test model.
-fn broken(break_it: impl FnOnce(&mut TestModel)) -> String {
-    let mut model = TestModel::new();
-    break_it(&mut model);
-    match parse_model(&model.glb(), None, "broken.glb") {
-        Ok(_) => panic!("a broken model loaded"),
-        Err(e) => e.to_string(),
-    }
-}
 
 #[test]
 fn glb_embedded_and_external_gltf_load_the_same_model() {
@@ -203,49 +184,49 @@ fn missing_and_short_buffers_are_named_errors() {
     std::fs::write(dir.join("column.gltf"), text).unwrap();
     let err = load_model(&dir.join("column.gltf")).unwrap_err().to_string();
     assert!(err.contains("column.gltf") && err.contains("buffer 0") && err.contains("gone.bin"), "{err}");
-    let err = broken(|m| m.bin.truncate(100));
+    let err = refused(|m| m.bin.truncate(100));
     assert!(err.contains("buffer 0 is short"), "{err}");
-    let err = broken(|m| m.json["buffers"][0]["uri"] = json!("data:application/octet-stream;base64,@@@"));
+    let err = refused(|m| m.json["buffers"][0]["uri"] = json!("data:application/octet-stream;base64,@@@"));
     assert!(err.contains("not valid base64"), "{err}");
 }
 
 #[test]
 fn accessors_and_indices_out_of_range_are_named_errors() {
-    let err = broken(|m| m.json["accessors"][0]["count"] = json!(13));
+    let err = refused(|m| m.json["accessors"][0]["count"] = json!(13));
     assert!(err.contains("POSITION") && err.contains("accessor 0 is out of range"), "{err}");
-    let err = broken(|m| m.json["accessors"][1]["byteOffset"] = json!(1_000_000));
+    let err = refused(|m| m.json["accessors"][1]["byteOffset"] = json!(1_000_000));
     assert!(err.contains("accessor 1 is out of range"), "{err}");
-    let err = broken(|m| m.json["bufferViews"][2]["byteLength"] = json!(1_000_000));
+    let err = refused(|m| m.json["bufferViews"][2]["byteLength"] = json!(1_000_000));
     assert!(err.contains("buffer view 2 reaches byte 1000288, past the 1004 bytes that buffer 0 declares"), "{err}");
-    let err = broken(|m| {
+    let err = refused(|m| {
         let bad = m.add_shorts(&[0, 1, 99], "SCALAR");
         m.json["meshes"][0]["primitives"][0]["indices"] = json!(bad);
     });
     assert!(err.contains("index 99 is out of range: there are 12 vertices"), "{err}");
-    let err = broken(|m| m.json["accessors"][0]["bufferView"] = json!(77));
+    let err = refused(|m| m.json["accessors"][0]["bufferView"] = json!(77));
     assert!(err.contains("accessors[0].bufferView names an object that does not exist"), "{err}");
 }
 
 #[test]
 fn non_triangles_cycles_and_unknown_required_extensions_are_named_errors() {
-    let err = broken(|m| m.json["meshes"][0]["primitives"][0]["mode"] = json!(1));
+    let err = refused(|m| m.json["meshes"][0]["primitives"][0]["mode"] = json!(1));
     assert!(err.contains("mesh 0 primitive 0") && err.contains("Lines") && err.contains("not triangles"), "{err}");
-    let err = broken(|m| m.json["nodes"][1]["children"] = json!([0]));
+    let err = refused(|m| m.json["nodes"][1]["children"] = json!([0]));
     assert!(err.contains("cycle"), "{err}");
-    let err = broken(|m| m.json["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]));
+    let err = refused(|m| m.json["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]));
     assert!(err.contains("KHR_draco_mesh_compression") && err.contains("does not support"), "{err}");
 }
 
 #[test]
 fn joints_out_of_range_and_missing_inverse_binds_are_named_errors() {
-    let err = broken(|m| {
+    let err = refused(|m| {
         let joints = m.add_shorts(&[[7u16, 1, 0, 0]; 12].concat(), "VEC4");
         m.json["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = json!(joints);
     });
     assert!(err.contains("uses joint 7, but its skin has 2 joints"), "{err}");
-    let err = broken(|m| m.json["skins"][0]["joints"] = json!([0, 1, 2]));
+    let err = refused(|m| m.json["skins"][0]["joints"] = json!([0, 1, 2]));
     assert!(err.contains("skin 0 has 3 joints but its buffer holds only 2 inverse bind matrices"), "{err}");
-    let err = broken(|m| m.json["skins"][0]["joints"] = json!([]));
+    let err = refused(|m| m.json["skins"][0]["joints"] = json!([]));
     assert!(err.contains("skin 0 has 0 joints"), "{err}");
     // A joint index out of range with no weight moves nothing, so it is not an error.
     let mut model = TestModel::new();

@@ -5,32 +5,13 @@
 mod common;
 
 use common::gltf::*;
+use common::scratch;
 use glam::{Quat, Vec3};
 use serde_json::json;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::mpsc;
 use std::time::Duration;
 use umbra::assets::{Filter, Model, Wrap, load_model, parse_model};
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("umbra-rules-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn load(model: &TestModel) -> Model {
-    parse_model(&model.glb(), None, "test.glb").unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// The error text for a changed copy of the test model.
-fn refused(change: impl FnOnce(&mut TestModel)) -> String {
-    let mut model = TestModel::new();
-    change(&mut model);
-    match parse_model(&model.glb(), None, "broken.glb") {
-        Ok(_) => panic!("a broken model loaded"),
-        Err(e) => e.to_string(),
-    }
-}
 
 /// The model and its warnings for a changed copy of the test model, which must load.
 fn accepted(change: impl FnOnce(&mut TestModel)) -> Model {

@@ -169,9 +169,7 @@ fn blended_surfaces_are_drawn_over_what_is_behind_them() {
 
 #[test]
 fn a_model_with_no_size_leaves_every_other_shadow_as_it_was() {
-    let dir = std::env::temp_dir().join(format!("umbra-point-model-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("point.glb");
+    let path = scratch("point-model").join("point.glb");
     let mut model = common::gltf::TestModel::new();
     let same = model.add_floats(&[0.5; 36], "VEC3");
     model.json["accessors"][same]["min"] = json!([0.5, 0.5, 0.5]);

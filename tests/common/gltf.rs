@@ -237,6 +237,21 @@ impl TestModel {
     }
 }
 
+/// The model as the loader reads it from a .glb; any error fails the test.
+pub fn load(model: &TestModel) -> umbra::assets::Model {
+    umbra::assets::parse_model(&model.glb(), None, "test.glb").unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The error text for a changed copy of the test model, which must be refused.
+pub fn refused(change: impl FnOnce(&mut TestModel)) -> String {
+    let mut model = TestModel::new();
+    change(&mut model);
+    match umbra::assets::parse_model(&model.glb(), None, "broken.glb") {
+        Ok(_) => panic!("a broken model loaded"),
+        Err(e) => e.to_string(),
+    }
+}
+
 /// An RGBA PNG of `width` x `height` texels.
 pub fn png_rgba(width: u32, height: u32, rgba: &[u8]) -> Vec<u8> {
     let mut out = Vec::new();

@@ -10,6 +10,13 @@ use umbra::App;
 use umbra::components::{Camera, Transform, Viewport};
 use umbra::render::{Gpu, HEADLESS_FORMAT, Image, Renderer, render_headless};
 
+/// A fresh folder for this test process's files called `name`.
+pub fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("umbra-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 /// Side of the square test frames.
 pub const SIZE: u32 = 256;
 
