@@ -288,6 +288,11 @@ fn textures_are_read_with_their_sampler_and_shared() {
     assert_eq!(texture.sampling.wrap, [Wrap::ClampToEdge, Wrap::MirroredRepeat]);
     let uv: Vec<[f32; 2]> = model.parts[0].mesh.vertices.iter().map(|v| v.uv).collect();
     assert_eq!((uv[5], uv[11]), ([0.25, 0.5], [0.75, 1.0]));
+    // The same image in a data URI.
+    let mut inline = TestModel::new().with_texture(&png_rgba(4, 4, &red_blue), None);
+    let data = base64::Engine::encode(&base64::engine::general_purpose::STANDARD, png_rgba(4, 4, &red_blue));
+    inline.json["images"] = json!([{ "uri": format!("data:image/png;base64,{data}") }]);
+    assert_eq!(load(&inline).parts[0].texture.as_ref().unwrap().image.levels[0], red_blue);
     // Two primitives with the material share one texture.
     let mut twice = TestModel::new().with_texture(&png_rgba(4, 4, &red_blue), None);
     let primitive = twice.json["meshes"][0]["primitives"][0].clone();

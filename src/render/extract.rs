@@ -231,45 +231,46 @@ pub fn extract(world: &mut World) -> FrameData {
         .map_or((Mat4::ZERO, Vec3::ZERO, Vec3::NEG_Z), |(c, t)| (c.view_proj(t, aspect), t.translation, t.forward()));
 
     let mut joints = Vec::new();
-    let items: Vec<(DrawItem, Aabb)> =
-        world
-            .query::<(
-                &Mesh,
-                &Transform,
-                &WorldBounds,
-                Option<&Material>,
-                Option<&Joints>,
-                Has<ShadowCaster>,
-                Has<ShadowReceiver>,
-            )>()
-            .iter(world)
-            .map(|(mesh, t, bounds, material, skin, caster, receiver)| {
-                let m = material.copied().unwrap_or_default();
-                let model = t.matrix();
-                let object = ObjectUniform {
-                    model,
-                    normal_matrix: model.inverse().transpose(),
-                    base_color: m.base_color.extend(m.opacity),
-                    specular: m.specular,
-                    shininess: m.shininess.max(1.0),
-                    alpha_cutoff: m.alpha_mode.cutoff().unwrap_or(0.0),
-                    receives_shadows: receiver as u32,
-                    first_joint: joints.len() as u32,
-                    _pad: [0; 3],
-                };
-                joints.extend(skin.map_or(&[][..], |s| &s.0));
-                let item = DrawItem {
-                    mesh: *mesh,
-                    object,
-                    caster,
-                    skinned: skin.is_some(),
-                    texture: m.texture,
-                    alpha: m.alpha_mode,
-                    double_sided: m.double_sided,
-                };
-                (item, bounds.0)
-            })
-            .collect();
+    let mut query = world.query::<(
+        &Mesh,
+        &Transform,
+        &WorldBounds,
+        Option<&Material>,
+        Option<&Joints>,
+        Has<ShadowCaster>,
+        Has<ShadowReceiver>,
+    )>();
+    let library = world.resource::<crate::assets::MeshLibrary>();
+    let items: Vec<(DrawItem, Aabb)> = query
+        .iter(world)
+        .map(|(mesh, t, bounds, material, skin, caster, receiver)| {
+            let m = material.copied().unwrap_or_default();
+            let model = t.matrix();
+            let object = ObjectUniform {
+                model,
+                normal_matrix: model.inverse().transpose(),
+                base_color: m.base_color.extend(m.opacity),
+                specular: m.specular,
+                shininess: m.shininess.max(1.0),
+                alpha_cutoff: m.alpha_mode.cutoff().unwrap_or(0.0),
+                receives_shadows: receiver as u32,
+                first_joint: joints.len() as u32,
+                _pad: [0; 3],
+            };
+            joints.extend(skin.map_or(&[][..], |s| &s.0));
+            let item = DrawItem {
+                mesh: *mesh,
+                object,
+                caster,
+                // Joints move only a mesh that has influences; any other is drawn rigid.
+                skinned: skin.is_some() && library.get(*mesh).is_some_and(|m| m.skin.is_some()),
+                texture: m.texture,
+                alpha: m.alpha_mode,
+                double_sided: m.double_sided,
+            };
+            (item, bounds.0)
+        })
+        .collect();
     let draw_order = draw_order(&items, eye);
 
     let cull_to = (settings.caster_culling == CasterCulling::CameraView).then_some(&camera_view_proj);
@@ -355,6 +356,28 @@ mod tests {
         assert_eq!(order, (0..cascades as u32 + 2).collect::<Vec<_>>());
         assert_eq!(data.frame.counts[..2], [1, 2]);
         assert_ne!(data.camera_view_proj, Mat4::ZERO);
+    }
+
+    #[test]
+    fn blended_objects_are_drawn_last_from_the_farthest() {
+        let item = |alpha| DrawItem {
+            mesh: Mesh(0),
+            object: ObjectUniform::zeroed(),
+            caster: true,
+            skinned: false,
+            texture: None,
+            alpha,
+            double_sided: false,
+        };
+        let at = |z: f32| Aabb::new(Vec3::new(0.0, 0.0, z), Vec3::new(1.0, 1.0, z + 1.0));
+        let items = [
+            (item(AlphaMode::Blend), at(-2.0)),
+            (item(AlphaMode::Opaque), at(-9.0)),
+            (item(AlphaMode::Blend), at(-8.0)),
+            (item(AlphaMode::Mask { cutoff: 0.5 }), at(-1.0)),
+            (item(AlphaMode::Blend), at(-5.0)),
+        ];
+        assert_eq!(draw_order(&items, Vec3::ZERO), vec![1, 3, 2, 4, 0]);
     }
 
     #[test]
