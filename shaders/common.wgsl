@@ -27,8 +27,9 @@ struct Object {
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;
 @group(2) @binding(1) var base_color_sampler: sampler;
 
-// What this pipeline does with alpha, fixed when it is built: cut away fragments below the
-// object's cutoff, or blend with alpha.
+// What this pipeline does, fixed when it is built: sample the base-colour texture (objects
+// without one skip the lookup), cut away fragments below the object's alpha cutoff, blend.
+override TEXTURED: bool = true;
 override ALPHA_MASK: bool = false;
 override ALPHA_BLEND: bool = false;
 
@@ -42,5 +43,9 @@ struct VertexIn {
 // The surface's colour and alpha: base colour factor x texture x vertex colour (fragment
 // stages only: the texture is sampled with derivatives).
 fn surface_color(uv: vec2<f32>, vertex_color: vec4<f32>) -> vec4<f32> {
-    return object.base_color * textureSample(base_color_texture, base_color_sampler, uv) * vertex_color;
+    var color = object.base_color * vertex_color;
+    if (TEXTURED) {
+        color *= textureSample(base_color_texture, base_color_sampler, uv);
+    }
+    return color;
 }

@@ -47,7 +47,7 @@ fn main_variant(item: &DrawItem, measuring: bool) -> Variant {
         AlphaMode::Blend => AlphaClass::Blend,
     };
     let cull = (!item.double_sided).then_some(wgpu::Face::Back);
-    Variant { skinned: item.skinned, cull, alpha }
+    Variant { skinned: item.skinned, cull, alpha, textured: item.texture.is_some() }
 }
 
 /// The main pass's shader module, its pieces joined in the order they depend on each other.

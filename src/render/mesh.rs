@@ -146,13 +146,15 @@ pub struct Variant {
     pub cull: Option<wgpu::Face>,
     /// What alpha does.
     pub alpha: AlphaClass,
+    /// Its material has a base-colour texture (without one, the lookup is skipped).
+    pub textured: bool,
 }
 
 /// What every pipeline of a pass shares: one shader module with a vertex entry point `vertex`
 /// (and `{vertex}_skinned`) and a fragment entry point, its colour targets (none for depth
 /// only, where opaque objects get no fragment stage at all), bind groups 0 and 1, and the depth
-/// test. The fragment stage is told through the pipeline constants `ALPHA_MASK` and
-/// `ALPHA_BLEND` what alpha does.
+/// test. The fragment stage is told through the pipeline constants `TEXTURED`, `ALPHA_MASK` and
+/// `ALPHA_BLEND` whether to sample the texture and what alpha does.
 pub struct Recipe {
     /// Debug label.
     pub label: &'static str,

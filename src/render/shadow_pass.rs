@@ -205,7 +205,9 @@ impl ShadowPass {
 fn shadow_variant(item: &DrawItem, faces: ShadowFaces) -> Variant {
     let cull = (faces == ShadowFaces::Back && !item.double_sided).then_some(wgpu::Face::Front);
     let alpha = if item.alpha == AlphaMode::Opaque { AlphaClass::Opaque } else { AlphaClass::Mask };
-    Variant { skinned: item.skinned, cull, alpha }
+    // Opaque casters have no fragment stage, so whether they have a texture does not matter.
+    let textured = alpha == AlphaClass::Mask && item.texture.is_some();
+    Variant { skinned: item.skinned, cull, alpha, textured }
 }
 
 /// Layers to allocate for `needed`: at least 2 (GL cannot view a single-layer texture as an
