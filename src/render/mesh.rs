@@ -217,8 +217,11 @@ impl Pipelines {
         let r = &self.recipe;
         let entry = if v.skinned { format!("{}_skinned", r.vertex) } else { r.vertex.to_string() };
         let blend = v.alpha == AlphaClass::Blend;
-        let constants =
-            [("ALPHA_MASK", (v.alpha == AlphaClass::Mask) as u32 as f64), ("ALPHA_BLEND", blend as u32 as f64)];
+        let constants = [
+            ("TEXTURED", v.textured as u32 as f64),
+            ("ALPHA_MASK", (v.alpha == AlphaClass::Mask) as u32 as f64),
+            ("ALPHA_BLEND", blend as u32 as f64),
+        ];
         let targets: Vec<Option<wgpu::ColorTargetState>> = r
             .targets
             .iter()
