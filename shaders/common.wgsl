@@ -1,8 +1,8 @@
 // Per-object data shared by the shadow pass and the main pass (bind group 1, dynamic offset).
 struct Object {
-    model: mat4x4<f32>,
-    // Inverse-transpose of the model matrix, for normals under non-uniform scale.
-    normal_matrix: mat4x4<f32>,
+    world_from_local: mat4x4<f32>,
+    // Inverse-transpose of world_from_local, for normals under non-uniform scale.
+    normal_from_local: mat4x4<f32>,
     // Linear RGBA base colour factor.
     base_color: vec4<f32>,
     // Strength of the specular highlight.

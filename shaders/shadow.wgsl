@@ -3,7 +3,7 @@
 // surface is not there, so they cast cut-out shadows.
 
 struct Layer {
-    view_proj: mat4x4<f32>,
+    clip_from_world: mat4x4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> layer: Layer;
@@ -16,13 +16,13 @@ struct ShadowOut {
 
 @vertex
 fn vs_shadow(v: VertexIn) -> ShadowOut {
-    return ShadowOut(layer.view_proj * object.model * vec4<f32>(v.position, 1.0), v.uv, v.color);
+    return ShadowOut(layer.clip_from_world * object.world_from_local * vec4<f32>(v.position, 1.0), v.uv, v.color);
 }
 
 // The same for a skinned mesh: the shadow follows the pose.
 @vertex
 fn vs_shadow_skinned(v: VertexIn, s: SkinIn) -> ShadowOut {
-    return ShadowOut(layer.view_proj * object.model * skin_matrix(s) * vec4<f32>(v.position, 1.0), v.uv, v.color);
+    return ShadowOut(layer.clip_from_world * object.world_from_local * skin_matrix(s) * vec4<f32>(v.position, 1.0), v.uv, v.color);
 }
 
 @fragment

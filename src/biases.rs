@@ -1,20 +1,16 @@
 //! Per-light shadow biases, as `umbra tune` finds them and writes them to a file, and as `play`,
-//! `render` and `bench --cache` read them back (`--biases FILE`).
+//! `render` and `bench --cache` read them back (`--biases FILE`). Lights are named as
+//! [`crate::systems::light_list`] names them ("sun", "spot 1", "point 1").
 
 use crate::components::ShadowBias;
-use crate::systems::light_order;
+use crate::systems::light_list;
 use bevy_ecs::prelude::*;
 use serde_json::{Value, json};
 use std::path::Path;
 
-/// One bias per light, in the order the renderer uses the lights: the sun, then the spots.
-#[derive(Clone, Debug, PartialEq)]
-pub struct LightBiases {
-    /// The sun's.
-    pub sun: Option<ShadowBias>,
-    /// Each spot light's.
-    pub spots: Vec<ShadowBias>,
-}
+/// One bias per light, by the light's name.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LightBiases(pub Vec<(String, ShadowBias)>);
 
 /// A bias file that could not be read, and why.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -24,10 +20,6 @@ pub struct BiasFileError {
     pub path: String,
     /// What is wrong with it.
     pub problem: String,
-}
-
-fn bias_json(b: &ShadowBias) -> Value {
-    json!({ "constant": b.constant, "slope": b.slope, "normal": b.normal })
 }
 
 fn bias_from(v: &Value, at: &str) -> Result<ShadowBias, String> {
@@ -43,28 +35,35 @@ fn bias_from(v: &Value, at: &str) -> Result<ShadowBias, String> {
 }
 
 impl LightBiases {
-    /// The biases the lights of `world` have now.
+    /// The biases the lights of `world` have now (their own, or the settings').
     pub fn of(world: &mut World) -> LightBiases {
-        let (sun, spots) = light_order(world);
-        let bias = |e: Entity| world.get::<ShadowBias>(e).copied().unwrap_or_default();
-        LightBiases { sun: sun.map(bias), spots: spots.into_iter().map(bias).collect() }
+        LightBiases(light_list(world).into_iter().map(|l| (l.label.to_string(), l.bias)).collect())
     }
 
-    /// Gives each light of `world` its bias (lights beyond those listed keep theirs).
+    /// The bias of the light called `name`, if listed.
+    pub fn get(&self, name: &str) -> Option<ShadowBias> {
+        self.0.iter().find(|(n, _)| n == name).map(|(_, b)| *b)
+    }
+
+    /// Gives each light of `world` named here its bias (the others keep theirs).
     pub fn apply(&self, world: &mut World) {
-        let (sun, spots) = light_order(world);
-        let pairs = sun.zip(self.sun).into_iter().chain(spots.into_iter().zip(self.spots.iter().copied()));
-        for (e, b) in pairs.collect::<Vec<_>>() {
-            world.entity_mut(e).insert(b);
+        for light in light_list(world) {
+            if let Some(b) = self.get(&light.label.to_string()) {
+                world.entity_mut(light.entity).insert(b);
+            }
         }
     }
 
     /// The biases as JSON text.
     pub fn to_json(&self) -> String {
+        let lights: serde_json::Map<String, Value> = self
+            .0
+            .iter()
+            .map(|(name, b)| (name.clone(), json!({ "constant": b.constant, "slope": b.slope, "normal": b.normal })))
+            .collect();
         let doc = json!({
             "about": "shadow biases in shadow-map texels per light, written by `umbra tune`",
-            "sun": self.sun.as_ref().map(bias_json),
-            "spots": self.spots.iter().map(bias_json).collect::<Vec<_>>(),
+            "lights": lights,
         });
         serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
     }
@@ -72,20 +71,21 @@ impl LightBiases {
     /// Reads biases from JSON text.
     pub fn from_json(text: &str) -> Result<LightBiases, String> {
         let doc: Value = serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
-        let sun = match doc.get("sun") {
-            None | Some(Value::Null) => None,
-            Some(v) => Some(bias_from(v, "sun")?),
-        };
-        let spots = match doc.get("spots") {
-            None => Vec::new(),
-            Some(Value::Array(list)) => list
+        let keys = doc.as_object().ok_or("a bias file is a JSON object")?.keys();
+        if let Some(key) = keys.into_iter().find(|k| !["about", "lights"].contains(&k.as_str())) {
+            return Err(format!(
+                "unknown key `{key}`: a bias file lists `lights` by name (write it with `umbra tune`)"
+            ));
+        }
+        match doc.get("lights") {
+            None => Ok(LightBiases::default()),
+            Some(Value::Object(lights)) => lights
                 .iter()
-                .enumerate()
-                .map(|(i, v)| bias_from(v, &format!("spot {}", i + 1)))
-                .collect::<Result<_, _>>()?,
-            Some(_) => return Err("`spots` must be a list".into()),
-        };
-        Ok(LightBiases { sun, spots })
+                .map(|(name, v)| Ok((name.clone(), bias_from(v, name)?)))
+                .collect::<Result<_, _>>()
+                .map(LightBiases),
+            Some(_) => Err("`lights` must be an object of light names and their biases".into()),
+        }
     }
 
     /// Reads a bias file.
@@ -113,16 +113,19 @@ mod tests {
 
     #[test]
     fn biases_survive_a_round_trip_and_bad_files_are_named() {
-        let b = LightBiases {
-            sun: Some(ShadowBias { constant: 0.5, slope: 2.0, normal: 1.0 }),
-            spots: vec![ShadowBias { constant: 1.0, slope: 0.0, normal: 0.25 }],
-        };
+        let b = LightBiases(vec![
+            ("point 1".into(), ShadowBias { constant: 1.0, slope: 0.0, normal: 0.25 }),
+            ("sun".into(), ShadowBias { constant: 0.5, slope: 2.0, normal: 1.0 }),
+        ]);
         assert_eq!(LightBiases::from_json(&b.to_json()), Ok(b));
         assert!(LightBiases::from_json("{").unwrap_err().contains("not JSON"));
-        let negative = r#"{"sun": {"constant": -1, "slope": 0, "normal": 0}}"#;
+        let negative = r#"{"lights": {"sun": {"constant": -1, "slope": 0, "normal": 0}}}"#;
         assert!(LightBiases::from_json(negative).unwrap_err().contains("sun: `constant` = -1"));
-        let missing = r#"{"spots": [{"constant": 1, "slope": 1}]}"#;
+        let missing = r#"{"lights": {"spot 1": {"constant": 1, "slope": 1}}}"#;
         assert!(LightBiases::from_json(missing).unwrap_err().contains("spot 1: `normal` must be a number"));
+        assert!(LightBiases::from_json(r#"{"lights": [1]}"#).unwrap_err().contains("must be an object"));
+        let old = r#"{"sun": {"constant": 1, "slope": 1, "normal": 1}}"#;
+        assert!(LightBiases::from_json(old).unwrap_err().contains("unknown key `sun`"));
         let err = LightBiases::load(Path::new("no/such/biases.json")).unwrap_err().to_string();
         assert!(err.starts_with("no/such/biases.json: cannot read it"), "{err}");
     }

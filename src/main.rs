@@ -4,9 +4,10 @@ use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use umbra::components::ShadowMethod;
 use umbra::components::{ModelInstance, Transform};
 use umbra::render::{Gpu, render_headless, render_png};
-use umbra::settings::{CasterCulling, ShadowFaces, ShadowFilter};
+use umbra::settings::{CasterCulling, ShadowFaces};
 use umbra::shadow::FitMode;
 use umbra::{App, Settings};
 
@@ -71,9 +72,10 @@ struct SceneArgs {
     /// Tint each cascade in its own colour.
     #[arg(long)]
     cascade_debug: bool,
-    /// How shadow maps are sampled: nearest, bilinear, pcf3 or pcf5.
-    #[arg(long, value_name = "FILTER")]
-    filter: Option<ShadowFilter>,
+    /// How shadow maps are sampled, for every light without a method of its own: nearest,
+    /// bilinear, pcf3 or pcf5.
+    #[arg(long, alias = "filter", value_name = "METHOD")]
+    method: Option<ShadowMethod>,
     /// Which casters shadow maps take: light (all in the light's volume) or camera (only those
     /// the camera sees, a shortcut that loses off-screen casters).
     #[arg(long, value_name = "MODE")]
@@ -219,7 +221,7 @@ impl SceneArgs {
             cascade_blend: self.cascade_blend.unwrap_or(d.cascade_blend),
             fit_mode: self.fit.unwrap_or(d.fit_mode),
             cascade_debug: self.cascade_debug,
-            filter: self.filter.unwrap_or(d.filter),
+            method: self.method.unwrap_or(d.method),
             caster_culling: self.culling.unwrap_or(d.caster_culling),
             shadow_faces: self.shadow_faces.unwrap_or(d.shadow_faces),
             reuse_shadow_maps: !self.redraw_shadows,
@@ -306,10 +308,10 @@ fn sweep(args: &BenchArgs) -> Result<()> {
         options.truth.soft_rays = n as usize;
     }
     if let Some(degrees) = args.sun_radius {
-        options.truth.sun_angular_radius = degrees.to_radians();
+        options.truth.sizes.sun_angular_radius = Some(degrees.to_radians());
     }
     if let Some(r) = args.spot_radius {
-        options.truth.spot_radius = r;
+        options.truth.sizes.light_radius = Some(r);
     }
     let configs = sweep::configs(args.quick).len();
     let timing = if sweep::timed_on_gpu(&gpu) { "GPU timestamps" } else { "the wall clock (no timestamps here)" };
@@ -340,8 +342,8 @@ fn sweep(args: &BenchArgs) -> Result<()> {
 
 {} configurations on {}, timed by {timing}; {:.0} s in all. Shadow cost: the median over {} \
          frames of drawing every shadow layer plus what the lookups add to the main pass, every map redrawn every \
-         frame. Errors: pixels of {} views of the sample scene at {}x{} against a ray-traced truth (sun and spot \
-         lights together; the soft truth from {} rays over a {:.2}° sun and {} m spot lights).",
+         frame. Errors: pixels of {} views of the sample scene at {}x{} against a ray-traced truth (every light \
+         together; the soft truth from {} rays over each light's disc: {}).",
         if args.quick { " --quick" } else { "" },
         rows.len(),
         gpu.describe(),
@@ -351,13 +353,21 @@ fn sweep(args: &BenchArgs) -> Result<()> {
         options.size.0,
         options.size.1,
         options.truth.soft_rays,
-        options.truth.sun_angular_radius.to_degrees(),
-        options.truth.spot_radius,
+        light_sizes(options.truth.sizes),
     );
     let summary = results::write_all(&rows, &args.out, &heading)?;
     println!("{summary}");
     println!("wrote {}: results.csv, summary.md and the charts (.png and .svg)", args.out.display());
     Ok(())
+}
+
+/// The light sizes the soft truth takes, in words.
+fn light_sizes(sizes: umbra::eval::truth::SizeOverride) -> String {
+    let sun = sizes
+        .sun_angular_radius
+        .map_or("each sun its own size".to_string(), |r| format!("a {:.2}° sun", r.to_degrees()));
+    let local = sizes.light_radius.map_or("each other light its own".to_string(), |r| format!("{r} m lights"));
+    format!("{sun}, {local}")
 }
 
 fn tune(args: &TuneArgs) -> Result<()> {

@@ -99,7 +99,7 @@ pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
     match code {
         KeyCode::KeyF => settings.fit_mode = settings.fit_mode.next(),
         KeyCode::KeyC => settings.cascade_debug = !settings.cascade_debug,
-        KeyCode::KeyP => settings.filter = settings.filter.next(),
+        KeyCode::KeyP => settings.method = settings.method.next(),
         KeyCode::KeyK => settings.caster_culling = settings.caster_culling.next(),
         KeyCode::Digit1 => settings.cascades = 1,
         KeyCode::Digit2 => settings.cascades = 2,
@@ -121,7 +121,7 @@ fn settings_line(settings: &Settings) -> String {
         "{} cascades, {} fit, {} filter{culling}{tints}",
         settings.cascades,
         settings.fit_mode.name(),
-        settings.filter.name()
+        settings.method.name()
     )
 }
 
@@ -310,7 +310,8 @@ impl ApplicationHandler for Player {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::settings::{CasterCulling, ShadowFilter};
+    use crate::components::ShadowMethod;
+    use crate::settings::CasterCulling;
     use crate::shadow::FitMode;
 
     #[test]
@@ -322,7 +323,7 @@ mod tests {
         assert!(change_setting(KeyCode::Digit2, &mut s));
         assert_eq!(s.cascades, 2);
         assert!(change_setting(KeyCode::KeyP, &mut s));
-        assert_eq!(s.filter, ShadowFilter::Pcf3);
+        assert_eq!(s.method, ShadowMethod::Pcf3);
         assert!(change_setting(KeyCode::KeyK, &mut s));
         assert_eq!(s.caster_culling, CasterCulling::CameraView);
         assert_eq!(settings_line(&s), "2 cascades, unsnapped fit, pcf3 filter, culling to the camera view, tinted");

@@ -50,13 +50,16 @@ pub fn spawn_sample_scene(world: &mut World, settings: &Settings) -> Result<(), 
         world.spawn(animated_cube(i, settings.cubes, unit_cube));
     }
 
-    let bias = settings.shadow_bias();
-    let sun =
-        DirectionalLight { direction: SUN_DIRECTION.normalize(), color: Vec3::new(1.0, 0.95, 0.85), intensity: 1.0 };
-    world.spawn((sun, ShadowMap::default(), bias));
+    let sun = DirectionalLight {
+        direction: SUN_DIRECTION.normalize(),
+        color: Vec3::new(1.0, 0.95, 0.85),
+        intensity: 1.0,
+        ..Default::default()
+    };
+    world.spawn((sun, ShadowMap::default()));
     for (spot, at, target, cookie) in sample_spots() {
         let transform = Transform { translation: at, ..Default::default() }.looking_to(target - at);
-        let mut light = world.spawn((spot, transform, ShadowMap::default(), bias));
+        let mut light = world.spawn((spot, transform, ShadowMap::default()));
         if let Some(cookie) = cookie {
             light.insert(cookie);
         }
@@ -129,6 +132,7 @@ pub fn sample_spots() -> [(SpotLight, Vec3, Vec3, Option<Cookie>); 2] {
         range: 16.0,
         inner_angle: 16f32.to_radians(),
         outer_angle: 24f32.to_radians(),
+        ..Default::default()
     };
     [
         (

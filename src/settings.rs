@@ -1,5 +1,6 @@
 //! Settings: every knob of the scene and the shadows, checked before use.
 
+use crate::components::ShadowMethod;
 use crate::shadow::{FitMode, MAX_CASCADES};
 use bevy_ecs::prelude::*;
 
@@ -12,7 +13,7 @@ pub struct Settings {
     pub shadow_strength: f32,
     /// Width and height of each shadow-map layer in texels.
     pub shadow_map_size: u32,
-    /// Constant depth bias, in shadow-map texels.
+    /// Constant depth bias, in shadow-map texels, for every light without a bias of its own.
     pub depth_bias: f32,
     /// Depth bias per unit of surface slope (tan of the light angle), in texels.
     pub slope_bias: f32,
@@ -30,14 +31,17 @@ pub struct Settings {
     pub fit_mode: FitMode,
     /// Tint each cascade in its own colour to show where it is used.
     pub cascade_debug: bool,
-    /// How the shadow map is sampled.
-    pub filter: ShadowFilter,
+    /// How shadow maps are sampled, for every light without a method of its own.
+    pub method: ShadowMethod,
     /// Which casters are drawn into a shadow map and fitted into its depth range.
     pub caster_culling: CasterCulling,
     /// Which faces of the casters are drawn into shadow maps.
     pub shadow_faces: ShadowFaces,
     /// Keep a light's shadow maps until it is dirty (true), or draw every map every frame.
     pub reuse_shadow_maps: bool,
+    /// Texels each face of a shadow cube reaches past its 90° edge, so that a filter sampling
+    /// next to a seam finds its texels on the face it looks in (0 shows the seams).
+    pub cube_margin: u32,
     /// Ambient light level (0..1) that reaches every surface.
     pub ambient: f32,
     /// Number of animated cubes in the sample scene.
@@ -68,10 +72,11 @@ impl Default for Settings {
             cascade_blend: 0.1,
             fit_mode: FitMode::Stable,
             cascade_debug: false,
-            filter: ShadowFilter::Bilinear,
+            method: ShadowMethod::Bilinear,
             caster_culling: CasterCulling::LightVolume,
             shadow_faces: ShadowFaces::Both,
             reuse_shadow_maps: true,
+            cube_margin: DEFAULT_CUBE_MARGIN,
             ambient: 0.12,
             cubes: 10,
             character: true,
@@ -80,20 +85,6 @@ impl Default for Settings {
             dt: 1.0 / 60.0,
         }
     }
-}
-
-/// How a shadow map is sampled: how many comparisons are averaged for one visibility.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum ShadowFilter {
-    /// One comparison with the nearest texel: hard, blocky edges.
-    Nearest = 0,
-    /// The hardware's 2x2 comparison filter: edges one texel soft.
-    #[default]
-    Bilinear = 1,
-    /// A 3x3 grid of 2x2 comparisons, one texel apart (percentage-closer filtering).
-    Pcf3 = 2,
-    /// A 5x5 grid of 2x2 comparisons.
-    Pcf5 = 3,
 }
 
 /// Which casters a shadow map takes.
@@ -122,8 +113,16 @@ pub enum ShadowFaces {
     Back,
 }
 
+named_choices!(FitMode, "a fit mode", Stable = "stable", Unsnapped = "unsnapped", Tight = "tight");
 named_choices!(ShadowFaces, "a face choice", Both = "both", Back = "back");
-named_choices!(ShadowFilter, "a filter", Nearest = "nearest", Bilinear = "bilinear", Pcf3 = "pcf3", Pcf5 = "pcf5");
+named_choices!(
+    ShadowMethod,
+    "a shadow method",
+    Nearest = "nearest",
+    Bilinear = "bilinear",
+    Pcf3 = "pcf3",
+    Pcf5 = "pcf5"
+);
 named_choices!(CasterCulling, "a culling mode", LightVolume = "light", CameraView = "camera");
 
 /// A setting outside what makes sense, with the reason.
@@ -147,6 +146,9 @@ pub struct SettingsError {
 /// seen, while still giving near cascades far more texels per metre than far ones (uniform alone
 /// would split at 15, 30 and 45 m and blur everything close to the camera).
 pub const DEFAULT_SPLIT_LAMBDA: f32 = 0.75;
+
+/// Texels a cube face reaches past its edge by default: as far as the widest method samples.
+pub const DEFAULT_CUBE_MARGIN: u32 = 3;
 
 /// Largest shadow-map layer accepted (the device may allow less; the renderer checks again).
 pub const MAX_SHADOW_MAP_SIZE: u32 = 8192;
@@ -191,6 +193,9 @@ impl Settings {
         }
         if !unit(self.ambient) {
             return bad("ambient", self.ambient, "must be between 0 and 1");
+        }
+        if self.cube_margin > 64 {
+            return bad("cube_margin", self.cube_margin, "must be at most 64 texels");
         }
         if self.cubes > 1000 {
             return bad("cubes", self.cubes, "must be at most 1000");

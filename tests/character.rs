@@ -23,7 +23,12 @@ fn character_scene(ground: bool, eye: Vec3, target: Vec3) -> (App, Entity) {
     }
     let model = Arc::new(parse_model(CHARACTER_GLB, None, "character.glb").unwrap());
     let character = spawn_model(&mut app.world, model, Transform::default(), Some(0));
-    let sun = DirectionalLight { direction: Vec3::new(0.3, -1.0, 0.2).normalize(), color: Vec3::ONE, intensity: 1.0 };
+    let sun = DirectionalLight {
+        direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+        color: Vec3::ONE,
+        intensity: 1.0,
+        ..Default::default()
+    };
     app.world.spawn((sun, ShadowMap::default()));
     app.world.spawn(camera_at(eye, target));
     app.resize(SIZE, SIZE);
@@ -86,7 +91,7 @@ fn gpu_skinning_puts_every_vertex_where_cpu_skinning_does() {
 /// Ground pixels the renderer shadowed from the sun, checked against the ray-traced truth.
 fn ground_shadow(app: &mut App, frame: &DebugFrame) -> Vec<bool> {
     let occluders = truth::Occluders::from_world(&mut app.world);
-    let lights = truth::truth_lights(&mut app.world, 0.0, 0.0);
+    let lights = truth::truth_lights(&mut app.world, truth::SizeOverride::default());
     let truth = truth::truth_frame(frame, &occluders, &lights, 0);
     let on_ground = |i: usize| frame.covered(i) && frame.position[i].y.abs() < 1e-3;
     let tally = metrics::tally(frame, &truth[0], 0, on_ground);
@@ -141,7 +146,12 @@ fn the_character_wears_its_striped_texture() {
     assert!(model.warnings.is_empty(), "{:?}", model.warnings);
     assert!(model.parts.iter().filter(|p| p.texture.is_some()).count() == 1, "the shirt is textured");
     spawn_model(&mut app.world, model, Transform::default(), None);
-    let sun = DirectionalLight { direction: Vec3::new(0.0, -0.3, -1.0).normalize(), color: Vec3::ONE, intensity: 1.0 };
+    let sun = DirectionalLight {
+        direction: Vec3::new(0.0, -0.3, -1.0).normalize(),
+        color: Vec3::ONE,
+        intensity: 1.0,
+        ..Default::default()
+    };
     app.world.spawn((sun, ShadowMap::default()));
     app.world.spawn(camera_at(Vec3::new(0.0, 1.2, 2.0), Vec3::new(0.0, 1.2, 0.0)));
     let image = common::render(&mut app, 0.0);

@@ -138,7 +138,8 @@ fn a_users_model_is_placed_in_the_scene_or_named_in_a_clear_error() {
 fn a_broken_bias_file_is_named_and_nothing_is_written() {
     let dir = scratch("biases");
     std::fs::write(dir.join("bad.json"), "{ not json").unwrap();
-    std::fs::write(dir.join("negative.json"), r#"{"sun": {"constant": -2, "slope": 0, "normal": 0}}"#).unwrap();
+    std::fs::write(dir.join("negative.json"), r#"{"lights": {"sun": {"constant": -2, "slope": 0, "normal": 0}}}"#)
+        .unwrap();
     for (file, says) in
         [("bad.json", "bad.json: not JSON"), ("negative.json", "sun: `constant` = -2"), ("gone.json", "cannot read it")]
     {

@@ -231,7 +231,10 @@ fn every_caster_in_view_lands_inside_the_cascade_that_covers_it() {
                 if b.corners().iter().all(|c| inside(&view, *c)) {
                     checked += 1;
                     for c in b.corners() {
-                        assert!(inside(&cascade.view_proj, c), "step {step}: {c:?} of {b:?} is outside its cascade");
+                        assert!(
+                            inside(&cascade.clip_from_world, c),
+                            "step {step}: {c:?} of {b:?} is outside its cascade"
+                        );
                     }
                 }
             }

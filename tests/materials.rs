@@ -27,7 +27,7 @@ fn scene(ground: bool, sun: Vec3, eye: Vec3, target: Vec3) -> App {
         let mesh = app.world.resource_mut::<MeshLibrary>().add(plane(20.0));
         app.world.spawn((mesh, Material::color(0.6, 0.6, 0.6), ShadowReceiver));
     }
-    let sun = DirectionalLight { direction: sun.normalize(), color: Vec3::ONE, intensity: 1.0 };
+    let sun = DirectionalLight { direction: sun.normalize(), color: Vec3::ONE, intensity: 1.0, ..Default::default() };
     app.world.spawn((sun, ShadowMap::default()));
     app.world.spawn(camera_at(eye, target));
     app
@@ -114,7 +114,7 @@ fn a_cut_out_caster_casts_a_cut_out_shadow_where_the_truth_says() {
     let frame = render_debug_frame(&gpu, &mut renderer, &mut app, SIZE, SIZE).unwrap();
     drop(gpu);
     let occluders = truth::Occluders::from_world(&mut app.world);
-    let lights = truth::truth_lights(&mut app.world, 0.0, 0.0);
+    let lights = truth::truth_lights(&mut app.world, truth::SizeOverride::default());
     let truth = truth::truth_frame(&frame, &occluders, &lights, 0);
     let on_ground = |i: usize| frame.covered(i) && frame.position[i].y.abs() < 1e-3;
     let tally = metrics::tally(&frame, &truth[0], 0, on_ground);

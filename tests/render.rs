@@ -29,7 +29,7 @@ fn cube_over_plane(settings: Settings) -> App {
 }
 
 fn add_sun(app: &mut App, direction: Vec3) {
-    let sun = DirectionalLight { direction, color: Vec3::ONE, intensity: 1.0 };
+    let sun = DirectionalLight { direction, color: Vec3::ONE, intensity: 1.0, ..Default::default() };
     app.world.spawn((sun, ShadowMap::default()));
 }
 
@@ -85,6 +85,7 @@ fn spot_over_plane(intensity: f32) -> App {
         range: 10.0,
         inner_angle: 15f32.to_radians(),
         outer_angle: 20f32.to_radians(),
+        ..Default::default()
     };
     let at = Transform::from_xyz(0.0, 4.0, 0.0).looking_to(Vec3::NEG_Y);
     app.world.spawn((spot, at, ShadowMap::default()));

@@ -32,7 +32,12 @@ fn a_tall_caster_behind_the_camera_shadows_the_visible_ground() {
         // pillar's shadow runs along x = 0 from z = 16 to z = -4, right through the view.
         let pillar = Transform::from_xyz(0.0, 10.0, 16.0).with_scale(Vec3::new(1.0, 20.0, 1.0));
         app.world.spawn((block, pillar, grey(), ShadowCaster));
-        let sun = DirectionalLight { direction: Vec3::new(0.0, -1.0, -1.0), color: Vec3::ONE, intensity: 1.0 };
+        let sun = DirectionalLight {
+            direction: Vec3::new(0.0, -1.0, -1.0),
+            color: Vec3::ONE,
+            intensity: 1.0,
+            ..Default::default()
+        };
         app.world.spawn((sun, ShadowMap::default()));
         app
     };
@@ -84,7 +89,12 @@ fn the_cascade_debug_view_shows_one_tint_per_cascade() {
         let shot = |debug| {
             let settings = Settings { cascades, cascade_debug: debug, ..Settings::default() };
             let mut app = ground_app(settings, Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 0.6, -30.0));
-            let sun = DirectionalLight { direction: Vec3::new(0.3, -1.0, 0.2), color: Vec3::ONE, intensity: 1.0 };
+            let sun = DirectionalLight {
+                direction: Vec3::new(0.3, -1.0, 0.2),
+                color: Vec3::ONE,
+                intensity: 1.0,
+                ..Default::default()
+            };
             app.world.spawn((sun, ShadowMap::default()));
             render(&mut app, 0.0)
         };
@@ -111,6 +121,7 @@ fn a_window_cookie_casts_bars_and_panes_in_the_spot_light() {
             range: 10.0,
             inner_angle: 15f32.to_radians(),
             outer_angle: 20f32.to_radians(),
+            ..Default::default()
         };
         let mut light =
             app.world.spawn((spot, Transform::from_xyz(0.0, 4.0, 0.0).looking_to(Vec3::NEG_Y), ShadowMap::default()));

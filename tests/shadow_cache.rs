@@ -85,7 +85,12 @@ fn build(reuse: bool) -> World {
             app.world.spawn((block, at, Material::color(0.8, 0.4, 0.2), ShadowCaster, ShadowReceiver)).id()
         })
         .collect();
-    let sun = DirectionalLight { direction: Vec3::new(-0.4, -1.0, -0.3), color: Vec3::ONE, intensity: 1.0 };
+    let sun = DirectionalLight {
+        direction: Vec3::new(-0.4, -1.0, -0.3),
+        color: Vec3::ONE,
+        intensity: 1.0,
+        ..Default::default()
+    };
     app.world.spawn((sun, ShadowMap::default()));
     for (x, cookie) in [(-3.0, Some(Cookie::Window)), (3.0, None)] {
         let spot = SpotLight {
@@ -94,6 +99,7 @@ fn build(reuse: bool) -> World {
             range: 14.0,
             inner_angle: 0.35,
             outer_angle: 0.45,
+            ..Default::default()
         };
         let at = Transform::from_xyz(x, 6.0, 0.0).looking_to(Vec3::new(0.2, -1.0, 0.1));
         let mut light = app.world.spawn((spot, at, ShadowMap::default()));

@@ -2,9 +2,9 @@
 //! with the truth kept for reuse while only the shadow settings change (the visible surfaces,
 //! and so the truth, do not depend on them).
 
-use super::truth::{Occluders, Truth, TruthLight, truth_frame, truth_lights};
+use super::truth::{Occluders, SizeOverride, Truth, truth_frame, truth_lights};
 use crate::App;
-use crate::components::{Camera, FlyCamera, ShadowBias, Transform};
+use crate::components::{Camera, FlyCamera, Transform};
 use crate::render::{DebugFrame, Gpu, HEADLESS_FORMAT, RenderError, Renderer, render_debug_frame};
 use crate::settings::{Settings, SettingsError};
 use bevy_ecs::prelude::*;
@@ -14,17 +14,15 @@ use std::collections::HashMap;
 /// How the truth is taken.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TruthSettings {
-    /// Angular radius of the sun's disc for the soft truth (the real sun's is 0.27°).
-    pub sun_angular_radius: f32,
-    /// Radius of a spot light's disc for the soft truth, in metres.
-    pub spot_radius: f32,
+    /// Light sizes for the soft truth that replace the lights' own, where given.
+    pub sizes: SizeOverride,
     /// Rays over each light's disc for the soft truth.
     pub soft_rays: usize,
 }
 
 impl Default for TruthSettings {
     fn default() -> Self {
-        TruthSettings { sun_angular_radius: 0.27f32.to_radians(), spot_radius: 0.1, soft_rays: 32 }
+        TruthSettings { sizes: SizeOverride::default(), soft_rays: 32 }
     }
 }
 
@@ -117,7 +115,7 @@ impl<'g> Measurer<'g> {
         }
         let t = self.truth;
         let world = &mut subject.app.world;
-        let lights: Vec<Option<TruthLight>> = truth_lights(world, t.sun_angular_radius, t.spot_radius);
+        let lights = truth_lights(world, t.sizes);
         let truth = std::rc::Rc::new(truth_frame(&frame, &Occluders::from_world(world), &lights, t.soft_rays));
         self.cache.insert(key, (frame.position.clone(), truth.clone()));
         Ok(Measured { frame, truth })
@@ -129,15 +127,11 @@ impl<'g> Measurer<'g> {
     }
 }
 
-/// Puts `settings` in force in `app`, including every light's bias (lights are spawned with the
-/// settings' bias and keep their own afterwards).
+/// Puts `settings` in force in `app` (lights without a bias or method of their own take the
+/// settings').
 pub fn apply_settings(app: &mut App, settings: &Settings) {
     if app.world.resource::<Settings>() != settings {
         *app.world.resource_mut::<Settings>() = settings.clone();
-    }
-    let bias = settings.shadow_bias();
-    for mut b in app.world.query::<&mut ShadowBias>().iter_mut(&mut app.world) {
-        b.set_if_neq(bias);
     }
 }
 

@@ -100,10 +100,10 @@ impl LightReport {
     }
 }
 
-/// The rendered visibility of `light` (0 sun, 1.. spots) at pixel `i` where the renderer made a
-/// shadow test there.
+/// The rendered visibility of `light` (in [`crate::systems::light_list`] order) at pixel `i`
+/// where the renderer made a shadow test there.
 pub fn rendered(frame: &DebugFrame, light: usize, i: usize) -> Option<f32> {
-    let v = frame.visibility[i][light.min(3)];
+    let v = *frame.visibility.get(light)?.get(i)?;
     (frame.covered(i) && v >= 0.0).then_some(v)
 }
 
@@ -214,7 +214,7 @@ mod tests {
             height: 1,
             position: vec![Vec4::W; 3],
             normal: vec![Vec4::new(0.0, 1.0, 0.0, 3.0), Vec4::new(0.0, 1.0, 0.0, 15.0), Vec4::new(0.0, 1.0, 0.0, 15.0)],
-            visibility: vec![Vec4::splat(1.0), Vec4::splat(0.0), Vec4::splat(-1.0)],
+            visibility: vec![vec![1.0, 0.0, -1.0]],
         };
         let r = &report(&frame, &[vec![truth(true), truth(true), truth(false)]], 1)[0];
         assert_eq!(r.all.pixels, 2, "the renderer made no test at the third pixel");

@@ -55,7 +55,7 @@ pub fn csv(rows: &[Row]) -> String {
             c.map_size,
             c.cascades,
             c.fit.name(),
-            c.filter.name(),
+            c.method.name(),
             c.bias,
             c.faces.name(),
             r.cost.total_ms(),

@@ -6,8 +6,9 @@ use super::cost::{Cost, time_all};
 use super::measure::{MeasureError, Measurer, TruthSettings, place_camera};
 use super::metrics::{LightReport, report};
 use crate::App;
+use crate::components::ShadowMethod;
 use crate::render::Gpu;
-use crate::settings::{Settings, ShadowFaces, ShadowFilter};
+use crate::settings::{Settings, ShadowFaces};
 use crate::shadow::FitMode;
 use glam::Vec3;
 
@@ -20,8 +21,8 @@ pub struct Config {
     pub cascades: u32,
     /// Cascade fitting.
     pub fit: FitMode,
-    /// Shadow-map filter.
-    pub filter: ShadowFilter,
+    /// How every light's shadow map is sampled.
+    pub method: ShadowMethod,
     /// Constant, slope and normal bias, all the same, in texels.
     pub bias: f32,
     /// Faces drawn into the maps.
@@ -36,7 +37,7 @@ impl Config {
             map_size: d.shadow_map_size,
             cascades: d.cascades,
             fit: d.fit_mode,
-            filter: d.filter,
+            method: d.method,
             bias: d.depth_bias,
             faces: d.shadow_faces,
         }
@@ -48,7 +49,7 @@ impl Config {
             shadow_map_size: self.map_size,
             cascades: self.cascades,
             fit_mode: self.fit,
-            filter: self.filter,
+            method: self.method,
             depth_bias: self.bias,
             slope_bias: self.bias,
             normal_bias: self.bias,
@@ -64,8 +65,8 @@ impl Config {
         if self.fit != d.fit {
             out += &format!(" {}", self.fit.name());
         }
-        if self.filter != d.filter {
-            out += &format!(" {}", self.filter.name());
+        if self.method != d.method {
+            out += &format!(" {}", self.method.name());
         }
         if self.bias != d.bias {
             out += &format!(" b{}", self.bias);
@@ -79,7 +80,7 @@ impl Config {
     /// A short name: `2048 x4 stable bilinear b1`, with `back` when only back faces are drawn.
     pub fn label(&self) -> String {
         let faces = if self.faces == ShadowFaces::Back { " back" } else { "" };
-        format!("{} x{} {} {} b{}{faces}", self.map_size, self.cascades, self.fit.name(), self.filter.name(), self.bias)
+        format!("{} x{} {} {} b{}{faces}", self.map_size, self.cascades, self.fit.name(), self.method.name(), self.bias)
     }
 }
 
@@ -105,8 +106,8 @@ pub fn configs(quick: bool) -> Vec<Config> {
         for fit in [FitMode::Unsnapped, FitMode::Tight] {
             push(Config { map_size, fit, ..d });
         }
-        for filter in [ShadowFilter::Nearest, ShadowFilter::Pcf3, ShadowFilter::Pcf5] {
-            push(Config { map_size, filter, ..d });
+        for method in [ShadowMethod::Nearest, ShadowMethod::Pcf3, ShadowMethod::Pcf5] {
+            push(Config { map_size, method, ..d });
         }
     }
     let biases: &[f32] = if quick { &[0.0] } else { &[0.0, 0.25, 1.0, 2.0, 4.0] };
@@ -286,7 +287,7 @@ mod tests {
         }
         assert!(configs(true).len() < configs(false).len());
         assert_eq!(Config::default_settings().label(), "2048 x4 stable bilinear b0.5");
-        let c = Config { filter: ShadowFilter::Pcf3, bias: 2.0, ..Config::default_settings() };
+        let c = Config { method: ShadowMethod::Pcf3, bias: 2.0, ..Config::default_settings() };
         assert_eq!(c.short_label(), "2048 x4 pcf3 b2");
     }
 }

@@ -9,9 +9,9 @@
 
 use crate::assets::skin::skin_vertices;
 use crate::assets::{MeshLibrary, TextureData, TextureLibrary};
-use crate::components::{DirectionalLight, Joints, Material, Mesh, ShadowCaster, SpotLight, Transform};
+use crate::components::{Joints, Material, Mesh, ShadowCaster, Transform};
 use crate::render::DebugFrame;
-use crate::systems::light_order;
+use crate::systems::{LightKind, light_list};
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3, Vec4};
 use obvhs::cwbvh::CwBvh;
@@ -206,30 +206,49 @@ pub enum TruthLight {
         /// Radius of the light's disc.
         radius: f32,
     },
+    /// A point light at `position` shining every way out to `range`, from a sphere of `radius`
+    /// metres.
+    Point {
+        /// Where the light is.
+        position: Vec3,
+        /// Distance at which it gives nothing.
+        range: f32,
+        /// Radius of the light's sphere.
+        radius: f32,
+    },
 }
 
-/// The lights of `world` in the order the measuring view reports them (sun first, then spots),
-/// each given the sizes `sun_angular_radius` and `spot_radius` for the soft truth.
-pub fn truth_lights(world: &mut World, sun_angular_radius: f32, spot_radius: f32) -> Vec<Option<TruthLight>> {
-    let (sun, spots) = light_order(world);
-    let mut out = vec![sun.and_then(|e| world.get::<DirectionalLight>(e)).map(|l| TruthLight::Sun {
-        direction: l.direction.normalize_or(Vec3::NEG_Y),
-        angular_radius: sun_angular_radius,
-    })];
-    for e in spots.into_iter().take(3) {
-        let (Some(spot), Some(t)) = (world.get::<SpotLight>(e), world.get::<Transform>(e)) else {
-            out.push(None);
-            continue;
-        };
-        out.push(Some(TruthLight::Spot {
-            position: t.translation,
-            direction: t.forward(),
-            cos_outer: spot.outer_angle.clamp(0.0, 1.55).cos(),
-            range: spot.range,
-            radius: spot_radius,
-        }));
-    }
-    out
+/// Light sizes that replace the scene's own for the soft truth (`bench --sun-radius`,
+/// `--spot-radius`), where given.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SizeOverride {
+    /// Angular radius of every sun, in radians.
+    pub sun_angular_radius: Option<f32>,
+    /// Radius of every spot and point light, in metres.
+    pub light_radius: Option<f32>,
+}
+
+/// The lights of `world` in the order the measuring view reports them, each with its own size
+/// (or the one `sizes` gives).
+pub fn truth_lights(world: &mut World, sizes: SizeOverride) -> Vec<TruthLight> {
+    light_list(world)
+        .iter()
+        .map(|l| match l.kind {
+            LightKind::Sun { direction, angular_radius } => {
+                TruthLight::Sun { direction, angular_radius: sizes.sun_angular_radius.unwrap_or(angular_radius) }
+            }
+            LightKind::Spot { position, direction, range, outer, radius, .. } => TruthLight::Spot {
+                position,
+                direction,
+                cos_outer: outer.cos(),
+                range,
+                radius: sizes.light_radius.unwrap_or(radius),
+            },
+            LightKind::Point { position, range, radius } => {
+                TruthLight::Point { position, range, radius: sizes.light_radius.unwrap_or(radius) }
+            }
+        })
+        .collect()
 }
 
 /// What the truth says of one pixel for one light.
@@ -283,24 +302,46 @@ impl TruthLight {
             }
             TruthLight::Spot { position, direction, cos_outer, range, radius } => {
                 let to_light = position - p;
-                let d = to_light.length();
-                let l = to_light / d.max(1e-6);
-                if n.dot(l) <= 0.0 || d >= range || (-l).dot(direction) < cos_outer {
+                if (-to_light.normalize_or_zero()).dot(direction) < cos_outer {
                     return None;
                 }
-                let lit = !occluders.occluded(origin, l, d);
-                let (u, v) = basis(direction);
-                let seen = disc
-                    .iter()
-                    .filter(|s| {
-                        let to = position + (u * s.x + v * s.y) * radius - origin;
-                        !occluders.occluded(origin, to.normalize(), to.length())
-                    })
-                    .count();
-                Some(Truth { lit, soft: soft_fraction(seen, disc.len(), lit) })
+                local_truth(occluders, (p, origin, n), (position, range), basis(direction), radius, disc)
+            }
+            TruthLight::Point { position, range, radius } => {
+                // The sphere seen from the point is a disc facing it.
+                let facing = (position - p).normalize_or(Vec3::Y);
+                local_truth(occluders, (p, origin, n), (position, range), basis(facing), radius, disc)
             }
         }
     }
+}
+
+/// The truth at surface point `p` (rays from `origin`, normal `n`) from a light at `position`
+/// (out to `range`) whose disc of `radius` spans `(u, v)`: `None` where it does not reach
+/// (facing away, out of range).
+fn local_truth(
+    occluders: &Occluders,
+    (p, origin, n): (Vec3, Vec3, Vec3),
+    (position, range): (Vec3, f32),
+    (u, v): (Vec3, Vec3),
+    radius: f32,
+    disc: &[glam::Vec2],
+) -> Option<Truth> {
+    let to_light = position - p;
+    let d = to_light.length();
+    let l = to_light / d.max(1e-6);
+    if n.dot(l) <= 0.0 || d >= range {
+        return None;
+    }
+    let lit = !occluders.occluded(origin, (position - origin).normalize_or(l), (position - origin).length());
+    let seen = disc
+        .iter()
+        .filter(|s| {
+            let to = position + (u * s.x + v * s.y) * radius - origin;
+            !occluders.occluded(origin, to.normalize(), to.length())
+        })
+        .count();
+    Some(Truth { lit, soft: soft_fraction(seen, disc.len(), lit) })
 }
 
 fn soft_fraction(seen: usize, of: usize, lit: bool) -> f32 {
@@ -313,7 +354,7 @@ fn soft_fraction(seen: usize, of: usize, lit: bool) -> f32 {
 pub fn truth_frame(
     frame: &DebugFrame,
     occluders: &Occluders,
-    lights: &[Option<TruthLight>],
+    lights: &[TruthLight],
     soft_rays: usize,
 ) -> Vec<Vec<Option<Truth>>> {
     let disc = disc_samples(soft_rays);
@@ -329,7 +370,6 @@ pub fn truth_frame(
         light.truth(occluders, p.truncate(), n.truncate().normalize_or_zero(), &disc)
     };
     for (light, column) in lights.iter().zip(out.iter_mut()) {
-        let Some(light) = light else { continue };
         std::thread::scope(|scope| {
             for (c, part) in column.chunks_mut(chunk).enumerate() {
                 let pixel = &pixel;

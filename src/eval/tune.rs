@@ -3,7 +3,7 @@
 //! together, then coordinate descent from the best of it over finer values.
 //!
 //! Lights do not change each other's shadows, so every candidate is tried on all lights in one
-//! render and each light keeps what suits it.
+//! render and each light keeps what suits it. Every light of any kind is tuned.
 
 use super::measure::{MeasureError, Measurer, TruthSettings, place_camera};
 use super::metrics::{Tally, tally};
@@ -26,7 +26,7 @@ const ROUNDS: usize = 2;
 /// What tuning did for one light.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LightTune {
-    /// "sun", "spot 1", ...
+    /// Its name: "sun", "spot 1", "point 1", ...
     pub light: String,
     /// Its errors with the biases it started with.
     pub before: Tally,
@@ -69,8 +69,8 @@ fn set(b: &mut ShadowBias, param: usize, v: f32) {
 }
 
 /// Renders every light with `candidate(its bias)`; each light whose error goes down (or stays,
-/// with less bias in all: less loosening where the views do not look) takes it. Only the first
-/// three spots are measured; any others keep their bias.
+/// with less bias in all: less loosening where the views do not look) takes it. Light `i` of
+/// `current` is column `i` of the measurements.
 fn try_candidate(
     m: &mut Measurer<'_>,
     current: &mut LightBiases,
@@ -78,12 +78,12 @@ fn try_candidate(
     candidate: impl Fn(&ShadowBias) -> ShadowBias,
 ) -> Result<(), MeasureError> {
     let mut trial = current.clone();
-    for (_, b) in columns(&mut trial) {
+    for (_, b) in &mut trial.0 {
         *b = candidate(b);
     }
     let errs = errors(m, &trial)?;
     let sum = |b: &ShadowBias| b.constant + b.slope + b.normal;
-    for ((column, b), (_, t)) in columns(current).into_iter().zip(columns(&mut trial)) {
+    for (column, ((_, b), (_, t))) in current.0.iter_mut().zip(&trial.0).enumerate() {
         let (Some(&e), Some(kept)) = (errs.get(column), best.get_mut(column)) else { continue };
         if wrong(&e) < wrong(kept) || (wrong(&e) == wrong(kept) && sum(t) < sum(b)) {
             *b = *t;
@@ -91,12 +91,6 @@ fn try_candidate(
         }
     }
     Ok(())
-}
-
-/// Each light's bias with the column of the measuring view that reports it (the sun's is 0, spot
-/// i's is i + 1).
-fn columns(b: &mut LightBiases) -> Vec<(usize, &mut ShadowBias)> {
-    b.sun.iter_mut().map(|s| (0, s)).chain(b.spots.iter_mut().enumerate().map(|(i, s)| (i + 1, s))).collect()
 }
 
 /// Tunes the biases of the sample scene under `base` with frames of `size`; `progress` hears
@@ -144,13 +138,11 @@ pub fn tune(
     }
     progress(steps, steps);
     let after = errors(&mut m, &current)?;
-    let mut tunes = Vec::new();
-    let mut found = current.clone();
-    for (column, bias) in columns(&mut found) {
-        let light = if column == 0 { "sun".to_string() } else { format!("spot {column}") };
-        if let (Some(&before), Some(&after)) = (before.get(column), after.get(column)) {
-            tunes.push(LightTune { light, before, after, bias: *bias });
-        }
-    }
+    let tunes = current
+        .0
+        .iter()
+        .zip(before.iter().zip(&after))
+        .map(|((light, bias), (&before, &after))| LightTune { light: light.clone(), before, after, bias: *bias })
+        .collect();
     Ok((tunes, current))
 }

@@ -1,75 +1,17 @@
 //! Extraction: the world's components turned into the structs the shaders read.
 //!
-//! Pure CPU code, so what the GPU is told can be tested without a GPU.
+//! Pure CPU code, so what the GPU is told can be tested without a GPU. Every light of
+//! [`light_list`] becomes one [`GpuLight`], and its layers take the next slots of the shadow-map
+//! array: slots are the renderer's business, not the world's.
 
+use super::gpu_types::{Frame, GpuLayer, GpuLight, MAX_LAYERS, Object, kind_id, shape_id};
 use crate::components::*;
 use crate::settings::{CasterCulling, Settings};
-use crate::shadow::{Aabb, MAX_CASCADES, intersects_clip_volume, spot_projection};
-use crate::systems::light_order;
+use crate::shadow::{Aabb, intersects_clip_volume, spot_projection};
+use crate::systems::{LightKind, LightLabel, SceneLight, light_list};
 use bevy_ecs::prelude::*;
-use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3, Vec4};
-
-/// Most spot lights the main pass lights with (more are ignored).
-pub const MAX_SPOTS: usize = 8;
-
-/// Per-object uniform (matches `Object` in common.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
-pub struct ObjectUniform {
-    model: Mat4,
-    normal_matrix: Mat4,
-    /// Linear RGBA base colour factor.
-    base_color: Vec4,
-    specular: f32,
-    shininess: f32,
-    /// Alpha below which a masked surface (and, in shadow maps and the measuring view, a
-    /// blended one) is cut away; 0 for opaque.
-    alpha_cutoff: f32,
-    /// 1 if the surface takes shadows.
-    pub receives_shadows: u32,
-    /// The object's first matrix in the joint palette (skinned objects only).
-    first_joint: u32,
-    _pad: [u32; 3],
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
-struct SunUniform {
-    direction: Vec4,
-    color: Vec4,
-    view_proj: [Mat4; MAX_CASCADES],
-    far: Vec4,
-    blend: Vec4,
-    texel: Vec4,
-    shadow: Vec4,
-    bias: Vec4,
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
-struct SpotUniform {
-    position: Vec4,
-    direction: Vec4,
-    color: Vec4,
-    view_proj: Mat4,
-    shadow: Vec4,
-    bias: Vec4,
-}
-
-/// Per-frame uniform (matches `Frame` in main.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
-pub struct FrameUniform {
-    view_proj: Mat4,
-    camera_position: Vec4,
-    camera_forward: Vec4,
-    sun: SunUniform,
-    spots: [SpotUniform; MAX_SPOTS],
-    counts: [u32; 4],
-    shadow: Vec4,
-    misc: Vec4,
-}
+use bytemuck::Zeroable;
+use glam::{Mat4, Vec3};
 
 /// One mesh entity to draw.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -77,7 +19,7 @@ pub struct DrawItem {
     /// Which mesh of the library.
     pub mesh: Mesh,
     /// Its uniform data.
-    pub object: ObjectUniform,
+    pub object: Object,
     /// Drawn into shadow maps.
     pub caster: bool,
     /// Deformed by joint matrices from [`FrameData::joints`].
@@ -90,33 +32,15 @@ pub struct DrawItem {
     pub double_sided: bool,
 }
 
-/// Which light a shadow-map layer belongs to.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum LightId {
-    /// The sun (all its cascades).
-    Sun,
-    /// The spot light at this index of the frame's spots.
-    Spot(usize),
-}
-
-impl std::fmt::Display for LightId {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            LightId::Sun => write!(f, "sun"),
-            LightId::Spot(i) => write!(f, "spot {}", i + 1),
-        }
-    }
-}
-
 /// One shadow-map layer to keep or draw, with the casters inside its volume.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LayerDraw {
     /// The light it belongs to.
-    pub light: LightId,
-    /// Layer of the shadow-map array.
-    pub layer: u32,
-    /// World to light clip space.
-    pub view_proj: Mat4,
+    pub light: LightLabel,
+    /// Its slot in the shadow-map array.
+    pub slot: u32,
+    /// World to the layer's clip space.
+    pub clip_from_world: Mat4,
     /// Version of its contents (see [`ShadowLayer::version`]).
     pub version: u64,
     /// Indices into [`FrameData::items`] of the casters whose bounds meet the layer's volume.
@@ -126,110 +50,103 @@ pub struct LayerDraw {
 /// Everything one frame needs from the world.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameData {
-    /// The main pass's uniform.
-    pub frame: FrameUniform,
+    /// The main pass's frame uniform.
+    pub frame: Frame,
+    /// Every light, in [`light_list`] order.
+    pub lights: Vec<GpuLight>,
+    /// The lights' names, in the same order.
+    pub labels: Vec<LightLabel>,
+    /// Every shadow-map layer, by slot.
+    pub layers: Vec<GpuLayer>,
     /// Objects in draw order.
     pub items: Vec<DrawItem>,
-    /// The shadow-map layers of the lights the main pass uses.
-    pub layers: Vec<LayerDraw>,
-    /// The camera's view-projection.
-    pub camera_view_proj: Mat4,
+    /// The layers with their casters, by slot.
+    pub draws: Vec<LayerDraw>,
+    /// World to the camera's clip space.
+    pub clip_from_world: Mat4,
     /// The joint matrices of every skinned object, one after another.
     pub joints: Vec<Mat4>,
     /// The order the main pass draws [`FrameData::items`] in: opaque and masked objects front to
     /// back, then the blended ones from the farthest to the nearest.
     pub draw_order: Vec<usize>,
+    /// The shadow methods the lights use, a bit (1 << method) each.
+    pub methods: u32,
 }
 
 /// Shortest distance over which the sun's shadow fades to nothing at the shadow distance, as a
 /// fraction of that distance.
 pub const SHADOW_FADE: f32 = 0.1;
 
-fn bias_params(bias: &ShadowBias) -> Vec4 {
-    Vec4::new(bias.constant, bias.slope, bias.normal, 0.0)
+impl FrameData {
+    /// Tells the probe shader the size of the grid of pixels its probes are drawn into.
+    pub fn set_probe_grid(&mut self, width: u32, height: u32) {
+        (self.frame.probe_width, self.frame.probe_height) = (width, height);
+    }
+
+    /// Makes the measuring view report lights `first` to `first + MEASURED_PER_PASS - 1`.
+    pub fn measure_from(&mut self, first: usize) {
+        self.frame.first_measured = first as u32;
+    }
+}
+
+/// A light as the shaders read it, its layers from slot `first_layer` on.
+fn gpu_light(light: &SceneLight, first_layer: usize, layer_count: usize) -> GpuLight {
+    let mut g = GpuLight {
+        color: light.color.to_array(),
+        kind: kind_id(&light.kind),
+        first_layer: first_layer as u32,
+        layer_count: layer_count as u32,
+        cookie: light.cookie.map_or(-1, |c| c.layer() as i32),
+        bias_constant: light.bias.constant,
+        bias_slope: light.bias.slope,
+        bias_normal: light.bias.normal,
+        method: light.method as u32,
+        shape: shape_id(light.kind.shadow_shape()),
+        ..GpuLight::zeroed()
+    };
+    match light.kind {
+        LightKind::Sun { direction, .. } => g.direction = direction.to_array(),
+        LightKind::Spot { position, direction, range, inner, outer, .. } => {
+            (g.position, g.direction, g.range) = (position.to_array(), direction.to_array(), range);
+            g.cos_outer = outer.cos();
+            g.cos_inner = inner.cos().max(g.cos_outer + 1e-4);
+            // The cookie is thrown through the cone's own projection, shadowed or not.
+            g.cookie_from_world = spot_projection(position, direction, outer, range, 1).view_proj;
+        }
+        LightKind::Point { position, range, .. } => (g.position, g.range) = (position.to_array(), range),
+    }
+    g
 }
 
 /// The shadow-map layers of one light, each with the casters inside its volume (and inside the
 /// camera's view too, when `camera` is given: the camera-view culling shortcut).
-fn layer_draws(light: LightId, map: &ShadowMap, items: &[(DrawItem, Aabb)], camera: Option<&Mat4>) -> Vec<LayerDraw> {
+fn layer_draws(
+    light: LightLabel,
+    map: &ShadowMap,
+    first_slot: usize,
+    items: &[(DrawItem, Aabb)],
+    camera: Option<&Mat4>,
+) -> Vec<LayerDraw> {
     let keep = |l: &ShadowLayer, (item, bounds): &(DrawItem, Aabb)| {
         item.caster
-            && intersects_clip_volume(&l.view_proj, bounds)
+            && intersects_clip_volume(&l.clip_from_world, bounds)
             && camera.is_none_or(|vp| intersects_clip_volume(vp, bounds))
     };
     map.layers
         .iter()
-        .map(|l| LayerDraw {
+        .enumerate()
+        .map(|(k, l)| LayerDraw {
             light,
-            layer: l.layer,
-            view_proj: l.view_proj,
+            slot: (first_slot + k) as u32,
+            clip_from_world: l.clip_from_world,
             version: l.version,
             casters: (0..items.len()).filter(|&i| keep(l, &items[i])).collect(),
         })
         .collect()
 }
 
-/// The sun's uniform: its cascades, or no shadow (layer -1) without them.
-fn sun_uniform(light: &DirectionalLight, map: &ShadowMap, bias: ShadowBias) -> SunUniform {
-    let mut sun = SunUniform {
-        direction: light.direction.normalize_or(Vec3::NEG_Y).extend(0.0),
-        color: (light.color * light.intensity).extend(0.0),
-        shadow: Vec4::new(-1.0, 0.0, 0.0, 0.0),
-        bias: bias_params(&bias),
-        ..SunUniform::zeroed()
-    };
-    for (i, l) in map.layers.iter().take(MAX_CASCADES).enumerate() {
-        sun.view_proj[i] = l.view_proj;
-        sun.far[i] = l.far;
-        sun.blend[i] = l.blend;
-        sun.texel[i] = l.texel.x;
-    }
-    if let Some(first) = map.layers.first() {
-        sun.shadow = Vec4::new(first.layer as f32, map.layers.len().min(MAX_CASCADES) as f32, 0.0, 0.0);
-    }
-    sun
-}
-
-fn spot_uniform(
-    light: &SpotLight,
-    t: &Transform,
-    map: &ShadowMap,
-    bias: ShadowBias,
-    cookie: Option<&Cookie>,
-) -> SpotUniform {
-    let outer = light.outer_angle.clamp(0.0, 1.55);
-    let inner = light.inner_angle.clamp(0.0, outer);
-    let (layer, texel) = map.layers.first().map_or((-1.0, 0.0), |l| (l.layer as f32, l.texel.y));
-    // The cookie is projected through the same frustum as the shadow map, shadowed or not.
-    let fit = spot_projection(t.translation, t.forward(), light.outer_angle, light.range, 1);
-    SpotUniform {
-        position: t.translation.extend(light.range.max(1e-3)),
-        direction: t.forward().extend(outer.cos()),
-        color: (light.color * light.intensity).extend(inner.cos().max(outer.cos() + 1e-4)),
-        view_proj: fit.view_proj,
-        shadow: Vec4::new(layer, texel, cookie.map_or(-1.0, |c| c.layer() as f32), 0.0),
-        bias: bias_params(&bias),
-    }
-}
-
-impl FrameData {
-    /// Tells the probe shader the size of the grid of pixels its probes are drawn into.
-    pub fn set_probe_grid(&mut self, width: u32, height: u32) {
-        self.frame.counts[2] = width;
-        self.frame.counts[3] = height;
-    }
-}
-
-/// Reads the world into the data one frame needs. Without a camera nothing is drawn.
-pub fn extract(world: &mut World) -> FrameData {
-    let settings = world.resource::<Settings>().clone();
-    let aspect = world.resource::<Viewport>().aspect();
-    let (camera_view_proj, eye, forward) = world
-        .query::<(&Camera, &Transform)>()
-        .iter(world)
-        .next()
-        .map_or((Mat4::ZERO, Vec3::ZERO, Vec3::NEG_Z), |(c, t)| (c.view_proj(t, aspect), t.translation, t.forward()));
-
+/// The objects of the world to draw, with their bounds, and the joint matrices they read.
+fn draw_items(world: &mut World) -> (Vec<(DrawItem, Aabb)>, Vec<Mat4>) {
     let mut joints = Vec::new();
     let mut query = world.query::<(
         &Mesh,
@@ -241,21 +158,21 @@ pub fn extract(world: &mut World) -> FrameData {
         Has<ShadowReceiver>,
     )>();
     let library = world.resource::<crate::assets::MeshLibrary>();
-    let items: Vec<(DrawItem, Aabb)> = query
+    let items = query
         .iter(world)
         .map(|(mesh, t, bounds, material, skin, caster, receiver)| {
             let m = material.copied().unwrap_or_default();
-            let model = t.matrix();
-            let object = ObjectUniform {
-                model,
-                normal_matrix: model.inverse().transpose(),
+            let world_from_local = t.matrix();
+            let object = Object {
+                world_from_local,
+                normal_from_local: world_from_local.inverse().transpose(),
                 base_color: m.base_color.extend(m.opacity),
                 specular: m.specular,
                 shininess: m.shininess.max(1.0),
                 alpha_cutoff: m.alpha_mode.cutoff().unwrap_or(0.0),
                 receives_shadows: receiver as u32,
                 first_joint: joints.len() as u32,
-                _pad: [0; 3],
+                ..Object::zeroed()
             };
             joints.extend(skin.map_or(&[][..], |s| &s.0));
             let item = DrawItem {
@@ -271,49 +188,59 @@ pub fn extract(world: &mut World) -> FrameData {
             (item, bounds.0)
         })
         .collect();
+    (items, joints)
+}
+
+/// Reads the world into the data one frame needs. Without a camera nothing is drawn.
+pub fn extract(world: &mut World) -> FrameData {
+    let settings = world.resource::<Settings>().clone();
+    let aspect = world.resource::<Viewport>().aspect();
+    let (clip_from_world, eye, forward) = world
+        .query::<(&Camera, &Transform)>()
+        .iter(world)
+        .next()
+        .map_or((Mat4::ZERO, Vec3::ZERO, Vec3::NEG_Z), |(c, t)| (c.view_proj(t, aspect), t.translation, t.forward()));
+    let (items, joints) = draw_items(world);
     let draw_order = draw_order(&items, eye);
 
-    let cull_to = (settings.caster_culling == CasterCulling::CameraView).then_some(&camera_view_proj);
-    let mut layers = Vec::new();
-    let mut sun = SunUniform::zeroed();
+    let cull_to = (settings.caster_culling == CasterCulling::CameraView).then_some(&clip_from_world);
     let no_map = ShadowMap::default();
-    let (sun_entity, spot_entities) = light_order(world);
-    if let Some(e) = sun_entity
-        && let Some(light) = world.get::<DirectionalLight>(e)
-    {
-        let map = world.get::<ShadowMap>(e).unwrap_or(&no_map);
-        layers.extend(layer_draws(LightId::Sun, map, &items, cull_to));
-        sun = sun_uniform(light, map, world.get::<ShadowBias>(e).copied().unwrap_or_default());
+    let scene_lights = light_list(world);
+    let (mut lights, mut labels, mut layers, mut draws, mut methods) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), 0);
+    for light in &scene_lights {
+        let map = world.get::<ShadowMap>(light.entity).unwrap_or(&no_map);
+        // A light whose layers do not all fit in the array is lit without a shadow.
+        let count = if layers.len() + map.layers.len() <= MAX_LAYERS { map.layers.len() } else { 0 };
+        lights.push(gpu_light(light, layers.len(), count));
+        labels.push(light.label);
+        if count > 0 {
+            methods |= 1 << light.method as u32;
+            draws.extend(layer_draws(light.label, map, layers.len(), &items, cull_to));
+            layers.extend(map.layers.iter().map(|l| GpuLayer {
+                clip_from_world: l.clip_from_world,
+                texel_base: l.texel.x,
+                texel_per_metre: l.texel.y,
+                far: l.far,
+                blend: l.blend,
+            }));
+        }
     }
-
-    let mut spots = [SpotUniform::zeroed(); MAX_SPOTS];
-    for (i, &e) in spot_entities.iter().enumerate() {
-        let (Some(light), Some(t)) = (world.get::<SpotLight>(e), world.get::<Transform>(e)) else { continue };
-        let map = world.get::<ShadowMap>(e).unwrap_or(&no_map);
-        layers.extend(layer_draws(LightId::Spot(i), map, &items, cull_to));
-        let bias = world.get::<ShadowBias>(e).copied().unwrap_or_default();
-        spots[i] = spot_uniform(light, t, map, bias, world.get::<Cookie>(e));
-    }
-    let (suns, spot_count) = (sun_entity.is_some() as u32, spot_entities.len());
-
-    let fade_start = settings.shadow_distance * (1.0 - SHADOW_FADE);
-    let frame = FrameUniform {
-        view_proj: camera_view_proj,
-        camera_position: eye.extend(1.0),
-        camera_forward: forward.extend(settings.shadow_distance),
-        sun,
-        spots,
-        counts: [suns, spot_count as u32, 0, 0],
-        shadow: Vec4::new(settings.shadow_strength, fade_start, 0.0, 0.0),
-        misc: Vec4::new(
-            settings.ambient,
-            settings.shadows as u32 as f32,
-            settings.cascade_debug as u32 as f32,
-            settings.filter as u32 as f32,
-        ),
+    let frame = Frame {
+        clip_from_world,
+        camera_position: eye.to_array(),
+        shadow_distance: settings.shadow_distance,
+        camera_forward: forward.to_array(),
+        fade_start: settings.shadow_distance * (1.0 - SHADOW_FADE),
+        ambient: settings.ambient,
+        shadow_strength: settings.shadow_strength,
+        shadows_on: settings.shadows as u32,
+        cascade_debug: settings.cascade_debug as u32,
+        light_count: lights.len() as u32,
+        ..Frame::zeroed()
     };
     let items = items.into_iter().map(|(item, _)| item).collect();
-    FrameData { frame, items, layers, camera_view_proj, joints, draw_order }
+    FrameData { frame, lights, labels, layers, items, draws, clip_from_world, joints, draw_order, methods }
 }
 
 /// The main pass's order: opaque and masked objects front to back, then blended ones back to
@@ -341,36 +268,34 @@ mod tests {
     use super::*;
 
     #[test]
-    fn uniform_sizes_match_the_wgsl_layout() {
-        // WGSL: Object = 2 mat4 + vec4 + 8 scalars; Sun = 2 vec4 + 4 mat4 + 5 vec4; Spot = 3 vec4 + mat4 +
-        // 2 vec4; Frame = mat4 + 2 vec4 + Sun + 8 Spot + 3 vec4.
-        assert_eq!(std::mem::size_of::<ObjectUniform>(), 176);
-        assert_eq!(std::mem::size_of::<SunUniform>(), 32 + 256 + 80);
-        assert_eq!(std::mem::size_of::<SpotUniform>(), 144);
-        assert_eq!(std::mem::size_of::<FrameUniform>(), 64 + 32 + 368 + 8 * 144 + 48);
-    }
-
-    #[test]
-    fn receivers_casters_and_layers_are_carried_over() {
+    fn lights_and_their_layers_are_carried_over_in_slot_order() {
         let mut app = crate::App::new(Settings::default()).unwrap();
         app.set_time(0.0);
         let data = extract(&mut app.world);
         let ground = data.items.iter().filter(|i| !i.caster).count();
         assert_eq!(ground, 1, "only the ground is not a caster");
         assert!(data.items.iter().all(|i| i.object.receives_shadows == 1), "all sample surfaces receive");
-        let cascades = Settings::default().cascades as usize;
-        assert_eq!(data.layers.len(), cascades + 2, "the sun's cascades, then one layer per spot");
-        let order: Vec<u32> = data.layers.iter().map(|l| l.layer).collect();
-        assert_eq!(order, (0..cascades as u32 + 2).collect::<Vec<_>>());
-        assert_eq!(data.frame.counts[..2], [1, 2]);
-        assert_ne!(data.camera_view_proj, Mat4::ZERO);
+        // Every light's layers follow the one before's: slots are handed out in light order.
+        let mut next = 0;
+        for light in &data.lights {
+            assert_eq!(light.first_layer, next);
+            next += light.layer_count;
+        }
+        assert_eq!(next as usize, data.layers.len());
+        let slots: Vec<u32> = data.draws.iter().map(|d| d.slot).collect();
+        assert_eq!(slots, (0..next).collect::<Vec<_>>());
+        assert_eq!(data.frame.light_count as usize, data.labels.len());
+        assert_eq!(data.labels[0].to_string(), "sun");
+        assert_eq!(data.lights[0].layer_count, Settings::default().cascades);
+        assert_eq!(data.methods, 1 << Settings::default().method as u32);
+        assert_ne!(data.clip_from_world, Mat4::ZERO);
     }
 
     #[test]
     fn solid_objects_are_drawn_front_to_back_and_blended_ones_last_from_the_farthest() {
         let item = |alpha| DrawItem {
             mesh: Mesh(0),
-            object: ObjectUniform::zeroed(),
+            object: Object::zeroed(),
             caster: true,
             skinned: false,
             texture: None,
@@ -397,15 +322,15 @@ mod tests {
         app.set_time(0.0);
         let bounds: Vec<Aabb> = app.world.query::<(&Mesh, &WorldBounds)>().iter(&app.world).map(|(_, b)| b.0).collect();
         let data = extract(&mut app.world);
-        for layer in &data.layers {
+        for layer in &data.draws {
             for (i, item) in data.items.iter().enumerate() {
-                let inside = item.caster && intersects_clip_volume(&layer.view_proj, &bounds[i]);
-                assert_eq!(layer.casters.contains(&i), inside, "{} layer {} item {i}", layer.light, layer.layer);
+                let inside = item.caster && intersects_clip_volume(&layer.clip_from_world, &bounds[i]);
+                assert_eq!(layer.casters.contains(&i), inside, "{} slot {} item {i}", layer.light, layer.slot);
             }
         }
         // The spot lights see only part of the scene: culling leaves casters out of their layers.
         let casters = data.items.iter().filter(|i| i.caster).count();
-        let spot = data.layers.iter().find(|l| l.light == LightId::Spot(0)).unwrap();
+        let spot = data.draws.iter().find(|l| l.light.to_string() == "spot 1").unwrap();
         assert!(!spot.casters.is_empty() && spot.casters.len() < casters, "{} of {casters}", spot.casters.len());
     }
 }

@@ -1,12 +1,15 @@
 //! The main pass: Phong lighting from the camera, each light's share scaled by its shadow test.
 
-use super::extract::{DrawItem, FrameData, FrameUniform};
+use super::extract::{DrawItem, FrameData};
+use super::gpu_types::{Frame, GpuLayer, GpuLight, MAX_LAYERS};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
+use super::shaders::{Composed, MAIN_MODULE};
 use super::shadow_pass::ShadowMaps;
 use super::texture::MaterialTextures;
 use super::timing::PassTimer;
 use crate::assets::{COOKIE_SIZE, cookie_image};
 use crate::components::{AlphaMode, Cookie};
+use crate::systems::MAX_LIGHTS;
 
 /// Depth format of the camera's depth buffer.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -36,10 +39,10 @@ struct Pass<'a> {
     timer: Option<&'a PassTimer>,
 }
 
-/// How an object is drawn in the main pass: back faces culled unless its material is double
-/// sided; in the measuring view (integer targets, which cannot blend) a blended surface counts
+/// How an object is drawn in the main pass: with the sampling code of the shadow methods in
+/// use (`methods`), back faces culled unless its material is double sided; in the measuring view (integer targets, which cannot blend) a blended surface counts
 /// as masked at its cutoff, as it does in the shadow maps and the truth.
-fn main_variant(item: &DrawItem, measuring: bool) -> Variant {
+fn main_variant(item: &DrawItem, methods: u32, measuring: bool) -> Variant {
     let alpha = match item.alpha {
         AlphaMode::Opaque => AlphaClass::Opaque,
         AlphaMode::Mask { .. } => AlphaClass::Mask,
@@ -47,22 +50,7 @@ fn main_variant(item: &DrawItem, measuring: bool) -> Variant {
         AlphaMode::Blend => AlphaClass::Blend,
     };
     let cull = (!item.double_sided).then_some(wgpu::Face::Back);
-    Variant { skinned: item.skinned, cull, alpha, textured: item.texture.is_some() }
-}
-
-/// The main pass's shader module, its pieces joined in the order they depend on each other.
-fn main_module(device: &wgpu::Device) -> wgpu::ShaderModule {
-    let source = concat!(
-        include_str!("../../shaders/common.wgsl"),
-        include_str!("../../shaders/skinning.wgsl"),
-        include_str!("../../shaders/shadow_sampling.wgsl"),
-        include_str!("../../shaders/cascades.wgsl"),
-        include_str!("../../shaders/main.wgsl")
-    );
-    device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("main.wgsl"),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    })
+    Variant { skinned: item.skinned, cull, alpha, textured: item.texture.is_some(), methods }
 }
 
 /// Format of the measuring pass's three targets (world position, normal, visibility): 32-bit
@@ -85,9 +73,80 @@ struct FrameResources {
     buffer: wgpu::Buffer,
     shadow_sampler: wgpu::Sampler,
     cookies: wgpu::Buffer,
+    lights: wgpu::Buffer,
+    layers: wgpu::Buffer,
+}
+
+/// A uniform buffer of `size` bytes at `binding`, seen by `stages`.
+fn uniform_entry(binding: u32, stages: wgpu::ShaderStages, size: usize) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: stages,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: wgpu::BufferSize::new(size as u64),
+        },
+        count: None,
+    }
+}
+
+fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
 
 impl FrameResources {
+    fn new(device: &wgpu::Device) -> Self {
+        let fragment = wgpu::ShaderStages::FRAGMENT;
+        let cookie_bytes = Cookie::ALL.len() * (COOKIE_SIZE * COOKIE_SIZE) as usize;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("frame"),
+            entries: &[
+                uniform_entry(0, wgpu::ShaderStages::VERTEX_FRAGMENT, size_of::<Frame>()),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
+                uniform_entry(3, fragment, cookie_bytes),
+                uniform_entry(4, fragment, MAX_LIGHTS * size_of::<GpuLight>()),
+                uniform_entry(5, fragment, MAX_LAYERS * size_of::<GpuLayer>()),
+            ],
+        });
+        // Linear comparison filtering gives a 2x2 percentage-closer filter in hardware.
+        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow compare"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+        FrameResources {
+            layout,
+            buffer: uniform_buffer(device, "frame", size_of::<Frame>()),
+            shadow_sampler,
+            cookies: cookie_buffer(device),
+            lights: uniform_buffer(device, "lights", MAX_LIGHTS * size_of::<GpuLight>()),
+            layers: uniform_buffer(device, "layers", MAX_LAYERS * size_of::<GpuLayer>()),
+        }
+    }
+
     fn bind(&self, device: &wgpu::Device, maps: &ShadowMaps) -> wgpu::BindGroup {
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("frame"),
@@ -97,8 +156,21 @@ impl FrameResources {
                 wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&maps.array_view) },
                 wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
                 wgpu::BindGroupEntry { binding: 3, resource: self.cookies.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 4, resource: self.lights.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 5, resource: self.layers.as_entire_binding() },
             ],
         })
+    }
+
+    /// Uploads the frame, its lights and their layers.
+    fn write(&self, queue: &wgpu::Queue, data: &FrameData) {
+        queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(&data.frame));
+        if !data.lights.is_empty() {
+            queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&data.lights));
+        }
+        if !data.layers.is_empty() {
+            queue.write_buffer(&self.layers, 0, bytemuck::cast_slice(&data.layers));
+        }
     }
 }
 
@@ -112,62 +184,8 @@ impl MainPass {
         format: wgpu::TextureFormat,
         maps: &ShadowMaps,
     ) -> Self {
-        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("frame"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<FrameUniform>() as u64),
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-            ],
-        });
-        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("frame"),
-            size: std::mem::size_of::<FrameUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        // Linear comparison filtering gives a 2x2 percentage-closer filter in hardware.
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("shadow compare"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            compare: Some(wgpu::CompareFunction::LessEqual),
-            ..Default::default()
-        });
-        let module = main_module(device);
+        let frame = FrameResources::new(device);
+        let module = Composed::new(MAIN_MODULE).module(device);
         let recipe = Recipe {
             label: "main",
             module: module.clone(),
@@ -175,10 +193,9 @@ impl MainPass {
             fragment: "fs_main",
             targets: vec![Some(format.into())],
             depth: depth_test(),
+            samples_shadows: true,
         };
-        let pipelines = Pipelines::new(device, recipe, [&frame_layout, object_layout], palette, textures);
-        let cookies = cookie_buffer(device);
-        let frame = FrameResources { layout: frame_layout, buffer: frame_buffer, shadow_sampler: sampler, cookies };
+        let pipelines = Pipelines::new(device, recipe, [&frame.layout, object_layout], palette, textures);
         let bind_group = frame.bind(device, maps);
         let object_layout = object_layout.clone();
         MainPass { pipelines, debug: None, probe: None, module, object_layout, frame, bind_group }
@@ -196,6 +213,7 @@ impl MainPass {
             fragment: "fs_debug",
             targets: vec![Some(DEBUG_FORMAT.into()); 3],
             depth: depth_test(),
+            samples_shadows: true,
         };
         let groups = [&self.frame.layout, &self.object_layout];
         self.debug = Some(Pipelines::new(device, recipe, groups, palette, textures));
@@ -203,9 +221,9 @@ impl MainPass {
 
     /// Builds the pipelines the objects of `data` need (measuring ones too, once those exist).
     pub fn prepare(&mut self, device: &wgpu::Device, data: &FrameData) {
-        self.pipelines.prepare(device, data.items.iter().map(|i| main_variant(i, false)));
+        self.pipelines.prepare(device, data.items.iter().map(|i| main_variant(i, data.methods, false)));
         if let Some(debug) = &mut self.debug {
-            debug.prepare(device, data.items.iter().map(|i| main_variant(i, true)));
+            debug.prepare(device, data.items.iter().map(|i| main_variant(i, data.methods, true)));
         }
     }
 
@@ -263,7 +281,7 @@ impl MainPass {
         (points, count): (&wgpu::Buffer, u32),
     ) {
         let Some(pipeline) = &self.probe else { return };
-        queue.write_buffer(&self.frame.buffer, 0, bytemuck::bytes_of(&data.frame));
+        self.frame.write(queue, data);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("probes"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -326,7 +344,7 @@ impl MainPass {
         data: &FrameData,
         with: Drawables<'_>,
     ) {
-        queue.write_buffer(&self.frame.buffer, 0, bytemuck::bytes_of(&data.frame));
+        self.frame.write(queue, data);
         let attachments: Vec<_> = colors
             .iter()
             .map(|(view, clear)| {
@@ -351,7 +369,7 @@ impl MainPass {
             multiview_mask: None,
         });
         pass.set_bind_group(0, &self.bind_group, &[]);
-        let order = data.draw_order.iter().map(|&i| (i, main_variant(&data.items[i], measuring)));
+        let order = data.draw_order.iter().map(|&i| (i, main_variant(&data.items[i], data.methods, measuring)));
         pipelines.draw(&mut pass, with, &data.items, order);
     }
 }
@@ -361,8 +379,6 @@ impl MainPass {
 /// The images are small enough for a uniform buffer, which needs no sampler, and the shader
 /// filters them itself.
 fn cookie_buffer(device: &wgpu::Device) -> wgpu::Buffer {
-    // main.wgsl declares the buffer as 512 words of 16 bytes.
-    const _: () = assert!(Cookie::ALL.len() * (COOKIE_SIZE * COOKIE_SIZE) as usize == 512 * 16);
     use wgpu::util::DeviceExt;
     let bytes: Vec<u8> = Cookie::ALL.iter().flat_map(|c| cookie_image(*c, COOKIE_SIZE)).collect();
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

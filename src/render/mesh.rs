@@ -148,13 +148,17 @@ pub struct Variant {
     pub alpha: AlphaClass,
     /// Its material has a base-colour texture (without one, the lookup is skipped).
     pub textured: bool,
+    /// The shadow methods the frame's lights use, a bit (1 << method) each: the pipeline holds
+    /// only their sampling code (passes that look no shadows up leave it 0).
+    pub methods: u32,
 }
 
 /// What every pipeline of a pass shares: one shader module with a vertex entry point `vertex`
 /// (and `{vertex}_skinned`) and a fragment entry point, its colour targets (none for depth
 /// only, where opaque objects get no fragment stage at all), bind groups 0 and 1, and the depth
-/// test. The fragment stage is told through the pipeline constants `TEXTURED`, `ALPHA_MASK` and
-/// `ALPHA_BLEND` whether to sample the texture and what alpha does.
+/// test. The fragment stage is told through the pipeline constants `TEXTURED`, `ALPHA_MASK`,
+/// `ALPHA_BLEND` and `SHADOW_METHODS` whether to sample the texture, what alpha does and which
+/// shadow methods to sample with.
 pub struct Recipe {
     /// Debug label.
     pub label: &'static str,
@@ -168,6 +172,8 @@ pub struct Recipe {
     pub targets: Vec<Option<wgpu::ColorTargetState>>,
     /// Depth format and test (depth writes are turned off for blended objects).
     pub depth: wgpu::DepthStencilState,
+    /// Its fragment stage looks shadows up (takes the `SHADOW_METHODS` constant).
+    pub samples_shadows: bool,
 }
 
 /// The pipelines of one pass, built from one [`Recipe`] for each [`Variant`] the scene needs.
@@ -217,11 +223,14 @@ impl Pipelines {
         let r = &self.recipe;
         let entry = if v.skinned { format!("{}_skinned", r.vertex) } else { r.vertex.to_string() };
         let blend = v.alpha == AlphaClass::Blend;
-        let constants = [
+        let mut constants = vec![
             ("TEXTURED", v.textured as u32 as f64),
             ("ALPHA_MASK", (v.alpha == AlphaClass::Mask) as u32 as f64),
             ("ALPHA_BLEND", blend as u32 as f64),
         ];
+        if r.samples_shadows {
+            constants.push(("SHADOW_METHODS", v.methods as f64));
+        }
         let targets: Vec<Option<wgpu::ColorTargetState>> = r
             .targets
             .iter()

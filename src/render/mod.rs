@@ -7,16 +7,18 @@
 
 mod extract;
 mod gpu;
+pub mod gpu_types;
 mod main_pass;
 mod mesh;
 mod readback;
 mod renderer;
+mod shaders;
 mod shadow_pass;
 mod texture;
 mod timing;
 mod uniform_array;
 
-pub use extract::{DrawItem, FrameData, LayerDraw, LightId, MAX_SPOTS, SHADOW_FADE, extract};
+pub use extract::{DrawItem, FrameData, LayerDraw, SHADOW_FADE, extract};
 pub use gpu::{Gpu, instance};
 pub use readback::{
     DebugFrame, HEADLESS_FORMAT, Image, probe_visibility, render_debug_frame, render_headless, render_png,

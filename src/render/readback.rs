@@ -1,5 +1,6 @@
 //! Headless rendering: a frame drawn into a texture and copied back to the CPU as RGBA8.
 
+use super::gpu_types::MEASURED_PER_PASS;
 use super::main_pass::DEBUG_FORMAT;
 use super::{Gpu, RenderError, Renderer};
 use crate::App;
@@ -104,9 +105,10 @@ pub struct DebugFrame {
     pub position: Vec<Vec4>,
     /// xyz: its unit normal; w: its view depth in metres.
     pub normal: Vec<Vec4>,
-    /// Shadow visibility (0 shadowed .. 1 lit) of the sun (x) and the first three spot lights
-    /// (y, z, w); -1 where the light does not reach the surface and no test was made.
-    pub visibility: Vec<Vec4>,
+    /// One column per light ([`crate::systems::light_list`] order), one entry per pixel: the
+    /// shadow visibility (0 shadowed .. 1 lit), or -1 where the light does not reach the surface
+    /// and no test was made.
+    pub visibility: Vec<Vec<f32>>,
 }
 
 impl DebugFrame {
@@ -116,7 +118,18 @@ impl DebugFrame {
     }
 }
 
-/// Renders the measuring view of `app` as it is now, `width` x `height`, and reads it back.
+/// Visibilities read back as vec4s, one column per light of `first..first + count`.
+fn columns(vectors: &[Vec4], count: usize) -> Vec<Vec<f32>> {
+    (0..count.min(MEASURED_PER_PASS)).map(|k| vectors.iter().map(|v| v[k]).collect()).collect()
+}
+
+fn read_vectors(gpu: &Gpu, texture: &wgpu::Texture, (width, height): (u32, u32)) -> Result<Vec<Vec4>, RenderError> {
+    let bytes = read_texture(gpu, texture, width, height, 16)?;
+    Ok(bytes.chunks_exact(16).map(|c| Vec4::from_array(bytemuck::pod_read_unaligned(c))).collect())
+}
+
+/// Renders the measuring view of `app` as it is now, `width` x `height`, and reads it back: one
+/// pass for every [`MEASURED_PER_PASS`] lights (the shadow maps are drawn once).
 pub fn render_debug_frame(
     gpu: &Gpu,
     renderer: &mut Renderer,
@@ -130,30 +143,37 @@ pub fn render_debug_frame(
         gpu.target("measured visibility", (width, height), DEBUG_FORMAT)?,
     ];
     let views = textures.each_ref().map(|t| t.create_view(&Default::default()));
-    renderer.render_debug(gpu, &mut app.world, &views, width, height)?;
-    let read = |t: &wgpu::Texture| -> Result<Vec<Vec4>, RenderError> {
-        let bytes = read_texture(gpu, t, width, height, 16)?;
-        Ok(bytes.chunks_exact(16).map(|c| Vec4::from_array(bytemuck::pod_read_unaligned(c))).collect())
-    };
+    let lights = crate::systems::light_list(&mut app.world).len();
+    let mut visibility = Vec::with_capacity(lights);
+    let mut first = 0;
+    loop {
+        renderer.render_debug(gpu, &mut app.world, &views, (width, height), first)?;
+        visibility.extend(columns(&read_vectors(gpu, &textures[2], (width, height))?, lights - first));
+        first += MEASURED_PER_PASS;
+        if first >= lights {
+            break;
+        }
+    }
     Ok(DebugFrame {
         width,
         height,
-        position: read(&textures[0])?,
-        normal: read(&textures[1])?,
-        visibility: read(&textures[2])?,
+        position: read_vectors(gpu, &textures[0], (width, height))?,
+        normal: read_vectors(gpu, &textures[1], (width, height))?,
+        visibility,
     })
 }
 
-/// The main pass's shadow tests at each of `points` (a position and a unit normal each), as
-/// [`DebugFrame::visibility`] gives them per pixel, for the world as it is now.
+/// The main pass's shadow tests at each of `points` (a position and a unit normal each): one
+/// column per light, as [`DebugFrame::visibility`] gives them per pixel, for the world as it is.
 pub fn probe_visibility(
     gpu: &Gpu,
     renderer: &mut Renderer,
     app: &mut App,
     points: &[crate::assets::Vertex],
-) -> Result<Vec<Vec4>, RenderError> {
+) -> Result<Vec<Vec<f32>>, RenderError> {
+    let lights = crate::systems::light_list(&mut app.world).len();
     if points.is_empty() {
-        return Ok(Vec::new());
+        return Ok(vec![Vec::new(); lights]);
     }
     let width = (points.len() as u32).min(256);
     let height = (points.len() as u32).div_ceil(width);
@@ -165,9 +185,15 @@ pub fn probe_visibility(
         usage: wgpu::BufferUsages::VERTEX,
     });
     let view = texture.create_view(&Default::default());
-    renderer.render_probes(gpu, &mut app.world, &view, (width, height), &buffer, points.len() as u32)?;
-    let bytes = read_texture(gpu, &texture, width, height, 16)?;
-    Ok(bytes.chunks_exact(16).take(points.len()).map(|c| Vec4::from_array(bytemuck::pod_read_unaligned(c))).collect())
+    let mut out = Vec::with_capacity(lights);
+    for first in (0..lights).step_by(MEASURED_PER_PASS) {
+        let target = (&view, (width, height));
+        renderer.render_probes(gpu, &mut app.world, target, (&buffer, points.len() as u32), first)?;
+        let mut vectors = read_vectors(gpu, &texture, (width, height))?;
+        vectors.truncate(points.len());
+        out.extend(columns(&vectors, lights - first));
+    }
+    Ok(out)
 }
 
 /// The pixels of `texture`, `bytes` per pixel, rows top to bottom without padding.

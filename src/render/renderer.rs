@@ -1,6 +1,7 @@
 //! The renderer: uploads meshes, then each frame extracts, runs the shadow pass and the main pass.
 
-use super::extract::{ObjectUniform, extract};
+use super::extract::extract;
+use super::gpu_types::Object;
 use super::main_pass::{DEPTH_FORMAT, MainPass};
 use super::mesh::{Drawables, GpuMesh, JointPalette};
 use super::shadow_pass::{ShadowPass, ShadowStats};
@@ -15,9 +16,11 @@ use bevy_ecs::prelude::*;
 /// Where a frame goes: a picture, or the measuring targets.
 enum Output<'a> {
     Picture(&'a wgpu::TextureView),
-    Measure(&'a [wgpu::TextureView; 3]),
-    /// A grid target of the given size and the probe points to draw into it.
-    Probes(&'a wgpu::TextureView, (u32, u32), &'a wgpu::Buffer, u32),
+    /// The measuring targets, reporting lights from the given one on.
+    Measure(&'a [wgpu::TextureView; 3], usize),
+    /// A grid target of the given size, the probe points to draw into it, and the first light
+    /// reported.
+    Probes(&'a wgpu::TextureView, (u32, u32), &'a wgpu::Buffer, u32, usize),
 }
 
 /// GPU state that lives across frames: pipelines, meshes, shadow maps and the depth buffer.
@@ -44,7 +47,7 @@ impl Renderer {
         let objects = UniformArray::new(
             device,
             "objects",
-            std::mem::size_of::<ObjectUniform>() as u64,
+            std::mem::size_of::<Object>() as u64,
             wgpu::ShaderStages::VERTEX_FRAGMENT,
         );
         let joints = JointPalette::new(device);
@@ -68,34 +71,35 @@ impl Renderer {
         self.draw(gpu, world, (width, height), Output::Picture(target))
     }
 
-    /// Renders the measuring view of the world into `targets` (world position, normal, shadow
-    /// visibility per light), with the same shadow maps and lighting code as [`Renderer::render`].
+    /// Renders the measuring view of the world into `targets` (world position, normal, and the
+    /// shadow visibility of lights `first_light` to `first_light + MEASURED_PER_PASS - 1`), with
+    /// the same shadow maps and lighting code as [`Renderer::render`].
     pub fn render_debug(
         &mut self,
         gpu: &Gpu,
         world: &mut World,
         targets: &[wgpu::TextureView; 3],
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
+        first_light: usize,
     ) -> Result<(), RenderError> {
         self.main.ensure_debug(&gpu.device, &self.joints, &self.textures);
-        self.draw(gpu, world, (width, height), Output::Measure(targets))
+        self.draw(gpu, world, (width, height), Output::Measure(targets, first_light))
     }
 
-    /// Draws the shadow maps the world needs now, then makes the main pass's shadow tests at
-    /// each of `points` (positions with unit normals) into `target`, a `grid`-sized integer
-    /// target; the shader writes probe i to pixel (i % width, i / width).
+    /// Draws the shadow maps the world needs now, then makes the main pass's shadow tests of
+    /// lights `first_light` to `first_light + MEASURED_PER_PASS - 1` at each of `points`
+    /// (positions with unit normals) into `target`, a `grid`-sized integer target; the shader
+    /// writes probe i to pixel (i % width, i / width).
     pub fn render_probes(
         &mut self,
         gpu: &Gpu,
         world: &mut World,
-        target: &wgpu::TextureView,
-        grid: (u32, u32),
-        points: &wgpu::Buffer,
-        count: u32,
+        (target, grid): (&wgpu::TextureView, (u32, u32)),
+        (points, count): (&wgpu::Buffer, u32),
+        first_light: usize,
     ) -> Result<(), RenderError> {
         self.main.ensure_probe(&gpu.device);
-        self.draw(gpu, world, grid, Output::Probes(target, grid, points, count))
+        self.draw(gpu, world, grid, Output::Probes(target, grid, points, count, first_light))
     }
 
     /// Stamps every later frame's shadow and main passes with GPU timestamps, where the device
@@ -128,13 +132,12 @@ impl Renderer {
             self.textures.upload_new(device, queue, library);
         }
         let depth = self.ensure_depth(device, width, height);
-        let data = extract(world);
+        let mut data = extract(world);
         self.main.prepare(device, &data);
-        let layer_count = data.layers.iter().map(|l| l.layer as usize + 1).max().unwrap_or(0);
-        if self.shadow.ensure_maps(device, settings.shadow_map_size, layer_count) {
+        if self.shadow.ensure_maps(device, settings.shadow_map_size, data.layers.len()) {
             self.main.rebind(device, &self.shadow.maps);
         }
-        let objects: Vec<ObjectUniform> = data.items.iter().map(|i| i.object).collect();
+        let objects: Vec<Object> = data.items.iter().map(|i| i.object).collect();
         self.objects.write(device, queue, &objects);
         self.joints.write(device, queue, &data.joints);
 
@@ -153,12 +156,13 @@ impl Renderer {
         let timer = self.timer.as_ref();
         match output {
             Output::Picture(target) => self.main.encode(queue, &mut encoder, (target, &depth), &data, drawables, timer),
-            Output::Measure(targets) => {
+            Output::Measure(targets, first) => {
+                data.measure_from(first);
                 self.main.encode_debug(queue, &mut encoder, (targets, &depth), &data, drawables, timer)
             }
-            Output::Probes(target, (w, h), points, count) => {
-                let mut data = data.clone();
+            Output::Probes(target, (w, h), points, count, first) => {
                 data.set_probe_grid(w, h);
+                data.measure_from(first);
                 self.main.encode_probes(queue, &mut encoder, target, &data, (points, count));
             }
         }

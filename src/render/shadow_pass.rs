@@ -3,13 +3,15 @@
 //! A layer's map is kept from frame to frame and drawn again only when the version the world
 //! gives it differs from the one it was drawn at (its light was dirty).
 
-use super::extract::{DrawItem, FrameData, LayerDraw, LightId};
+use super::extract::{DrawItem, FrameData, LayerDraw};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
+use super::shaders::{Composed, SHADOW_MODULE};
 use super::texture::MaterialTextures;
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
 use crate::components::AlphaMode;
 use crate::settings::ShadowFaces;
+use crate::systems::LightLabel;
 use bevy_ecs::prelude::*;
 use glam::Mat4;
 
@@ -49,7 +51,7 @@ pub struct ShadowStats {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LightPasses {
     /// Which light.
-    pub light: LightId,
+    pub light: LightLabel,
     /// Layers drawn this frame.
     pub drawn: u32,
     /// Layers whose map was kept from an earlier frame.
@@ -67,7 +69,7 @@ impl ShadowStats {
         self.lights.iter().map(|l| l.kept).sum()
     }
 
-    fn count(&mut self, light: LightId, drawn: bool) {
+    fn count(&mut self, light: LightLabel, drawn: bool) {
         if self.lights.last().is_none_or(|l| l.light != light) {
             self.lights.push(LightPasses { light, drawn: 0, kept: 0 });
         }
@@ -96,15 +98,7 @@ impl ShadowPass {
         size: u32,
     ) -> Self {
         let layer_uniforms = UniformArray::new(device, "shadow layers", 64, wgpu::ShaderStages::VERTEX);
-        let source = concat!(
-            include_str!("../../shaders/common.wgsl"),
-            include_str!("../../shaders/skinning.wgsl"),
-            include_str!("../../shaders/shadow.wgsl")
-        );
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("shadow.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
+        let module = Composed::new(SHADOW_MODULE).module(device);
         let recipe = Recipe {
             label: "shadow",
             module,
@@ -119,6 +113,7 @@ impl ShadowPass {
                 // Biasing is done when sampling, in texel units, so it works the same on every backend.
                 bias: Default::default(),
             },
+            samples_shadows: false,
         };
         let groups = [&layer_uniforms.layout, object_layout];
         let pipelines = Pipelines::new(device, recipe, groups, palette, textures);
@@ -138,9 +133,10 @@ impl ShadowPass {
         true
     }
 
-    /// True when `layer` must be drawn: it was never drawn at its version, or nothing is reused.
+    /// True when `layer` must be drawn: its slot was never drawn at its version, or nothing is
+    /// reused.
     fn needs_drawing(&self, layer: &LayerDraw, reuse: bool) -> bool {
-        !reuse || self.drawn.get(layer.layer as usize).copied().flatten() != Some(layer.version)
+        !reuse || self.drawn.get(layer.slot as usize).copied().flatten() != Some(layer.version)
     }
 
     /// Draws the layers that need it (all of them unless `reuse`), each cleared to far and then
@@ -158,21 +154,21 @@ impl ShadowPass {
     ) -> ShadowStats {
         let mut stats = ShadowStats::default();
         let todo: Vec<&LayerDraw> = data
-            .layers
+            .draws
             .iter()
             .filter(|l| {
                 let draw = self.needs_drawing(l, reuse);
                 stats.count(l.light, draw);
                 draw
             })
-            .filter(|l| (l.layer as usize) < self.maps.layer_views.len())
+            .filter(|l| (l.slot as usize) < self.maps.layer_views.len())
             .collect();
-        let matrices: Vec<Mat4> = todo.iter().map(|l| l.view_proj).collect();
+        let matrices: Vec<Mat4> = todo.iter().map(|l| l.clip_from_world).collect();
         self.layer_uniforms.write::<Mat4>(device, queue, &matrices);
         let variant = |i: usize| (i, shadow_variant(&data.items[i], faces));
         self.pipelines.prepare(device, todo.iter().flat_map(|l| l.casters.iter().map(|&i| variant(i).1)));
         for (slot, layer) in todo.iter().enumerate() {
-            let view = &self.maps.layer_views[layer.layer as usize];
+            let view = &self.maps.layer_views[layer.slot as usize];
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow pass"),
                 color_attachments: &[],
@@ -188,7 +184,7 @@ impl ShadowPass {
             pass.set_bind_group(0, &self.layer_uniforms.bind_group, &[self.layer_uniforms.offset(slot)]);
             self.pipelines.draw(&mut pass, with, &data.items, layer.casters.iter().map(|&i| variant(i)));
             drop(pass);
-            if let Some(drawn) = self.drawn.get_mut(layer.layer as usize) {
+            if let Some(drawn) = self.drawn.get_mut(layer.slot as usize) {
                 *drawn = Some(layer.version);
             }
         }
@@ -207,7 +203,7 @@ fn shadow_variant(item: &DrawItem, faces: ShadowFaces) -> Variant {
     let alpha = if item.alpha == AlphaMode::Opaque { AlphaClass::Opaque } else { AlphaClass::Mask };
     // Opaque casters have no fragment stage, so whether they have a texture does not matter.
     let textured = alpha == AlphaClass::Mask && item.texture.is_some();
-    Variant { skinned: item.skinned, cull, alpha, textured }
+    Variant { skinned: item.skinned, cull, alpha, textured, methods: 0 }
 }
 
 /// Layers to allocate for `needed`: at least 2 (GL cannot view a single-layer texture as an

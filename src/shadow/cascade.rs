@@ -23,8 +23,6 @@ pub enum FitMode {
     Tight,
 }
 
-named_choices!(FitMode, "a fit mode", Stable = "stable", Unsnapped = "unsnapped", Tight = "tight");
-
 /// View depths that split `[near, far]` into `count` cascades by the practical scheme.
 ///
 /// Each split is `lambda * logarithmic + (1 - lambda) * uniform`; the result holds `count + 1`

@@ -16,10 +16,66 @@ pub struct LightProjection {
     pub texel: glam::Vec2,
 }
 
-/// Widest spot cone a shadow map can cover (half angle); wider cones are clamped.
-pub const MAX_SPOT_HALF_ANGLE: f32 = 85.0 * std::f32::consts::PI / 180.0;
-/// Narrowest spot cone (half angle); narrower cones are clamped.
+/// Widest spot cone (half angle), as glTF allows: a hemisphere.
+pub const MAX_SPOT_HALF_ANGLE: f32 = std::f32::consts::FRAC_PI_2;
+/// Narrowest spot cone (half angle).
 pub const MIN_SPOT_HALF_ANGLE: f32 = 0.5 * std::f32::consts::PI / 180.0;
+/// Widest spot cone (half angle) one perspective shadow map holds; a wider spot is shadowed
+/// through a cube, as a point light is. At 60° a texel at the rim of the map is already four
+/// times the size of one at its centre (1 / cos² 60°).
+pub const MAX_MAP_HALF_ANGLE: f32 = 60.0 * std::f32::consts::PI / 180.0;
+
+/// A spot's cone as every part of umbra uses it (lighting, shadows, cookie and truth alike):
+/// the outer half angle clamped to [`MIN_SPOT_HALF_ANGLE`]..[`MAX_SPOT_HALF_ANGLE`] (a
+/// non-number takes the widest) and the inner one to 0..outer. Returns (inner, outer).
+#[must_use]
+pub fn spot_cone(inner: f32, outer: f32) -> (f32, f32) {
+    let outer =
+        if outer.is_nan() { MAX_SPOT_HALF_ANGLE } else { outer.clamp(MIN_SPOT_HALF_ANGLE, MAX_SPOT_HALF_ANGLE) };
+    let inner = if inner.is_nan() { 0.0 } else { inner.clamp(0.0, outer) };
+    (inner, outer)
+}
+
+/// Distance at which a light of range `range` is cut off (a non-number or nonsense range takes
+/// 1 km; a tiny one 10 cm).
+#[must_use]
+pub fn light_range(range: f32) -> f32 {
+    if range.is_finite() { range.max(0.1) } else { 1000.0 }
+}
+
+/// Directions of the six cube faces, in the order of a cube's layers: +X, -X, +Y, -Y, +Z, -Z.
+pub const CUBE_FACES: [Vec3; 6] = [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z];
+
+/// The cube face (index into [`CUBE_FACES`]) that holds direction `d`: its largest axis.
+#[must_use]
+pub fn cube_face(d: Vec3) -> usize {
+    let a = d.abs();
+    let axis = if a.x >= a.y && a.x >= a.z {
+        0
+    } else if a.y >= a.z {
+        1
+    } else {
+        2
+    };
+    axis * 2 + (d[axis] < 0.0) as usize
+}
+
+/// The six faces of a point light's shadow cube (or a wide spot's): perspective projections from
+/// `position` along [`CUBE_FACES`], out to `range`. Each face reaches `margin` texels past the
+/// 90° edge, so a filter sampling next to a seam still finds texels on the face it looks in.
+#[must_use]
+pub fn cube_projections(position: Vec3, range: f32, resolution: u32, margin: u32) -> [LightProjection; 6] {
+    let res = resolution.max(1) as f32;
+    let tan_half = 1.0 + 2.0 * margin as f32 / res;
+    let far = light_range(range);
+    let near = (far * 0.005).max(0.02);
+    let proj = directx::perspective(2.0 * tan_half.atan(), 1.0, near, far);
+    let texel = glam::Vec2::new(0.0, 2.0 * tan_half / res);
+    CUBE_FACES.map(|d| {
+        let view = light_view(position, d);
+        LightProjection { view, proj, view_proj: proj * view, texel }
+    })
+}
 
 /// A view matrix at `eye` looking along `dir`, valid for every direction.
 ///
@@ -34,8 +90,10 @@ pub fn light_view(eye: Vec3, dir: Vec3) -> Mat4 {
 
 /// A spot light's perspective projection: the cone's outer angle, near/far from its range.
 ///
-/// The half angle is clamped to what one map can cover; the near plane is a small fraction of the
-/// range so depth precision is spent where the light reaches.
+/// The half angle is the cone's ([`spot_cone`]), held to below 90° so the projection exists (a
+/// spot wider than [`MAX_MAP_HALF_ANGLE`] is shadowed through a cube; this projection then only
+/// carries its cookie). The near plane is a small fraction of the range so depth precision is
+/// spent where the light reaches.
 pub fn spot_projection(
     position: Vec3,
     direction: Vec3,
@@ -43,12 +101,8 @@ pub fn spot_projection(
     range: f32,
     resolution: u32,
 ) -> LightProjection {
-    let half = if outer_half_angle.is_finite() {
-        outer_half_angle.clamp(MIN_SPOT_HALF_ANGLE, MAX_SPOT_HALF_ANGLE)
-    } else {
-        MAX_SPOT_HALF_ANGLE
-    };
-    let far = if range.is_finite() { range.max(0.1) } else { 1000.0 };
+    let half = spot_cone(0.0, outer_half_angle).1.min(89.0f32.to_radians());
+    let far = light_range(range);
     let near = (far * 0.005).max(0.02);
     let view = light_view(position, direction);
     let proj = directx::perspective(2.0 * half, 1.0, near, far);
@@ -94,6 +148,45 @@ mod tests {
         let edge = pos + Vec3::new((0.49f32).tan() * 4.0, -4.0, 0.0);
         assert!(in_clip(&fit.view_proj, edge));
         assert!(fit.texel.y > 0.0 && fit.texel.x == 0.0);
+    }
+
+    #[test]
+    fn one_clamp_holds_every_cone() {
+        assert_eq!(spot_cone(0.2, 0.4), (0.2, 0.4));
+        assert_eq!(spot_cone(0.5, 0.4), (0.4, 0.4), "inner never beyond outer");
+        assert_eq!(spot_cone(0.1, 3.0).1, MAX_SPOT_HALF_ANGLE);
+        assert_eq!(spot_cone(0.1, -1.0).1, MIN_SPOT_HALF_ANGLE);
+        assert_eq!(spot_cone(f32::NAN, f32::NAN), (0.0, MAX_SPOT_HALF_ANGLE));
+        assert_eq!(spot_cone(0.0, f32::INFINITY).1, MAX_SPOT_HALF_ANGLE);
+    }
+
+    #[test]
+    fn every_direction_lands_inside_its_cube_face() {
+        let faces = cube_projections(Vec3::new(1.0, 2.0, 3.0), 20.0, 64, 2);
+        let mut state = 0x9e3779b97f4a7c15u64;
+        for _ in 0..2000 {
+            let mut next = || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f32 / (1u64 << 53) as f32 * 2.0 - 1.0
+            };
+            let d = Vec3::new(next(), next(), next());
+            if d.length() < 1e-3 {
+                continue;
+            }
+            let p = Vec3::new(1.0, 2.0, 3.0) + d.normalize() * 5.0;
+            let face = cube_face(d);
+            assert!(in_clip(&faces[face].view_proj, p), "{d:?} on face {face}");
+            // With a margin, a point just past the face's edge is inside too.
+        }
+        assert_eq!(cube_face(Vec3::new(0.2, -0.9, 0.1)), 3);
+        assert_eq!(cube_face(Vec3::new(0.0, 0.0, -1.0)), 5);
+        // The margin reaches two texels past the 90° edge: a direction 1 texel beyond a face's
+        // edge (towards the next face) is still inside it.
+        let past = Vec3::new(1.0, 1.0 + 2.0 / 64.0, 0.0);
+        assert!(in_clip(&faces[0].view_proj, Vec3::new(1.0, 2.0, 3.0) + past));
+        assert!(faces.iter().all(|f| f.view_proj.is_finite()));
     }
 
     #[test]

@@ -11,4 +11,7 @@ pub use bounds::{Aabb, MAX_WORLD_EXTENT, frustum_corners, intersects_clip_volume
 pub use cascade::{
     FitMode, MAX_CASCADES, SceneBounds, ViewFrustum, blend_bands, depth_step, fit_cascade, split_depths,
 };
-pub use fit::{LightProjection, light_view, spot_projection};
+pub use fit::{
+    CUBE_FACES, LightProjection, MAX_MAP_HALF_ANGLE, MAX_SPOT_HALF_ANGLE, MIN_SPOT_HALF_ANGLE, cube_face,
+    cube_projections, light_range, light_view, spot_cone, spot_projection,
+};

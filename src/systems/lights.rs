@@ -4,29 +4,18 @@
 
 use crate::assets::MeshLibrary;
 use crate::components::{
-    Camera, DirectionalLight, Joints, Mesh, Notices, ShadowBias, ShadowCaster, ShadowLayer, ShadowMap, SpotLight,
+    Camera, DirectionalLight, Joints, Mesh, Notices, PointLight, ShadowCaster, ShadowLayer, ShadowMap, SpotLight,
     Transform, Viewport, WorldBounds,
 };
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{
-    Aabb, LightProjection, SceneBounds, ViewFrustum, blend_bands, fit_cascade, intersects_clip_volume, split_depths,
-    spot_projection,
+    Aabb, LightProjection, MAX_MAP_HALF_ANGLE, SceneBounds, ViewFrustum, blend_bands, cube_projections, fit_cascade,
+    intersects_clip_volume, split_depths, spot_cone, spot_projection,
 };
 use bevy_ecs::prelude::*;
+use glam::Vec3;
 use std::collections::{HashMap, HashSet};
 use std::sync::atomic::{AtomicU64, Ordering};
-
-/// The lights the main pass uses, in the order it uses them: the first sun, then at most
-/// [`crate::render::MAX_SPOTS`] spot lights (the measuring view reports visibilities in this order).
-pub fn light_order(world: &mut World) -> (Option<Entity>, Vec<Entity>) {
-    let sun = world.query_filtered::<Entity, With<DirectionalLight>>().iter(world).next();
-    let spots = world
-        .query_filtered::<Entity, (With<SpotLight>, With<Transform>)>()
-        .iter(world)
-        .take(crate::render::MAX_SPOTS)
-        .collect();
-    (sun, spots)
-}
 
 /// Recomputes the world bounds of every rigid mesh entity that moved or changed mesh (skinned
 /// ones get theirs from the pose, in [`crate::systems::pose_parts`]).
@@ -129,29 +118,38 @@ fn usable_boxes<'a>(
     usable
 }
 
-/// Assigns shadow-map layers, recomputes every shadowed light's projections and sets dirty flags.
+/// Recomputes every shadowed light's layers and sets their dirty flags.
 ///
-/// The first sun gets one layer per cascade, fitted to its slice of the camera's view; each spot
-/// light gets one layer from its cone. A layer is dirty when it is new, moved to another layer,
-/// its matrix changed (in stable mode only when the cascade snaps to a new texel or its split
-/// changes), its light changed (direction, cone, range, pose, bias), the map size changed, or a
-/// caster that changed this update overlaps its volume, before or after the change.
+/// Each sun gets one layer per cascade, fitted to its slice of the camera's view; a spot light one
+/// layer from its cone, or six (a cube) when its cone is wider than one map holds; a point light
+/// six. A layer is dirty when it is new, its matrix changed (in stable mode only when the cascade
+/// snaps to a new texel or its split changes), its light changed (direction, cone, range, pose),
+/// the map size, faces, culling or cube margin changed, or a caster that changed this update
+/// overlaps its volume, before or after the change. Bias and method are applied when the map is
+/// sampled, so they dirty nothing.
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 pub fn update_light_matrices(
     settings: Res<Settings>,
     viewport: Res<Viewport>,
     changes: Res<CasterChanges>,
-    mut last_maps: Local<Option<(u32, crate::settings::ShadowFaces, CasterCulling)>>,
+    mut last_maps: Local<Option<(u32, crate::settings::ShadowFaces, CasterCulling, u32)>>,
     mut told: Local<HashSet<Entity>>,
     mut notices: Option<ResMut<Notices>>,
     cameras: Query<(&Camera, Ref<Transform>)>,
     casters: Query<(Entity, &WorldBounds), With<ShadowCaster>>,
     visible: Query<(Entity, &WorldBounds), With<Mesh>>,
-    mut suns: Query<(Ref<DirectionalLight>, Ref<ShadowBias>, &mut ShadowMap), Without<SpotLight>>,
-    mut spots: Query<(Ref<SpotLight>, Ref<Transform>, Ref<ShadowBias>, &mut ShadowMap), Without<DirectionalLight>>,
+    mut suns: Query<(Ref<DirectionalLight>, &mut ShadowMap), (Without<SpotLight>, Without<PointLight>)>,
+    mut spots: Query<
+        (Ref<SpotLight>, Ref<Transform>, &mut ShadowMap),
+        (Without<DirectionalLight>, Without<PointLight>),
+    >,
+    mut points: Query<
+        (Ref<PointLight>, Ref<Transform>, &mut ShadowMap),
+        (Without<DirectionalLight>, Without<SpotLight>),
+    >,
 ) {
-    // A new map size, face choice or culling changes every map's contents.
-    let maps = (settings.shadow_map_size, settings.shadow_faces, settings.caster_culling);
+    // A new map size, face choice, culling or cube margin changes every map's contents.
+    let maps = (settings.shadow_map_size, settings.shadow_faces, settings.caster_culling, settings.cube_margin);
     // Culled to the camera's view, what a map holds changes whenever the camera moves.
     let camera_moved = cameras.iter().any(|(_, t)| t.is_changed());
     let all_dirty =
@@ -166,20 +164,29 @@ pub fn update_light_matrices(
     caster_boxes.retain(in_view);
     let seen_boxes = usable_boxes(visible.iter(), &mut told, notices.as_deref_mut());
     let scene = SceneBounds { casters: &caster_boxes, receivers: &seen_boxes };
-    let mut next_layer = 0;
-    for (i, (sun, bias, mut map)) in suns.iter_mut().enumerate() {
+    let size = settings.shadow_map_size;
+    let cube = |at: Vec3, range: f32| {
+        cube_projections(at, range, size, settings.cube_margin).map(|fit| (fit, f32::INFINITY, 0.0)).to_vec()
+    };
+    for (sun, mut map) in &mut suns {
         let fits = match camera {
-            Some((c, t)) if i == 0 => cascades(sun.direction, &c, &t, viewport.aspect(), &settings, scene),
-            _ => Vec::new(),
+            Some((c, t)) => cascades(sun.direction, &c, &t, viewport.aspect(), &settings, scene),
+            None => Vec::new(),
         };
-        let forced = all_dirty || sun.is_changed() || bias.is_changed();
-        refresh_layers(&mut map, &fits, &mut next_layer, forced, &changes.0);
+        refresh_layers(&mut map, &fits, all_dirty || sun.is_changed(), &changes.0);
     }
-    for (spot, transform, bias, mut map) in &mut spots {
-        let size = settings.shadow_map_size;
-        let fit = spot_projection(transform.translation, transform.forward(), spot.outer_angle, spot.range, size);
-        let forced = all_dirty || spot.is_changed() || transform.is_changed() || bias.is_changed();
-        refresh_layers(&mut map, &[(fit, f32::INFINITY, 0.0)], &mut next_layer, forced, &changes.0);
+    for (spot, transform, mut map) in &mut spots {
+        let (at, forward) = (transform.translation, transform.forward());
+        let fits = if spot_cone(spot.inner_angle, spot.outer_angle).1 <= MAX_MAP_HALF_ANGLE {
+            vec![(spot_projection(at, forward, spot.outer_angle, spot.range, size), f32::INFINITY, 0.0)]
+        } else {
+            cube(at, spot.range)
+        };
+        refresh_layers(&mut map, &fits, all_dirty || spot.is_changed() || transform.is_changed(), &changes.0);
+    }
+    for (point, transform, mut map) in &mut points {
+        let fits = cube(transform.translation, point.range);
+        refresh_layers(&mut map, &fits, all_dirty || point.is_changed() || transform.is_changed(), &changes.0);
     }
 }
 
@@ -222,31 +229,22 @@ fn next_version() -> u64 {
     NEXT.fetch_add(1, Ordering::Relaxed)
 }
 
-/// Replaces a light's layers with `fits`, numbering them from `next_layer`; each layer keeps its
-/// version unless it is dirty.
-fn refresh_layers(
-    map: &mut ShadowMap,
-    fits: &[(LightProjection, f32, f32)],
-    next_layer: &mut u32,
-    forced: bool,
-    changes: &[Aabb],
-) {
+/// Replaces a light's layers with `fits`; each layer keeps its version unless it is dirty.
+fn refresh_layers(map: &mut ShadowMap, fits: &[(LightProjection, f32, f32)], forced: bool, changes: &[Aabb]) {
     let layers = fits
         .iter()
         .enumerate()
         .map(|(i, (fit, far, blend))| {
-            let layer = *next_layer + i as u32;
-            let old = map.layers.get(i).filter(|o| o.view_proj == fit.view_proj && o.layer == layer);
+            let old = map.layers.get(i).filter(|o| o.clip_from_world == fit.view_proj);
             let touched = changes.iter().any(|b| intersects_clip_volume(&fit.view_proj, b));
             let dirty = forced || touched || old.is_none();
             let version = match old {
                 Some(o) if !dirty => o.version,
                 _ => next_version(),
             };
-            ShadowLayer { view_proj: fit.view_proj, texel: fit.texel, layer, far: *far, blend: *blend, dirty, version }
+            ShadowLayer { clip_from_world: fit.view_proj, texel: fit.texel, far: *far, blend: *blend, dirty, version }
         })
         .collect();
-    *next_layer += fits.len() as u32;
     // Writing only on a difference keeps `Changed<ShadowMap>` meaningful.
     if map.layers != layers {
         map.layers = layers;
@@ -329,16 +327,21 @@ mod tests {
     fn sun_cascades_are_recalculated_when_the_camera_moves() {
         let mut world = world();
         let cam = world.spawn((Camera::default(), Transform::from_xyz(0.0, 2.0, 5.0))).id();
-        let sun = DirectionalLight { direction: Vec3::new(0.3, -1.0, 0.2), color: Vec3::ONE, intensity: 1.0 };
+        let sun = DirectionalLight {
+            direction: Vec3::new(0.3, -1.0, 0.2),
+            color: Vec3::ONE,
+            intensity: 1.0,
+            ..Default::default()
+        };
         let light = world.spawn((sun, ShadowMap::default())).id();
         world.run_system_once(update_light_matrices).unwrap();
         let before = world.get::<ShadowMap>(light).unwrap().layers.clone();
         assert_eq!(before.len(), Settings::default().cascades as usize);
-        assert!(before.iter().all(|l| l.view_proj != Mat4::IDENTITY && l.view_proj.is_finite()));
+        assert!(before.iter().all(|l| l.clip_from_world != Mat4::IDENTITY && l.clip_from_world.is_finite()));
         world.get_mut::<Transform>(cam).unwrap().translation.x += 10.0;
         world.run_system_once(update_light_matrices).unwrap();
         let after = &world.get::<ShadowMap>(light).unwrap().layers;
-        assert!(before.iter().zip(after).all(|(b, a)| b.view_proj != a.view_proj));
+        assert!(before.iter().zip(after).all(|(b, a)| b.clip_from_world != a.clip_from_world));
     }
 
     #[test]
@@ -346,7 +349,14 @@ mod tests {
         let mut world = world();
         world.resource_mut::<Settings>().caster_culling = CasterCulling::CameraView;
         let cam = world.spawn((Camera::default(), Transform::default())).id();
-        let spot = SpotLight { color: Vec3::ONE, intensity: 1.0, range: 10.0, inner_angle: 0.2, outer_angle: 0.3 };
+        let spot = SpotLight {
+            color: Vec3::ONE,
+            intensity: 1.0,
+            range: 10.0,
+            inner_angle: 0.2,
+            outer_angle: 0.3,
+            ..Default::default()
+        };
         let s = world.spawn((spot, Transform::from_xyz(0.0, 4.0, 0.0), ShadowMap::default())).id();
         let mut schedule = Schedule::default();
         schedule.add_systems(update_light_matrices);
@@ -368,7 +378,12 @@ mod tests {
         let mut world = world();
         world.insert_resource(Notices::default());
         world.spawn((Camera::default(), Transform::from_xyz(0.0, 2.0, 6.0)));
-        let sun = DirectionalLight { direction: Vec3::new(0.3, -1.0, 0.2), color: Vec3::ONE, intensity: 1.0 };
+        let sun = DirectionalLight {
+            direction: Vec3::new(0.3, -1.0, 0.2),
+            color: Vec3::ONE,
+            intensity: 1.0,
+            ..Default::default()
+        };
         let light = world.spawn((sun, ShadowMap::default())).id();
         let pillar = WorldBounds(Aabb::new(Vec3::new(-0.5, 0.0, -0.5), Vec3::new(0.5, 6.0, 0.5)));
         world.spawn((Mesh(0), pillar, ShadowCaster));
@@ -376,7 +391,7 @@ mod tests {
         schedule.add_systems(update_light_matrices);
         schedule.run(&mut world);
         let matrices = |world: &World| {
-            world.get::<ShadowMap>(light).unwrap().layers.iter().map(|l| l.view_proj).collect::<Vec<_>>()
+            world.get::<ShadowMap>(light).unwrap().layers.iter().map(|l| l.clip_from_world).collect::<Vec<_>>()
         };
         let clean = matrices(&world);
         // A caster a million metres tall over the pillar, and one whose bounds are NaN.
@@ -392,17 +407,29 @@ mod tests {
     }
 
     #[test]
-    fn layers_are_given_sun_cascades_first_then_spots() {
+    fn each_light_kind_gets_its_layers() {
         let mut world = world();
         world.resource_mut::<Settings>().cascades = 3;
         world.spawn((Camera::default(), Transform::default()));
-        let spot = SpotLight { color: Vec3::ONE, intensity: 1.0, range: 10.0, inner_angle: 0.2, outer_angle: 0.3 };
-        let s = world.spawn((spot, Transform::from_xyz(0.0, 4.0, 0.0), ShadowMap::default())).id();
-        let sun = DirectionalLight { direction: Vec3::NEG_Y, color: Vec3::ONE, intensity: 1.0 };
-        let d = world.spawn((sun, ShadowMap::default())).id();
+        let narrow = SpotLight { inner_angle: 0.2, outer_angle: 0.3, ..Default::default() };
+        let wide = SpotLight { inner_angle: 0.2, outer_angle: 80f32.to_radians(), ..Default::default() };
+        let at = Transform::from_xyz(0.0, 4.0, 0.0);
+        let lights = [
+            world.spawn((narrow, at, ShadowMap::default())).id(),
+            world.spawn((wide, at, ShadowMap::default())).id(),
+            world.spawn((PointLight::default(), at, ShadowMap::default())).id(),
+            world.spawn((DirectionalLight::default(), ShadowMap::default())).id(),
+            world.spawn((DirectionalLight::default(), ShadowMap::default())).id(),
+        ];
         world.run_system_once(update_light_matrices).unwrap();
-        let layers = |e| world.get::<ShadowMap>(e).unwrap().layers.iter().map(|l| l.layer).collect::<Vec<_>>();
-        assert_eq!(layers(d), vec![0, 1, 2]);
-        assert_eq!(layers(s), vec![3]);
+        let layers: Vec<usize> = lights.iter().map(|&e| world.get::<ShadowMap>(e).unwrap().layers.len()).collect();
+        assert_eq!(layers, vec![1, 6, 6, 3, 3], "every sun gets its cascades, wide spots and points a cube");
+        // The point light's faces look along +X, -X, +Y, -Y, +Z, -Z: a point 2 m along each
+        // direction from the light lands in the middle of its face.
+        let cube = &world.get::<ShadowMap>(lights[2]).unwrap().layers;
+        for (face, d) in crate::shadow::CUBE_FACES.iter().enumerate() {
+            let p = cube[face].clip_from_world.project_point3(at.translation + *d * 2.0);
+            assert!(p.x.abs() < 1e-4 && p.y.abs() < 1e-4 && (0.0..1.0).contains(&p.z), "face {face}: {p:?}");
+        }
     }
 }

@@ -2,10 +2,12 @@
 
 mod animate;
 mod camera;
+mod light_list;
 mod lights;
 mod skeletal;
 
 pub use animate::{bob, spin};
 pub use camera::fly_camera;
-pub use lights::{CasterChanges, CasterState, light_order, track_casters, update_bounds, update_light_matrices};
+pub use light_list::{LightKind, LightLabel, MAX_LIGHTS, SceneLight, ShadowShape, light_list};
+pub use lights::{CasterChanges, CasterState, track_casters, update_bounds, update_light_matrices};
 pub use skeletal::{animate_models, pose_parts, walk};

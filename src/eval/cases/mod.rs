@@ -110,12 +110,12 @@ pub fn case(name: &str) -> Option<&'static Case> {
     CASES.iter().find(|c| c.name == name)
 }
 
-/// Counts, over the pixels `keep` accepts where the sun was tested, those the truth calls dark
+/// Counts, over the pixels `keep` accepts where `light` was tested, those the truth calls dark
 /// (`of`) and those of them rendered lit (`hits`): how much of a shadow went missing.
-fn missing_shadow(m: &Measured, keep: impl Fn(usize) -> bool) -> Score {
+fn missing_shadow(m: &Measured, light: usize, keep: impl Fn(usize) -> bool) -> Score {
     let mut s = Score::default();
-    for (i, t) in m.truth[0].iter().enumerate() {
-        if let (Some(t), Some(r), true) = (t, rendered(&m.frame, 0, i), keep(i))
+    for (i, t) in m.truth[light].iter().enumerate() {
+        if let (Some(t), Some(r), true) = (t, rendered(&m.frame, light, i), keep(i))
             && !t.lit
         {
             s.of += 1;
@@ -125,15 +125,16 @@ fn missing_shadow(m: &Measured, keep: impl Fn(usize) -> bool) -> Score {
     s
 }
 
-/// Misclassified sun pixels (dark but lit, or lit but dark) over `keep`, with NaNs as garbage.
-fn misclassified(m: &Measured, keep: impl Fn(usize) -> bool) -> Score {
+/// Misclassified pixels of `light` (dark but lit, or lit but dark) over `keep`, with NaNs as
+/// garbage.
+fn misclassified(m: &Measured, light: usize, keep: impl Fn(usize) -> bool) -> Score {
     let mut s = Score::default();
-    for (i, t) in m.truth[0].iter().enumerate() {
-        let v = m.frame.visibility[i].x;
+    for (i, t) in m.truth[light].iter().enumerate() {
+        let v = m.frame.visibility[light][i];
         if m.frame.covered(i) && !(v.is_finite() && (v == -1.0 || (0.0..=1.0).contains(&v))) {
             s.garbage += 1;
         }
-        if let (Some(t), Some(r), true) = (t, rendered(&m.frame, 0, i), keep(i)) {
+        if let (Some(t), Some(r), true) = (t, rendered(&m.frame, light, i), keep(i)) {
             s.of += 1;
             s.hits += ((r < 0.5) == t.lit) as u64;
         }
@@ -167,7 +168,7 @@ fn acne(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError
         let measured =
             measure_at(m, "acne", &format!("{elevation}"), |app| set_sun(app, sun_direction(elevation, 30.0)))?;
         // Nothing stands on the plane, so every pixel the sun reaches is truly lit.
-        score.add(misclassified(&measured, on_ground(&measured)));
+        score.add(misclassified(&measured, 0, on_ground(&measured)));
     }
     Ok(score)
 }
@@ -189,7 +190,7 @@ fn peter_panning(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, Mea
             let outside = (Vec2::new(p.x.abs(), p.z.abs()) - Vec2::splat(0.5)).max(Vec2::ZERO).length();
             on_ground(&measured)(i) && outside > 0.0 && outside <= 0.1
         };
-        score.add(missing_shadow(&measured, band));
+        score.add(missing_shadow(&measured, 0, band));
     }
     Ok(score)
 }
@@ -221,9 +222,9 @@ fn shimmer(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureEr
         let turn = glam::Quat::from_rotation_y((f * 0.03).to_radians());
         place_camera(&mut app.world, eye, eye + turn * (Vec3::ZERO - Vec3::new(0.0, 4.0, 8.0)));
         app.set_time(0.0);
-        let seen = probe_visibility(gpu, renderer, app, &points)?;
-        score.garbage += seen.iter().filter(|v| !v.x.is_finite()).count() as u64;
-        let dark: Vec<bool> = seen.iter().map(|v| v.x >= 0.0 && v.x < 0.5).collect();
+        let seen = probe_visibility(gpu, renderer, app, &points)?.swap_remove(0);
+        score.garbage += seen.iter().filter(|v| !v.is_finite()).count() as u64;
+        let dark: Vec<bool> = seen.iter().map(|&v| (0.0..0.5).contains(&v)).collect();
         if let Some(before) = &last {
             score.of += dark.len() as u64;
             score.hits += before.iter().zip(&dark).filter(|(a, b)| a != b).count() as u64;
@@ -243,7 +244,7 @@ fn thin_casters(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, Meas
         Ok(app)
     })?;
     let measured = measure_at(m, "thin-casters", "poles", |_| {})?;
-    Ok(missing_shadow(&measured, on_ground(&measured)))
+    Ok(missing_shadow(&measured, 0, on_ground(&measured)))
 }
 
 fn offscreen_caster(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
@@ -256,7 +257,7 @@ fn offscreen_caster(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, 
         Ok(app)
     })?;
     let measured = measure_at(m, "off-screen-caster", "behind", |_| {})?;
-    Ok(missing_shadow(&measured, on_ground(&measured)))
+    Ok(missing_shadow(&measured, 0, on_ground(&measured)))
 }
 
 fn degenerate_lights(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
@@ -280,7 +281,7 @@ fn degenerate_lights(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score,
     let mut score = Score::default();
     for (key, direction) in directions {
         let measured = measure_at(m, "degenerate-lights", key, |app| set_sun(app, direction))?;
-        score.add(misclassified(&measured, |_| true));
+        score.add(misclassified(&measured, 0, |_| true));
     }
     Ok(score)
 }
@@ -304,7 +305,7 @@ fn far_field(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, Measure
     let mut worst = Score::default();
     for end in DISTANCE_BANDS.into_iter().take_while(|&end| end <= fade) {
         let band = |i: usize| (start..end).contains(&measured.frame.normal[i].w);
-        let s = misclassified(&measured, band);
+        let s = misclassified(&measured, 0, band);
         if s.value() >= worst.value() {
             worst = s;
         }
@@ -340,7 +341,7 @@ pub fn skinned_caster_bounded(
         use_bind_pose_bounds(app);
     }
     let measured = m.measure(name, "leap")?;
-    Ok(missing_shadow(&measured, on_ground(&measured)))
+    Ok(missing_shadow(&measured, 0, on_ground(&measured)))
 }
 
 /// Replaces every skinned part's bounds with its bind pose's (breaking culling on purpose).

@@ -35,7 +35,7 @@ pub fn ground(
     if ground_casts {
         g.insert(ShadowCaster);
     }
-    let light = DirectionalLight { direction: sun, color: Vec3::ONE, intensity: 1.0 };
+    let light = DirectionalLight { direction: sun, color: Vec3::ONE, intensity: 1.0, ..Default::default() };
     app.world.spawn((light, ShadowMap::default()));
     app.world.spawn(camera_looking(eye, target));
     Ok(app)

@@ -1,5 +1,9 @@
 //! Components and resources: the data the systems write and the renderer reads.
 
+mod light;
+
+pub use light::*;
+
 use crate::shadow::Aabb;
 use bevy_ecs::prelude::*;
 use glam::{Mat4, Quat, Vec2, Vec3};
@@ -191,108 +195,6 @@ impl FlyCamera {
     /// The rotation the yaw and pitch describe.
     pub fn rotation(&self) -> Quat {
         Quat::from_rotation_y(self.yaw) * Quat::from_rotation_x(self.pitch)
-    }
-}
-
-/// The sun: parallel light travelling along `direction`.
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
-pub struct DirectionalLight {
-    /// Direction the light travels (from the sun towards the ground).
-    pub direction: Vec3,
-    /// Linear RGB colour.
-    pub color: Vec3,
-    /// Brightness multiplier.
-    pub intensity: f32,
-}
-
-/// A spot light at its entity's [`Transform`], shining along the transform's forward axis.
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
-pub struct SpotLight {
-    /// Linear RGB colour.
-    pub color: Vec3,
-    /// Brightness multiplier.
-    pub intensity: f32,
-    /// Distance in metres at which the light has faded to nothing.
-    pub range: f32,
-    /// Half angle (radians) inside which the light is at full strength.
-    pub inner_angle: f32,
-    /// Half angle (radians) outside which the light gives nothing.
-    pub outer_angle: f32,
-}
-
-/// One layer of the shadow-map array: a spot light's map, or one cascade of the sun's.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShadowLayer {
-    /// World to light clip space.
-    pub view_proj: Mat4,
-    /// World size of one texel: `texel.x + texel.y * distance`.
-    pub texel: Vec2,
-    /// Layer of the shadow-map array this renders into.
-    pub layer: u32,
-    /// View depth at which this cascade ends (infinite for a spot light).
-    pub far: f32,
-    /// Width of the band before `far` where this cascade blends into the next.
-    pub blend: f32,
-    /// The layer changed in the last update and its map must be drawn again.
-    pub dirty: bool,
-    /// Identifies the layer's contents: a new number each time it becomes dirty, so a renderer
-    /// can tell whether the map it holds is still good, however many updates it missed.
-    pub version: u64,
-}
-
-/// A light's shadow maps, written by the light-matrix system and read by the renderer: one layer
-/// for a spot light, one per cascade for the sun. A light without layers casts no shadow.
-#[derive(Component, Clone, Debug, Default, PartialEq)]
-#[require(ShadowBias)]
-pub struct ShadowMap {
-    /// The light's layers, nearest cascade first.
-    pub layers: Vec<ShadowLayer>,
-}
-
-impl ShadowMap {
-    /// True when any of the light's layers must be drawn again (its dirty flag).
-    pub fn dirty(&self) -> bool {
-        self.layers.iter().any(|l| l.dirty)
-    }
-}
-
-/// How far a light's shadow test pushes the surface before looking it up, in shadow-map texels.
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
-pub struct ShadowBias {
-    /// Towards the light, always.
-    pub constant: f32,
-    /// Towards the light, times tan of the angle between normal and light.
-    pub slope: f32,
-    /// Along the surface normal.
-    pub normal: f32,
-}
-
-impl Default for ShadowBias {
-    /// Half a texel each: of the uniform biases `umbra bench` swept (0, 0.5, 1, 2, 4), the one
-    /// with the fewest wrong pixels on the sample scene that still keeps every failure case in
-    /// bounds (no bias at all brings back acne).
-    fn default() -> Self {
-        ShadowBias { constant: 0.5, slope: 0.5, normal: 0.5 }
-    }
-}
-
-/// An image projected through a spot light's cone that shapes its light (seed 004's projected
-/// texture): the light is multiplied by the image where the cone meets a surface.
-#[derive(Component, Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Cookie {
-    /// A four-pane window: a frame and a cross of dark bars.
-    Window,
-    /// Dappled light through leaves: soft round spots.
-    Leaves,
-}
-
-impl Cookie {
-    /// Every cookie, in texture-layer order.
-    pub const ALL: [Cookie; 2] = [Cookie::Window, Cookie::Leaves];
-
-    /// Layer of the cookie texture array holding this image.
-    pub fn layer(self) -> u32 {
-        Cookie::ALL.iter().position(|c| *c == self).unwrap_or(0) as u32
     }
 }
 

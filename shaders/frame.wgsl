@@ -1,0 +1,71 @@
+// What the main pass knows of the frame: the camera, the settings that shape shadows, every
+// light and every shadow-map layer (bind group 0). The layouts are checked against the Rust
+// structs of the same names (src/render/extract.rs) by a test.
+
+struct Frame {
+    clip_from_world: mat4x4<f32>,
+    camera_position: vec3<f32>,
+    // Beyond this view depth suns cast no shadow.
+    shadow_distance: f32,
+    camera_forward: vec3<f32>,
+    // View depth where sun shadows start to fade out.
+    fade_start: f32,
+    ambient: f32,
+    shadow_strength: f32,
+    shadows_on: u32,
+    cascade_debug: u32,
+    light_count: u32,
+    // The measuring view reports lights first_measured .. first_measured + MEASURED_PER_PASS.
+    first_measured: u32,
+    // Probes are drawn into a grid this many pixels wide and high.
+    probe_width: u32,
+    probe_height: u32,
+};
+
+// One light; `kind` is LIGHT_SUN, LIGHT_SPOT or LIGHT_POINT.
+struct GpuLight {
+    // Colour times intensity.
+    color: vec3<f32>,
+    kind: u32,
+    position: vec3<f32>,
+    range: f32,
+    // Unit direction the light travels (suns) or shines (spots).
+    direction: vec3<f32>,
+    cos_outer: f32,
+    cos_inner: f32,
+    // Its layers: first_layer .. first_layer + layer_count (none when layer_count is 0).
+    first_layer: u32,
+    layer_count: u32,
+    // Cookie layer, or -1 for none.
+    cookie: i32,
+    // Biases in texels.
+    bias_constant: f32,
+    bias_slope: f32,
+    bias_normal: f32,
+    // METHOD_* it is sampled with.
+    method: u32,
+    // SHAPE_CASCADES, SHAPE_SINGLE or SHAPE_CUBE.
+    shape: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+    // The cookie's projection (spots with a cookie only).
+    cookie_from_world: mat4x4<f32>,
+};
+
+// One layer of the shadow-map array: its projection and the world size of its texels.
+struct GpuLayer {
+    clip_from_world: mat4x4<f32>,
+    // World size of one texel: texel_base + texel_per_metre * distance from the light.
+    texel_base: f32,
+    texel_per_metre: f32,
+    // View depth where this cascade ends, and the band before it where it blends into the next.
+    far: f32,
+    blend: f32,
+};
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+// Cookie images, COOKIE_SIZE² bytes each, four bytes to a word, sixteen to an element.
+@group(0) @binding(3) var<uniform> cookies: array<vec4<u32>, COOKIE_VECTORS>;
+@group(0) @binding(4) var<uniform> lights: array<GpuLight, MAX_LIGHTS>;
+@group(0) @binding(5) var<uniform> layers: array<GpuLayer, MAX_LAYERS>;

@@ -1,0 +1,187 @@
+// Every light of any kind as seen from a surface point: its direction, how much of it reaches
+// the point, its shadow test through the light's layers (a sun's cascades, a spot's one map, a
+// cube's six faces) and its cookie.
+
+// The cascade of light `light` for view depth `depth` (layer_count when beyond them all) and
+// how far the point is into the band where that cascade blends into the next (0: not at all,
+// 1: fully).
+struct CascadePick {
+    index: u32,
+    next_weight: f32,
+};
+
+fn pick_cascade(light: GpuLight, depth: f32) -> CascadePick {
+    let count = min(light.layer_count, MAX_CASCADES);
+    var pick = CascadePick(count, 0.0);
+    for (var i = 0u; i < count; i += 1u) {
+        let layer = layers[light.first_layer + i];
+        if (depth < layer.far) {
+            pick.index = i;
+            if (layer.blend > 0.0 && i + 1u < count) {
+                pick.next_weight = clamp((depth - (layer.far - layer.blend)) / layer.blend, 0.0, 1.0);
+            }
+            break;
+        }
+    }
+    return pick;
+}
+
+fn light_bias(light: GpuLight) -> Bias {
+    return Bias(light.bias_constant, light.bias_slope, light.bias_normal);
+}
+
+// The shadow test through layer `index` of the array, `distance` metres from the light.
+fn layer_test(light: GpuLight, index: u32, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>) -> f32 {
+    let layer = layers[index];
+    let texel = layer.texel_base + layer.texel_per_metre * distance;
+    return shadow_test(layer.clip_from_world, index, texel, p, n, l, light_bias(light), light.method);
+}
+
+// Visibility of a sun at `p` (view depth `depth`): past the last cascade everything is lit, and
+// the shadow fades out before it rather than ending in a hard edge.
+fn sun_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, depth: f32) -> f32 {
+    let pick = pick_cascade(light, depth);
+    if (pick.index >= light.layer_count) {
+        return 1.0;
+    }
+    var vis = layer_test(light, light.first_layer + pick.index, 0.0, p, n, l);
+    if (pick.next_weight > 0.0) {
+        vis = mix(vis, layer_test(light, light.first_layer + pick.index + 1u, 0.0, p, n, l), pick.next_weight);
+    }
+    let fade = smoothstep(frame.fade_start, frame.shadow_distance, depth);
+    return mix(vis, 1.0, fade);
+}
+
+// The cube face (0..6: +X, -X, +Y, -Y, +Z, -Z) that holds direction `d`: its largest axis, as
+// `shadow::cube_face` picks it.
+fn cube_face(d: vec3<f32>) -> u32 {
+    let a = abs(d);
+    if (a.x >= a.y && a.x >= a.z) {
+        return select(0u, 1u, d.x < 0.0);
+    }
+    if (a.y >= a.z) {
+        return select(2u, 3u, d.y < 0.0);
+    }
+    return select(4u, 5u, d.z < 0.0);
+}
+
+// Visibility of light `light` at `p`, `distance` metres from it (1 where it casts no shadow).
+fn light_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, depth: f32, distance: f32) -> f32 {
+    if (light.layer_count == 0u) {
+        return 1.0;
+    }
+    switch light.shape {
+        case SHAPE_CASCADES: {
+            return sun_visibility(light, p, n, l, depth);
+        }
+        case SHAPE_SINGLE: {
+            return layer_test(light, light.first_layer, distance, p, n, l);
+        }
+        default: {
+            return layer_test(light, light.first_layer + cube_face(p - light.position), distance, p, n, l);
+        }
+    }
+}
+
+// Texel (x, y) of cookie `layer`, 0..1.
+fn cookie_texel(layer: u32, x: u32, y: u32) -> f32 {
+    let i = (layer * COOKIE_SIZE + y) * COOKIE_SIZE + x;
+    let word = cookies[i / 16u][(i / 4u) % 4u];
+    return f32((word >> (8u * (i % 4u))) & 0xffu) / 255.0;
+}
+
+// Bilinear lookup in cookie `layer` at `uv`, clamped at the edges.
+fn cookie_bilinear(uv: vec2<f32>, layer: u32) -> f32 {
+    let at = uv * f32(COOKIE_SIZE) - 0.5;
+    let base = floor(at);
+    let f = at - base;
+    let hi = i32(COOKIE_SIZE) - 1;
+    let x0 = u32(clamp(i32(base.x), 0, hi));
+    let y0 = u32(clamp(i32(base.y), 0, hi));
+    let x1 = u32(clamp(i32(base.x) + 1, 0, hi));
+    let y1 = u32(clamp(i32(base.y) + 1, 0, hi));
+    let top = mix(cookie_texel(layer, x0, y0), cookie_texel(layer, x1, y0), f.x);
+    let bottom = mix(cookie_texel(layer, x0, y1), cookie_texel(layer, x1, y1), f.x);
+    return mix(top, bottom, f.y);
+}
+
+// The light's cookie at `p`: its image projected through the cone (1 without a cookie).
+fn cookie(light: GpuLight, p: vec3<f32>) -> f32 {
+    if (light.cookie < 0) {
+        return 1.0;
+    }
+    let clip = light.cookie_from_world * vec4<f32>(p, 1.0);
+    if (clip.w <= 0.0) {
+        return 0.0;
+    }
+    let ndc = clip.xy / clip.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0))) {
+        return 0.0;
+    }
+    return cookie_bilinear(uv, u32(light.cookie));
+}
+
+// One light as seen from a surface point: the unit direction towards it, how much of it reaches
+// (0 where it does not: facing away, outside the cone or range), its shadow test (1 where none
+// is made) and its cookie.
+struct LightSample {
+    l: vec3<f32>,
+    reach: f32,
+    visibility: f32,
+    cookie: f32,
+};
+
+// Light `i` at `p` (unit normal `n`, view depth `depth`); `test` says whether to look up its
+// shadow.
+fn light_sample(i: u32, p: vec3<f32>, n: vec3<f32>, depth: f32, test: bool) -> LightSample {
+    let light = lights[i];
+    var s = LightSample(-light.direction, 1.0, 1.0, 1.0);
+    var distance = 0.0;
+    if (light.kind != LIGHT_SUN) {
+        let to_light = light.position - p;
+        distance = length(to_light);
+        s.l = to_light / max(distance, 1e-4);
+        // Inverse-square-like falloff, windowed to reach exactly zero at the range.
+        let x = distance / light.range;
+        let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
+        s.reach = window * window / (1.0 + 0.05 * distance * distance);
+        if (light.kind == LIGHT_SPOT) {
+            // Full inside the inner angle, a smooth edge, nothing outside the outer angle; behind
+            // the light the cosine is negative, so the back projection is cut here too.
+            s.reach *= smoothstep(light.cos_outer, light.cos_inner, dot(-s.l, light.direction));
+        }
+    }
+    if (dot(n, s.l) <= 0.0) {
+        s.reach = 0.0;
+    }
+    if (s.reach > 0.0) {
+        if (test) {
+            s.visibility = light_visibility(light, p, n, s.l, depth, distance);
+        }
+        s.cookie = cookie(light, p);
+    }
+    return s;
+}
+
+// The debug colour of the first sun's cascade at view depth `depth` (white beyond them all, or
+// without a sun).
+fn cascade_tint(depth: f32) -> vec3<f32> {
+    var tints = array<vec3<f32>, 4>(
+        vec3<f32>(1.0, 0.3, 0.3),
+        vec3<f32>(0.3, 1.0, 0.3),
+        vec3<f32>(0.35, 0.45, 1.0),
+        vec3<f32>(1.0, 0.9, 0.25),
+    );
+    for (var i = 0u; i < min(frame.light_count, MAX_LIGHTS); i += 1u) {
+        let light = lights[i];
+        if (light.kind == LIGHT_SUN && light.layer_count > 0u) {
+            let pick = pick_cascade(light, depth);
+            if (pick.index >= light.layer_count) {
+                return vec3<f32>(1.0);
+            }
+            return mix(tints[pick.index], tints[min(pick.index + 1u, 3u)], pick.next_weight);
+        }
+    }
+    return vec3<f32>(1.0);
+}

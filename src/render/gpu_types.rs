@@ -1,0 +1,200 @@
+//! The structs the shaders read, field for field, and the constants Rust and WGSL share. Each
+//! struct lists its fields and their offsets, which a test compares with the WGSL declaration of
+//! the same name (reflected by naga), so neither side can change alone.
+
+use crate::components::{Cookie, ShadowMethod};
+use crate::systems::{LightKind, MAX_LIGHTS, ShadowShape};
+use glam::{Mat4, Vec4};
+
+/// Declares a `#[repr(C)]` plain-old-data struct with a `FIELDS` table of its field names and
+/// byte offsets.
+macro_rules! gpu_struct {
+    ($(#[$meta:meta])* pub struct $name:ident { $($(#[$fmeta:meta])* $vis:vis $field:ident : $ty:ty),* $(,)? }) => {
+        $(#[$meta])*
+        #[repr(C)]
+        #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+        pub struct $name { $($(#[$fmeta])* $vis $field: $ty),* }
+
+        impl $name {
+            /// Each field's name and byte offset, as the WGSL struct of the same name must have them.
+            pub const FIELDS: &'static [(&'static str, usize)] =
+                &[$((stringify!($field), std::mem::offset_of!($name, $field))),*];
+        }
+    };
+}
+
+gpu_struct! {
+    /// One object: its matrices and material (`Object` in common.wgsl, bind group 1).
+    pub struct Object {
+        /// Local to world.
+        pub world_from_local: Mat4,
+        /// Inverse-transpose of `world_from_local`, for normals.
+        pub normal_from_local: Mat4,
+        /// Linear RGBA base colour factor.
+        pub base_color: Vec4,
+        /// Strength of the specular highlight.
+        pub specular: f32,
+        /// Phong exponent.
+        pub shininess: f32,
+        /// Alpha below which a masked surface (and, in shadow maps and the measuring view, a
+        /// blended one) is cut away; 0 for opaque.
+        pub alpha_cutoff: f32,
+        /// 1 if the surface takes shadows.
+        pub receives_shadows: u32,
+        /// The object's first matrix in the joint palette (skinned objects only).
+        pub first_joint: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
+    }
+}
+
+gpu_struct! {
+    /// The camera and the frame-wide shadow settings (`Frame` in frame.wgsl).
+    pub struct Frame {
+        /// World to the camera's clip space.
+        pub clip_from_world: Mat4,
+        /// Where the camera is.
+        pub camera_position: [f32; 3],
+        /// Beyond this view depth suns cast no shadow.
+        pub shadow_distance: f32,
+        /// The camera's unit forward axis.
+        pub camera_forward: [f32; 3],
+        /// View depth where sun shadows start to fade out.
+        pub fade_start: f32,
+        /// Ambient light level.
+        pub ambient: f32,
+        /// How dark a full shadow is.
+        pub shadow_strength: f32,
+        /// 1 when shadows are looked up at all.
+        pub shadows_on: u32,
+        /// 1 to tint each cascade.
+        pub cascade_debug: u32,
+        /// Lights in the light array.
+        pub light_count: u32,
+        /// The first of the lights the measuring view reports.
+        pub first_measured: u32,
+        /// Width of the probe grid in pixels.
+        pub probe_width: u32,
+        /// Height of the probe grid in pixels.
+        pub probe_height: u32,
+    }
+}
+
+gpu_struct! {
+    /// One light (`GpuLight` in frame.wgsl).
+    pub struct GpuLight {
+        /// Colour times intensity.
+        pub color: [f32; 3],
+        /// [`LIGHT_SUN`], [`LIGHT_SPOT`] or [`LIGHT_POINT`].
+        pub kind: u32,
+        /// Where it is (spot and point lights).
+        pub position: [f32; 3],
+        /// Where its light fades to nothing (spot and point lights).
+        pub range: f32,
+        /// Unit direction it travels (suns) or shines (spots).
+        pub direction: [f32; 3],
+        /// Cosine of a spot's outer half angle.
+        pub cos_outer: f32,
+        /// Cosine of a spot's inner half angle.
+        pub cos_inner: f32,
+        /// Its first layer in the shadow-map array.
+        pub first_layer: u32,
+        /// Its layers (0: no shadow).
+        pub layer_count: u32,
+        /// Cookie layer, or -1 for none.
+        pub cookie: i32,
+        /// Constant bias in texels.
+        pub bias_constant: f32,
+        /// Slope bias in texels.
+        pub bias_slope: f32,
+        /// Normal-offset bias in texels.
+        pub bias_normal: f32,
+        /// `METHOD_*`: how its maps are sampled.
+        pub method: u32,
+        /// [`SHAPE_CASCADES`], [`SHAPE_SINGLE`] or [`SHAPE_CUBE`].
+        pub shape: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
+        /// World to the cookie's clip space (spots with a cookie).
+        pub cookie_from_world: Mat4,
+    }
+}
+
+gpu_struct! {
+    /// One layer of the shadow-map array (`GpuLayer` in frame.wgsl).
+    pub struct GpuLayer {
+        /// World to the layer's clip space.
+        pub clip_from_world: Mat4,
+        /// World size of one texel at the light.
+        pub texel_base: f32,
+        /// World size of one texel grows by this per metre from the light.
+        pub texel_per_metre: f32,
+        /// View depth where this cascade ends (infinite for other layers).
+        pub far: f32,
+        /// Band before `far` where this cascade blends into the next.
+        pub blend: f32,
+    }
+}
+
+/// Most shadow-map layers: every light a cube.
+pub const MAX_LAYERS: usize = MAX_LIGHTS * 6;
+
+/// Lights the measuring view reports in one pass (a vec4 target of visibilities).
+pub const MEASURED_PER_PASS: usize = 4;
+
+/// [`GpuLight::kind`] of a sun.
+pub const LIGHT_SUN: u32 = 0;
+/// [`GpuLight::kind`] of a spot light.
+pub const LIGHT_SPOT: u32 = 1;
+/// [`GpuLight::kind`] of a point light.
+pub const LIGHT_POINT: u32 = 2;
+/// [`GpuLight::shape`]: one layer per cascade.
+pub const SHAPE_CASCADES: u32 = 0;
+/// [`GpuLight::shape`]: one perspective layer.
+pub const SHAPE_SINGLE: u32 = 1;
+/// [`GpuLight::shape`]: six cube faces.
+pub const SHAPE_CUBE: u32 = 2;
+
+/// The GPU's number for a light kind.
+pub fn kind_id(kind: &LightKind) -> u32 {
+    match kind {
+        LightKind::Sun { .. } => LIGHT_SUN,
+        LightKind::Spot { .. } => LIGHT_SPOT,
+        LightKind::Point { .. } => LIGHT_POINT,
+    }
+}
+
+/// The GPU's number for a shadow shape.
+pub fn shape_id(shape: ShadowShape) -> u32 {
+    match shape {
+        ShadowShape::Cascades => SHAPE_CASCADES,
+        ShadowShape::Single => SHAPE_SINGLE,
+        ShadowShape::Cube => SHAPE_CUBE,
+    }
+}
+
+/// The constants both languages use, written here once, as WGSL declarations that come before
+/// every shader file.
+pub fn prelude() -> String {
+    let cookie_vectors = Cookie::ALL.len() * (crate::assets::COOKIE_SIZE * crate::assets::COOKIE_SIZE) as usize / 16;
+    let mut out = String::from("// Constants shared with Rust (src/render/gpu_types.rs), written there.\n");
+    let mut constant = |name: &str, value: u64| out.push_str(&format!("const {name}: u32 = {value}u;\n"));
+    constant("MAX_LIGHTS", MAX_LIGHTS as u64);
+    constant("MAX_LAYERS", MAX_LAYERS as u64);
+    constant("MAX_CASCADES", crate::shadow::MAX_CASCADES as u64);
+    constant("MEASURED_PER_PASS", MEASURED_PER_PASS as u64);
+    constant("COOKIE_SIZE", crate::assets::COOKIE_SIZE as u64);
+    constant("COOKIE_VECTORS", cookie_vectors as u64);
+    constant("LIGHT_SUN", LIGHT_SUN as u64);
+    constant("LIGHT_SPOT", LIGHT_SPOT as u64);
+    constant("LIGHT_POINT", LIGHT_POINT as u64);
+    constant("SHAPE_CASCADES", SHAPE_CASCADES as u64);
+    constant("SHAPE_SINGLE", SHAPE_SINGLE as u64);
+    constant("SHAPE_CUBE", SHAPE_CUBE as u64);
+    for method in ShadowMethod::ALL {
+        constant(&format!("METHOD_{}", method.name().to_uppercase()), *method as u64);
+    }
+    out
+}

@@ -1,0 +1,180 @@
+//! The WGSL sources and how they are put together. A module is a list of files, each depending
+//! only on the files before it, after a prelude of the constants Rust and WGSL share
+//! ([`super::gpu_types::prelude`]); a line of the joined text can be traced back to its file.
+
+/// One WGSL file of `shaders/`.
+#[derive(Clone, Copy, Debug)]
+pub struct ShaderFile {
+    /// Its name in `shaders/`.
+    pub name: &'static str,
+    /// Its text.
+    pub text: &'static str,
+}
+
+macro_rules! shader_file {
+    ($name:literal) => {
+        ShaderFile { name: $name, text: include_str!(concat!("../../shaders/", $name)) }
+    };
+}
+
+/// The object uniform, the material texture, the vertex layout and the pipeline constants.
+pub const COMMON: ShaderFile = shader_file!("common.wgsl");
+/// Skinning by the joint palette.
+pub const SKINNING: ShaderFile = shader_file!("skinning.wgsl");
+/// The depth-only shadow pass.
+pub const SHADOW: ShaderFile = shader_file!("shadow.wgsl");
+/// The frame uniform, the lights and the layers (bind group 0 of the main pass).
+pub const FRAME: ShaderFile = shader_file!("frame.wgsl");
+/// The shadow-map lookups, one function per method.
+pub const SAMPLING: ShaderFile = shader_file!("shadow_sampling.wgsl");
+/// Every light kind seen from a surface point: reach, shadow test, cookie.
+pub const LIGHTS: ShaderFile = shader_file!("lights.wgsl");
+/// The main pass, the measuring view and the probes.
+pub const MAIN: ShaderFile = shader_file!("main.wgsl");
+
+/// The shadow pass's files, in dependency order.
+pub const SHADOW_MODULE: &[ShaderFile] = &[COMMON, SKINNING, SHADOW];
+/// The main pass's files, in dependency order.
+pub const MAIN_MODULE: &[ShaderFile] = &[COMMON, SKINNING, FRAME, SAMPLING, LIGHTS, MAIN];
+
+/// A module's text, and the line where each of its parts begins.
+#[derive(Clone, Debug)]
+pub struct Composed {
+    /// The prelude and the files, joined.
+    pub text: String,
+    /// Each part's name and first line (1-based) in `text`.
+    starts: Vec<(&'static str, usize)>,
+}
+
+impl Composed {
+    /// The prelude followed by `files`.
+    pub fn new(files: &[ShaderFile]) -> Composed {
+        let mut text = String::new();
+        let mut starts = Vec::new();
+        let mut add = |name: &'static str, part: &str| {
+            starts.push((name, text.lines().count() + 1));
+            text.push_str(part);
+            if !part.ends_with('\n') {
+                text.push('\n');
+            }
+        };
+        add("prelude (src/render/gpu_types.rs)", &super::gpu_types::prelude());
+        for f in files {
+            add(f.name, f.text);
+        }
+        Composed { text, starts }
+    }
+
+    /// The file and line (both as in the file itself, 1-based) of line `line` of the joined text.
+    #[cfg(test)]
+    pub fn locate(&self, line: usize) -> (&'static str, usize) {
+        let (name, start) = self.starts.iter().rev().find(|(_, start)| *start <= line).copied().unwrap_or(("?", 1));
+        (name, line + 1 - start)
+    }
+
+    /// The module on `device`, labelled with its files' names.
+    pub fn module(&self, device: &wgpu::Device) -> wgpu::ShaderModule {
+        let label: Vec<&str> = self.starts.iter().skip(1).map(|(name, _)| *name).collect();
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(&label.join(" + ")),
+            source: wgpu::ShaderSource::Wgsl(self.text.clone().into()),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::gpu_types;
+    use super::*;
+    use naga::valid::{Capabilities, ValidationFlags, Validator};
+
+    /// Parses and validates `composed`; an error names the file and line it is in.
+    fn check(composed: &Composed) -> Result<(naga::Module, naga::valid::ModuleInfo), String> {
+        let at = |span: naga::Span| {
+            let offset = span.to_range().map_or(0, |r| r.start);
+            let line = composed.text[..offset.min(composed.text.len())].lines().count().max(1);
+            let (file, line) = composed.locate(line);
+            format!("{file}:{line}")
+        };
+        let module = naga::front::wgsl::parse_str(&composed.text).map_err(|e| {
+            let span = e.labels().next().map_or(naga::Span::UNDEFINED, |(s, _)| s);
+            format!("{}: {}", at(span), e.message())
+        })?;
+        let info = Validator::new(ValidationFlags::all(), Capabilities::default()).validate(&module).map_err(|e| {
+            let span = e.spans().next().map_or(naga::Span::UNDEFINED, |(s, _)| *s);
+            format!("{}: {}", at(span), e.as_inner())
+        })?;
+        Ok((module, info))
+    }
+
+    #[test]
+    fn every_shader_variant_parses_and_validates_without_a_gpu() {
+        for (name, files) in [("shadow", SHADOW_MODULE), ("main", MAIN_MODULE)] {
+            let composed = Composed::new(files);
+            let (module, info) = check(&composed).unwrap_or_else(|e| panic!("{name}: {e}"));
+            // Every value the pipelines give the constants, in every combination.
+            for textured in [0.0, 1.0] {
+                for (mask, blend) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)] {
+                    for methods in 0..16u32 {
+                        let mut constants = naga::back::PipelineConstants::default();
+                        constants.insert("TEXTURED".into(), textured);
+                        constants.insert("ALPHA_MASK".into(), mask);
+                        constants.insert("ALPHA_BLEND".into(), blend);
+                        if name == "main" {
+                            constants.insert("SHADOW_METHODS".into(), methods as f64);
+                        }
+                        naga::back::pipeline_constants::process_overrides(&module, &info, None, &constants)
+                            .unwrap_or_else(|e| panic!("{name} with {constants:?}: {e}"));
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_shader_error_names_its_file_and_line() {
+        let broken = ShaderFile { name: "broken.wgsl", text: "fn ok() {}\n\nfn bad() -> f32 { return oops; }\n" };
+        let err = check(&Composed::new(&[COMMON, broken])).unwrap_err();
+        assert!(err.starts_with("broken.wgsl:3:"), "{err}");
+    }
+
+    /// Each member's name and offset, and the size, of struct `name` in `module`.
+    fn wgsl_layout(module: &naga::Module, name: &str) -> (Vec<(String, usize)>, usize) {
+        let ty = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).map(|(_, t)| t);
+        match ty.map(|t| &t.inner) {
+            Some(naga::TypeInner::Struct { members, span }) => (
+                members.iter().map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize)).collect(),
+                *span as usize,
+            ),
+            _ => panic!("no struct {name} in the WGSL"),
+        }
+    }
+
+    #[test]
+    fn rust_and_wgsl_lay_out_every_shared_struct_alike() {
+        let (module, _) = check(&Composed::new(MAIN_MODULE)).unwrap();
+        type Layout = &'static [(&'static str, usize)];
+        let shared: [(&str, Layout, usize); 4] = [
+            ("Object", gpu_types::Object::FIELDS, size_of::<gpu_types::Object>()),
+            ("Frame", gpu_types::Frame::FIELDS, size_of::<gpu_types::Frame>()),
+            ("GpuLight", gpu_types::GpuLight::FIELDS, size_of::<gpu_types::GpuLight>()),
+            ("GpuLayer", gpu_types::GpuLayer::FIELDS, size_of::<gpu_types::GpuLayer>()),
+        ];
+        for (name, fields, size) in shared {
+            let (wgsl, span) = wgsl_layout(&module, name);
+            let rust: Vec<(String, usize)> = fields.iter().map(|(f, o)| (f.to_string(), *o)).collect();
+            assert_eq!(rust, wgsl, "{name}: Rust fields and offsets against the WGSL's");
+            assert_eq!(size, span, "{name}: size");
+        }
+    }
+
+    #[test]
+    fn lines_are_traced_to_their_files() {
+        let composed = Composed::new(&[COMMON, SKINNING]);
+        let prelude_lines = gpu_types::prelude().lines().count();
+        assert_eq!(composed.locate(1).0, "prelude (src/render/gpu_types.rs)");
+        assert_eq!(composed.locate(prelude_lines + 1), ("common.wgsl", 1));
+        let common_lines = COMMON.text.lines().count();
+        assert_eq!(composed.locate(prelude_lines + common_lines + 2), ("skinning.wgsl", 2));
+    }
+}
