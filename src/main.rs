@@ -416,6 +416,8 @@ fn render(args: &RenderArgs) -> Result<()> {
     let mut app = app(&args.scene)?;
     let (gpu, mut renderer, _) = render_png(&mut app, args.width, args.height, args.time, &args.out)
         .with_context(|| format!("rendering {}", args.out.display()))?;
+    println!("adapter: {}", gpu.describe());
+    println!("wrote {} ({}x{})", args.out.display(), args.width, args.height);
     for notice in app.take_notices() {
         eprintln!("warning: {notice}");
     }

@@ -64,7 +64,9 @@ pub fn play_or_render(mut app: App, frames: Option<u32>, fallback: &Path) -> Res
         Ok(event_loop) => run(event_loop, app, frames),
         Err(e) => {
             println!("no display ({e}); rendering the scene headless to {} instead", fallback.display());
-            crate::render::render_png(&mut app, 1280, 720, FALLBACK_TIME, fallback)?;
+            let (gpu, _, _) = crate::render::render_png(&mut app, 1280, 720, FALLBACK_TIME, fallback)?;
+            println!("adapter: {}", gpu.describe());
+            println!("wrote {} (1280x720)", fallback.display());
             Ok(())
         }
     }

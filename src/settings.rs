@@ -217,6 +217,17 @@ mod tests {
     }
 
     #[test]
+    fn choices_parse_by_name_and_cycle() {
+        assert_eq!("tight".parse::<FitMode>(), Ok(FitMode::Tight));
+        assert_eq!("unsnapped".parse::<FitMode>(), Ok(FitMode::Unsnapped));
+        assert!("loose".parse::<FitMode>().unwrap_err().contains("loose"));
+        assert_eq!(FitMode::Stable.next(), FitMode::Unsnapped);
+        assert_eq!(FitMode::Tight.next(), FitMode::Stable);
+        assert_eq!("pcf5".parse::<ShadowMethod>(), Ok(ShadowMethod::Pcf5));
+        assert!("blur".parse::<ShadowMethod>().unwrap_err().contains("not a shadow method"));
+    }
+
+    #[test]
     fn nonsense_is_named() {
         type Case = (fn(&mut Settings), &'static str);
         let cases: [Case; 9] = [

@@ -5,7 +5,7 @@
 //! round), and every frame is followed by the same frame with shadows off, so a machine whose
 //! speed drifts over the run slows all configurations alike and the ratios stay fair.
 
-use super::measure::{MeasureError, Measurer, apply_settings, place_camera};
+use super::measure::{MeasureError, Measurer, Subject, SubjectId, apply_settings, place_camera};
 use super::sweep::{Config, SweepOptions, VIEWS};
 use crate::App;
 use crate::render::{Gpu, HEADLESS_FORMAT, PassTimes, Renderer};
@@ -74,9 +74,8 @@ pub fn time_all(
             for (c, config) in configs.iter().enumerate() {
                 let on = Settings { reuse_shadow_maps: false, ..config.settings(base) };
                 let off = Settings { shadows: false, ..on.clone() };
-                let name = format!("timing {}", config.map_size);
-                m.subject(&name, &on, |s| App::new(s.clone()))?;
-                let (app, renderer) = m.parts(&name).expect("the subject exists");
+                let Subject { app, renderer } =
+                    m.subject(SubjectId::Timing(config.map_size), &on, |s| App::new(s.clone()))?;
                 renderer.enable_timing(gpu);
                 place_camera(&mut app.world, v.eye, v.target);
                 let target = (&view, w, h);

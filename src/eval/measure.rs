@@ -38,6 +38,49 @@ pub enum MeasureError {
     /// The scene could not be set up.
     #[error(transparent)]
     App(#[from] crate::AppError),
+    /// A scene was asked for before it was set up (a bug in the harness, reported, not a panic).
+    #[error("the measurer holds no scene {0:?}: it must be set up with `subject` first")]
+    NoSubject(SubjectId),
+}
+
+/// Which scene a measurer holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SubjectId {
+    /// The sample scene as the sweep measures it.
+    Accuracy,
+    /// The sample scene as `tune` measures it.
+    Tune,
+    /// The sample scene timed with maps of this many texels.
+    Timing(u32),
+    /// The scene of a failure case.
+    Case(CaseScene),
+}
+
+/// The failure cases' scenes (see [`super::cases`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CaseScene {
+    /// An open plane.
+    Acne,
+    /// A cube on the ground.
+    PeterPanning,
+    /// A ground with boxes, watched through probes.
+    Shimmer,
+    /// Five 2 cm poles.
+    ThinCasters,
+    /// A pillar behind the camera.
+    OffScreenCaster,
+    /// Boxes under a sun along each axis.
+    DegenerateLights,
+    /// Pillars out to 100 m.
+    FarField,
+    /// The character posed far from its bind pose.
+    SkinnedCaster,
+    /// The same with bounds from the bind pose (the defence taken away).
+    SkinnedCasterBindBounds,
+    /// Boxes round a point light.
+    CubeSeams,
+    /// Boxes in the outer ring of a 170° spot.
+    WideSpot,
 }
 
 /// The truth of a frame: one column per light in the frame's order (sun, then spots), one entry
@@ -57,7 +100,8 @@ pub struct Measured {
 pub struct Subject {
     /// The scene.
     pub app: App,
-    renderer: Renderer,
+    /// Its renderer.
+    pub renderer: Renderer,
 }
 
 /// Renders measuring views at one size and keeps each view's truth.
@@ -67,8 +111,8 @@ pub struct Measurer<'g> {
     pub size: (u32, u32),
     /// How the truth is taken.
     pub truth: TruthSettings,
-    subjects: HashMap<String, Subject>,
-    cache: HashMap<String, (Vec<glam::Vec4>, TruthColumns)>,
+    subjects: HashMap<SubjectId, Subject>,
+    cache: HashMap<(SubjectId, String), (Vec<glam::Vec4>, TruthColumns)>,
 }
 
 impl<'g> Measurer<'g> {
@@ -82,32 +126,34 @@ impl<'g> Measurer<'g> {
         self.gpu
     }
 
-    /// The scene called `name`, built by `build` the first time and given `settings` every time.
+    /// The scene `id`, built by `build` the first time and given `settings` every time.
     pub fn subject(
         &mut self,
-        name: &str,
+        id: SubjectId,
         settings: &Settings,
         build: impl FnOnce(&Settings) -> Result<App, crate::AppError>,
     ) -> Result<&mut Subject, MeasureError> {
         settings.validate()?;
-        if !self.subjects.contains_key(name) {
-            let mut app = build(settings)?;
-            app.resize(self.size.0, self.size.1);
-            let renderer = Renderer::new(self.gpu, HEADLESS_FORMAT)?;
-            self.subjects.insert(name.to_string(), Subject { app, renderer });
-        }
-        let subject = self.subjects.get_mut(name).expect("inserted above");
+        let subject = match self.subjects.entry(id) {
+            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::hash_map::Entry::Vacant(e) => {
+                let mut app = build(settings)?;
+                app.resize(self.size.0, self.size.1);
+                let renderer = Renderer::new(self.gpu, HEADLESS_FORMAT)?;
+                e.insert(Subject { app, renderer })
+            }
+        };
         apply_settings(&mut subject.app, settings);
         Ok(subject)
     }
 
-    /// Renders the measuring view of subject `name` as its app is now, with the truth; `key`
-    /// names the view (same key, same scene and camera: the truth is reused).
-    pub fn measure(&mut self, name: &str, key: &str) -> Result<Measured, MeasureError> {
+    /// Renders the measuring view of scene `id` as its app is now, with the truth; `key` names
+    /// the view (same key, same scene and camera: the truth is reused).
+    pub fn measure(&mut self, id: SubjectId, key: &str) -> Result<Measured, MeasureError> {
         let (w, h) = self.size;
-        let subject = self.subjects.get_mut(name).expect("measure needs a subject");
+        let subject = self.subjects.get_mut(&id).ok_or(MeasureError::NoSubject(id))?;
         let frame = render_debug_frame(self.gpu, &mut subject.renderer, &mut subject.app, w, h)?;
-        let key = format!("{name}/{key}");
+        let key = (id, key.to_string());
         if let Some((positions, truth)) = self.cache.get(&key)
             && *positions == frame.position
         {
@@ -121,9 +167,9 @@ impl<'g> Measurer<'g> {
         Ok(Measured { frame, truth })
     }
 
-    /// The renderer and app of subject `name`, for timing or probes.
-    pub fn parts(&mut self, name: &str) -> Option<(&mut App, &mut Renderer)> {
-        self.subjects.get_mut(name).map(|s| (&mut s.app, &mut s.renderer))
+    /// The app and renderer of scene `id`, for timing or probes.
+    pub fn parts(&mut self, id: SubjectId) -> Result<(&mut App, &mut Renderer), MeasureError> {
+        self.subjects.get_mut(&id).map(|s| (&mut s.app, &mut s.renderer)).ok_or(MeasureError::NoSubject(id))
     }
 }
 

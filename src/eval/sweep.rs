@@ -3,7 +3,7 @@
 
 use super::cases::{CASES, Score};
 use super::cost::{Cost, time_all};
-use super::measure::{MeasureError, Measurer, TruthSettings, place_camera};
+use super::measure::{MeasureError, Measurer, SubjectId, TruthSettings, place_camera};
 use super::metrics::{LightReport, report};
 use crate::App;
 use crate::components::ShadowMethod;
@@ -200,13 +200,13 @@ impl SweepOptions {
 
 /// Accuracy of `settings` on the sample scene, per light, over every view.
 fn scene_accuracy(m: &mut Measurer<'_>, settings: &Settings) -> Result<Vec<LightReport>, MeasureError> {
-    m.subject("accuracy", settings, |s| App::new(s.clone()))?;
+    m.subject(SubjectId::Accuracy, settings, |s| App::new(s.clone()))?;
     let mut total: Vec<LightReport> = Vec::new();
     for v in VIEWS {
-        let (app, _) = m.parts("accuracy").expect("the subject exists");
+        let (app, _) = m.parts(SubjectId::Accuracy)?;
         place_camera(&mut app.world, v.eye, v.target);
         app.set_time(v.time);
-        let measured = m.measure("accuracy", v.name)?;
+        let measured = m.measure(SubjectId::Accuracy, v.name)?;
         let reports = report(&measured.frame, &measured.truth, 2);
         total.resize(reports.len().max(total.len()), LightReport::default());
         for (t, r) in total.iter_mut().zip(&reports) {

@@ -5,7 +5,7 @@
 //! Lights do not change each other's shadows, so every candidate is tried on all lights in one
 //! render and each light keeps what suits it. Every light of any kind is tuned.
 
-use super::measure::{MeasureError, Measurer, TruthSettings, place_camera};
+use super::measure::{MeasureError, Measurer, SubjectId, TruthSettings, place_camera};
 use super::metrics::{Tally, tally};
 use super::sweep::VIEWS;
 use crate::App;
@@ -47,11 +47,11 @@ impl LightTune {
 fn errors(m: &mut Measurer<'_>, biases: &LightBiases) -> Result<Vec<Tally>, MeasureError> {
     let mut total: Vec<Tally> = Vec::new();
     for v in VIEWS {
-        let (app, _) = m.parts("tune").expect("the subject exists");
+        let (app, _) = m.parts(SubjectId::Tune)?;
         biases.apply(&mut app.world);
         place_camera(&mut app.world, v.eye, v.target);
         app.set_time(v.time);
-        let measured = m.measure("tune", v.name)?;
+        let measured = m.measure(SubjectId::Tune, v.name)?;
         total.resize(measured.truth.len().max(total.len()), Tally::default());
         for (light, t) in total.iter_mut().enumerate() {
             t.merge(&tally(&measured.frame, &measured.truth[light], light, |_| true));
@@ -103,7 +103,7 @@ pub fn tune(
 ) -> Result<(Vec<LightTune>, LightBiases), MeasureError> {
     let mut m = Measurer::new(gpu, size, TruthSettings { soft_rays: 0, ..TruthSettings::default() });
     let mut current = {
-        let subject = m.subject("tune", base, |s| App::new(s.clone()))?;
+        let subject = m.subject(SubjectId::Tune, base, |s| App::new(s.clone()))?;
         LightBiases::of(&mut subject.app.world)
     };
     let before = errors(&mut m, &current)?;

@@ -58,9 +58,10 @@ impl Image {
     }
 }
 
-/// Opens the headless adapter (and says which), renders `app` at time `t` and writes a PNG.
+/// Opens the headless adapter, renders `app` at time `t` and writes a PNG.
 ///
-/// The GPU and renderer are handed back so more frames can be drawn with them.
+/// The GPU and renderer are handed back so more frames can be drawn with them (and the caller
+/// can say which adapter drew it).
 pub fn render_png(
     app: &mut App,
     width: u32,
@@ -69,13 +70,11 @@ pub fn render_png(
     path: &Path,
 ) -> Result<(Gpu, Renderer, Image), RenderError> {
     let gpu = Gpu::headless()?;
-    println!("adapter: {}", gpu.describe());
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT)?;
     app.resize(width, height);
     app.set_time(t);
     let image = render_headless(&gpu, &mut renderer, app, width, height)?;
     image.save_png(path)?;
-    println!("wrote {} ({width}x{height})", path.display());
     Ok((gpu, renderer, image))
 }
 

@@ -241,15 +241,6 @@ mod tests {
     }
 
     #[test]
-    fn fit_modes_parse_and_cycle() {
-        assert_eq!("tight".parse::<FitMode>(), Ok(FitMode::Tight));
-        assert_eq!("unsnapped".parse::<FitMode>(), Ok(FitMode::Unsnapped));
-        assert!("loose".parse::<FitMode>().unwrap_err().contains("loose"));
-        assert_eq!(FitMode::Stable.next(), FitMode::Unsnapped);
-        assert_eq!(FitMode::Tight.next(), FitMode::Stable);
-    }
-
-    #[test]
     fn only_the_stable_fit_snaps_to_whole_texels() {
         let f = frustum();
         let scene = SceneBounds { casters: &[], receivers: &[] };

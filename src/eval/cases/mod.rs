@@ -6,7 +6,7 @@
 
 pub mod scenes;
 
-use super::measure::{MeasureError, Measured, Measurer, place_camera};
+use super::measure::{CaseScene, MeasureError, Measured, Measurer, SubjectId, place_camera};
 use super::metrics::{DISTANCE_BANDS, rendered};
 use crate::App;
 use crate::assets::Vertex;
@@ -150,23 +150,31 @@ fn on_ground(m: &Measured) -> impl Fn(usize) -> bool + '_ {
 /// Sets the scene's time (running its update) and measures view `key`.
 fn measure_at(
     m: &mut Measurer<'_>,
-    name: &str,
+    id: SubjectId,
     key: &str,
     prepare: impl FnOnce(&mut App),
 ) -> Result<Measured, MeasureError> {
-    let (app, _) = m.parts(name).expect("the subject exists");
+    let (app, _) = m.parts(id)?;
     prepare(app);
     app.set_time(0.0);
-    m.measure(name, key)
+    m.measure(id, key)
 }
+
+const ACNE: SubjectId = SubjectId::Case(CaseScene::Acne);
+const PETER_PANNING: SubjectId = SubjectId::Case(CaseScene::PeterPanning);
+const SHIMMER: SubjectId = SubjectId::Case(CaseScene::Shimmer);
+const THIN_CASTERS: SubjectId = SubjectId::Case(CaseScene::ThinCasters);
+const OFF_SCREEN_CASTER: SubjectId = SubjectId::Case(CaseScene::OffScreenCaster);
+const DEGENERATE_LIGHTS: SubjectId = SubjectId::Case(CaseScene::DegenerateLights);
+const FAR_FIELD: SubjectId = SubjectId::Case(CaseScene::FarField);
 
 fn acne(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(0.0, 5.0, 10.0), Vec3::new(0.0, 0.0, -2.0));
-    m.subject("acne", settings, |s| ground(s, 80.0, true, Vec3::NEG_Y, view))?;
+    m.subject(ACNE, settings, |s| ground(s, 80.0, true, Vec3::NEG_Y, view))?;
     let mut score = Score::default();
     for elevation in [2.0, 5.0, 10.0, 20.0, 35.0, 50.0, 70.0, 89.0] {
         let measured =
-            measure_at(m, "acne", &format!("{elevation}"), |app| set_sun(app, sun_direction(elevation, 30.0)))?;
+            measure_at(m, ACNE, &format!("{elevation}"), |app| set_sun(app, sun_direction(elevation, 30.0)))?;
         // Nothing stands on the plane, so every pixel the sun reaches is truly lit.
         score.add(misclassified(&measured, 0, on_ground(&measured)));
     }
@@ -175,7 +183,7 @@ fn acne(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError
 
 fn peter_panning(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(2.2, 2.4, 4.0), Vec3::new(-0.2, 0.2, 0.0));
-    m.subject("peter-panning", settings, |s| {
+    m.subject(PETER_PANNING, settings, |s| {
         let mut app = ground(s, 40.0, true, Vec3::NEG_Y, view)?;
         add_box(&mut app, Vec3::new(0.0, 0.5, 0.0), Vec3::splat(0.5));
         Ok(app)
@@ -183,7 +191,7 @@ fn peter_panning(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, Mea
     let mut score = Score::default();
     for azimuth in [160.0, 220.0] {
         let sun = sun_direction(35.0, azimuth);
-        let measured = measure_at(m, "peter-panning", &format!("{azimuth}"), |app| set_sun(app, sun))?;
+        let measured = measure_at(m, PETER_PANNING, &format!("{azimuth}"), |app| set_sun(app, sun))?;
         // The band along the cube's foot: ground within 10 cm outside its 1 m footprint.
         let band = |i: usize| {
             let p = measured.frame.position[i];
@@ -205,14 +213,14 @@ fn shimmer_scene(s: &Settings) -> Result<App, crate::AppError> {
 }
 
 fn shimmer(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
-    m.subject("shimmer", settings, shimmer_scene)?;
+    m.subject(SHIMMER, settings, shimmer_scene)?;
     // Fixed points on the ground every 10 cm (those under a box stay dark and never flip).
     let points: Vec<Vertex> = (0..=120)
         .flat_map(|i| (0..=100).map(move |j| Vec3::new(-6.0 + i as f32 * 0.1, 0.0, -6.0 + j as f32 * 0.1)))
         .map(|p| Vertex::new(p.to_array(), [0.0, 1.0, 0.0]))
         .collect();
     let gpu = m.gpu();
-    let (app, renderer) = m.parts("shimmer").expect("the subject exists");
+    let (app, renderer) = m.parts(SHIMMER)?;
     let mut last: Option<Vec<bool>> = None;
     let mut score = Score::default();
     // 120 frames: the camera creeps 1 mm and turns 0.03° a frame, far less than a texel.
@@ -236,33 +244,33 @@ fn shimmer(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureEr
 
 fn thin_casters(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(0.0, 4.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
-    m.subject("thin-casters", settings, |s| {
+    m.subject(THIN_CASTERS, settings, |s| {
         let mut app = ground(s, 60.0, false, sun_direction(45.0, 200.0), view)?;
         for x in [-2.0, -1.0, 0.0, 1.0, 2.0] {
             add_box(&mut app, Vec3::new(x, 1.5, -1.0 + x * 0.3), Vec3::new(0.01, 1.5, 0.01));
         }
         Ok(app)
     })?;
-    let measured = measure_at(m, "thin-casters", "poles", |_| {})?;
+    let measured = measure_at(m, THIN_CASTERS, "poles", |_| {})?;
     Ok(missing_shadow(&measured, 0, on_ground(&measured)))
 }
 
 fn offscreen_caster(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(0.0, 3.0, 10.0), Vec3::ZERO);
-    m.subject("off-screen-caster", settings, |s| {
+    m.subject(OFF_SCREEN_CASTER, settings, |s| {
         // 20 m tall at z = 16, behind the camera; the sun at 45° throws its shadow along x = 0
         // from z = 16 to z = -4, right through the view.
         let mut app = ground(s, 200.0, false, Vec3::new(0.0, -1.0, -1.0).normalize(), view)?;
         add_box(&mut app, Vec3::new(0.0, 10.0, 16.0), Vec3::new(0.5, 10.0, 0.5));
         Ok(app)
     })?;
-    let measured = measure_at(m, "off-screen-caster", "behind", |_| {})?;
+    let measured = measure_at(m, OFF_SCREEN_CASTER, "behind", |_| {})?;
     Ok(missing_shadow(&measured, 0, on_ground(&measured)))
 }
 
 fn degenerate_lights(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(3.0, 4.0, 6.0), Vec3::ZERO);
-    m.subject("degenerate-lights", settings, |s| {
+    m.subject(DEGENERATE_LIGHTS, settings, |s| {
         let mut app = ground(s, 40.0, true, Vec3::NEG_Y, view)?;
         add_box(&mut app, Vec3::new(0.0, 0.75, 0.0), Vec3::splat(0.75));
         add_box(&mut app, Vec3::new(-2.0, 0.25, 1.0), Vec3::new(1.0, 0.25, 0.3));
@@ -280,7 +288,7 @@ fn degenerate_lights(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score,
     ];
     let mut score = Score::default();
     for (key, direction) in directions {
-        let measured = measure_at(m, "degenerate-lights", key, |app| set_sun(app, direction))?;
+        let measured = measure_at(m, DEGENERATE_LIGHTS, key, |app| set_sun(app, direction))?;
         score.add(misclassified(&measured, 0, |_| true));
     }
     Ok(score)
@@ -288,7 +296,7 @@ fn degenerate_lights(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score,
 
 fn far_field(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(0.0, 1.7, 0.0), Vec3::new(0.0, 1.0, -20.0));
-    m.subject("far-field", settings, |s| {
+    m.subject(FAR_FIELD, settings, |s| {
         let mut app = ground(s, 400.0, false, sun_direction(30.0, 250.0), view)?;
         for i in -4..=4 {
             for k in 1..=14 {
@@ -298,7 +306,7 @@ fn far_field(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, Measure
         }
         Ok(app)
     })?;
-    let measured = measure_at(m, "far-field", "horizon", |_| {})?;
+    let measured = measure_at(m, FAR_FIELD, "horizon", |_| {})?;
     // Bands that end before the shadow starts fading out count; the worst of them is the score.
     let fade = settings.shadow_distance * (1.0 - SHADOW_FADE);
     let mut start = 0.0;
@@ -333,14 +341,14 @@ pub fn skinned_caster_bounded(
     settings: &Settings,
     bind_pose_bounds: bool,
 ) -> Result<Score, MeasureError> {
-    let name = if bind_pose_bounds { "skinned-caster-bind-bounds" } else { "skinned-caster" };
-    m.subject(name, settings, leaper_scene)?;
-    let (app, _) = m.parts(name).expect("the subject exists");
+    let scene = if bind_pose_bounds { CaseScene::SkinnedCasterBindBounds } else { CaseScene::SkinnedCaster };
+    let id = SubjectId::Case(scene);
+    let app = &mut m.subject(id, settings, leaper_scene)?.app;
     app.set_time(0.0);
     if bind_pose_bounds {
         use_bind_pose_bounds(app);
     }
-    let measured = m.measure(name, "leap")?;
+    let measured = m.measure(id, "leap")?;
     Ok(missing_shadow(&measured, 0, on_ground(&measured)))
 }
 
