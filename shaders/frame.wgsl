@@ -20,6 +20,11 @@ struct Frame {
     // Probes are drawn into a grid this many pixels wide and high.
     probe_width: u32,
     probe_height: u32,
+    // 1 when the seams of shadow cubes are handled (see cube_test in lights.wgsl).
+    cube_seams: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 };
 
 // One light; `kind` is LIGHT_SUN, LIGHT_SPOT or LIGHT_POINT.

@@ -30,11 +30,27 @@ fn light_bias(light: GpuLight) -> Bias {
     return Bias(light.bias_constant, light.bias_slope, light.bias_normal);
 }
 
+// World size of a texel of layer `index`, `distance` metres from the light.
+fn texel_size(index: u32, distance: f32) -> f32 {
+    return layers[index].texel_base + layers[index].texel_per_metre * distance;
+}
+
 // The shadow test through layer `index` of the array, `distance` metres from the light.
 fn layer_test(light: GpuLight, index: u32, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>) -> f32 {
-    let layer = layers[index];
-    let texel = layer.texel_base + layer.texel_per_metre * distance;
-    return shadow_test(layer.clip_from_world, index, texel, p, n, l, light_bias(light), light.method);
+    let biased = biased_point(p, n, l, texel_size(index, distance), light_bias(light));
+    return shadow_lookup(layers[index].clip_from_world, index, biased, light.method);
+}
+
+// The shadow test through a light's cube. With seams handled (frame.cube_seams), the face is
+// picked for the biased point, so the lookup lands on the face it reads (and the faces reach a
+// few texels past their edges for the filters); without, it is picked for the surface point and
+// a biased point next to a seam can fall off its face, which reads as lit.
+fn cube_test(light: GpuLight, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>) -> f32 {
+    // Every face has texels of the same size.
+    let biased = biased_point(p, n, l, texel_size(light.first_layer, distance), light_bias(light));
+    let picked = select(p, biased, frame.cube_seams == 1u);
+    let index = light.first_layer + cube_face(picked - light.position);
+    return shadow_lookup(layers[index].clip_from_world, index, biased, light.method);
 }
 
 // Visibility of a sun at `p` (view depth `depth`): past the last cascade everything is lit, and
@@ -78,7 +94,7 @@ fn light_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, d
             return layer_test(light, light.first_layer, distance, p, n, l);
         }
         default: {
-            return layer_test(light, light.first_layer + cube_face(p - light.position), distance, p, n, l);
+            return cube_test(light, distance, p, n, l);
         }
     }
 }

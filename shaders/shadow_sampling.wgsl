@@ -65,16 +65,19 @@ fn sample_shadow(method: u32, uv: vec2<f32>, layer: u32, depth: f32) -> f32 {
     return 1.0;
 }
 
-// Visibility of world point `p` (unit normal `n`, unit direction `l` towards the light) in
-// shadow-map `layer` seen through `clip_from_world`: 1 lit, 0 shadowed. `texel` is the world
-// size of one shadow-map texel at p. The point is pushed along the normal and towards the light
-// by amounts measured in texels, the slope term growing with tan(angle) as the depth error across
-// a texel does on a tilted surface. Points outside the map are lit.
-fn shadow_test(clip_from_world: mat4x4<f32>, layer: u32, texel: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, bias: Bias, method: u32) -> f32 {
+// World point `p` (unit normal `n`, unit direction `l` towards the light) pushed along the
+// normal and towards the light by amounts measured in texels of world size `texel`, the slope
+// term growing with tan(angle) as the depth error across a texel does on a tilted surface.
+fn biased_point(p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, texel: f32, bias: Bias) -> vec3<f32> {
     let n_dot_l = clamp(dot(n, l), 0.0, 1.0);
     let sin_t = sqrt(1.0 - n_dot_l * n_dot_l);
     let tan_t = min(sin_t / max(n_dot_l, 1e-3), 10.0);
-    let biased = p + n * (bias.normal * texel) + l * ((bias.constant + bias.slope * tan_t) * texel);
+    return p + n * (bias.normal * texel) + l * ((bias.constant + bias.slope * tan_t) * texel);
+}
+
+// Visibility of the (already biased) world point `biased` in shadow-map `layer` seen through
+// `clip_from_world`: 1 lit, 0 shadowed. Points outside the map are lit.
+fn shadow_lookup(clip_from_world: mat4x4<f32>, layer: u32, biased: vec3<f32>, method: u32) -> f32 {
     let clip = clip_from_world * vec4<f32>(biased, 1.0);
     if (clip.w <= 0.0) {
         return 1.0;

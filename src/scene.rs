@@ -5,7 +5,7 @@
 
 use crate::assets::character::WALK_SPEED;
 use crate::assets::model::MIN_MODEL_SIZE;
-use crate::assets::{MeshLibrary, Model, ModelError, TextureLibrary, cube, load_model, parse_model, plane};
+use crate::assets::{MeshLibrary, Model, ModelError, TextureLibrary, cube, load_model, parse_model, plane, sphere};
 use crate::components::*;
 use crate::settings::Settings;
 use bevy_ecs::prelude::*;
@@ -45,6 +45,10 @@ pub fn spawn_sample_scene(world: &mut World, settings: &Settings) -> Result<(), 
     }
     let wall = Transform::from_xyz(1.0, 1.5, -7.0).with_scale(Vec3::new(7.0, 3.0, 0.5));
     world.spawn((unit_cube, wall, stone, ShadowCaster, ShadowReceiver));
+    // A curved caster that shadows itself: at its terminator every bias is tested hardest.
+    let ball = world.resource_mut::<MeshLibrary>().add(sphere(BALL.1, 24));
+    let ball_material = Material { specular: 0.6, shininess: 64.0, ..Material::color(0.75, 0.72, 0.68) };
+    world.spawn((ball, Transform::from_translation(BALL.0), ball_material, ShadowCaster, ShadowReceiver));
 
     for i in 0..settings.cubes {
         world.spawn(animated_cube(i, settings.cubes, unit_cube));
@@ -64,6 +68,9 @@ pub fn spawn_sample_scene(world: &mut World, settings: &Settings) -> Result<(), 
             light.insert(cookie);
         }
     }
+
+    let (lamp, at) = sample_lamp();
+    world.spawn((lamp, Transform::from_translation(at), ShadowMap::default()));
 
     if settings.character {
         let character = parse_model(CHARACTER_GLB, None, "character.glb")?;
@@ -121,6 +128,16 @@ pub fn stand_at(model: &Model, spot: Vec3) -> Transform {
     let scale = if size >= MIN_MODEL_SIZE && !(0.3..=3.0).contains(&size) { 3.0 / size } else { 1.0 };
     let foot = Vec3::new(bounds.center().x, bounds.min.y, bounds.center().z) * scale;
     Transform { translation: spot - foot, scale: Vec3::splat(scale), ..Default::default() }
+}
+
+/// The stone ball: its centre and radius, resting on the ground behind the character's circle.
+pub const BALL: (Vec3, f32) = (Vec3::new(-1.4, 0.7, -3.6), 0.7);
+
+/// The sample's lantern: a warm point light hanging inside the ring of cubes, above the
+/// character's circle, so its shadows fall every way.
+pub fn sample_lamp() -> (PointLight, Vec3) {
+    let lamp = PointLight { color: Vec3::new(1.0, 0.75, 0.45), intensity: 3.0, range: 10.0, ..Default::default() };
+    (lamp, Vec3::new(1.8, 2.9, -1.2))
 }
 
 /// The sample's shadowed spot lights (seed 004 keeps an array of them, each its own colour): a cool
@@ -199,6 +216,7 @@ mod tests {
         assert_eq!(world.query::<&DirectionalLight>().iter(&world).count(), 1);
         assert_eq!(world.query::<(&SpotLight, &ShadowMap)>().iter(&world).count(), 2);
         assert_eq!(world.query::<(&SpotLight, &Cookie)>().iter(&world).count(), 1);
+        assert_eq!(world.query::<(&PointLight, &ShadowMap)>().iter(&world).count(), 1, "the lantern");
         assert_eq!(world.query::<&Camera>().iter(&world).count(), 1);
         let walkers = world.query_filtered::<(), (With<Walker>, With<ModelInstance>)>().iter(&world).count();
         assert_eq!(walkers, 1, "the walking character");

@@ -39,9 +39,13 @@ pub struct Settings {
     pub shadow_faces: ShadowFaces,
     /// Keep a light's shadow maps until it is dirty (true), or draw every map every frame.
     pub reuse_shadow_maps: bool,
-    /// Texels each face of a shadow cube reaches past its 90° edge, so that a filter sampling
-    /// next to a seam finds its texels on the face it looks in (0 shows the seams).
-    pub cube_margin: u32,
+    /// Widest spot cone (half angle, radians) one perspective map shadows; a wider spot is
+    /// shadowed through a cube.
+    pub spot_map_limit: f32,
+    /// Handle the seams of shadow cubes: pick the face a lookup reads for the biased point, and
+    /// let each face reach [`CUBE_MARGIN`] texels past its 90° edge for the filters (off shows
+    /// the seams).
+    pub cube_seams: bool,
     /// Ambient light level (0..1) that reaches every surface.
     pub ambient: f32,
     /// Number of animated cubes in the sample scene.
@@ -76,7 +80,8 @@ impl Default for Settings {
             caster_culling: CasterCulling::LightVolume,
             shadow_faces: ShadowFaces::Both,
             reuse_shadow_maps: true,
-            cube_margin: DEFAULT_CUBE_MARGIN,
+            cube_seams: true,
+            spot_map_limit: crate::shadow::MAX_MAP_HALF_ANGLE,
             ambient: 0.12,
             cubes: 10,
             character: true,
@@ -147,8 +152,9 @@ pub struct SettingsError {
 /// would split at 15, 30 and 45 m and blur everything close to the camera).
 pub const DEFAULT_SPLIT_LAMBDA: f32 = 0.75;
 
-/// Texels a cube face reaches past its edge by default: as far as the widest method samples.
-pub const DEFAULT_CUBE_MARGIN: u32 = 3;
+/// Texels a cube face reaches past its edge when seams are handled: as far as the widest method
+/// samples.
+pub const CUBE_MARGIN: u32 = 3;
 
 /// Largest shadow-map layer accepted (the device may allow less; the renderer checks again).
 pub const MAX_SHADOW_MAP_SIZE: u32 = 8192;
@@ -194,8 +200,9 @@ impl Settings {
         if !unit(self.ambient) {
             return bad("ambient", self.ambient, "must be between 0 and 1");
         }
-        if self.cube_margin > 64 {
-            return bad("cube_margin", self.cube_margin, "must be at most 64 texels");
+        if !(self.spot_map_limit.is_finite() && (1f32.to_radians()..=89f32.to_radians()).contains(&self.spot_map_limit))
+        {
+            return bad("spot_map_limit", self.spot_map_limit, "must be an angle between 1° and 89° (in radians)");
         }
         if self.cubes > 1000 {
             return bad("cubes", self.cubes, "must be at most 1000");

@@ -89,3 +89,38 @@ fn a_spot_wider_than_one_map_is_shadow_tested_over_all_its_cone() {
     assert!(dark > 1000, "{dark} truly dark ground pixels");
     assert!(wrong * 25 < dark as u64, "{wrong} wrong of a {dark}-pixel shadow");
 }
+
+#[test]
+fn a_sun_four_spots_and_two_point_lights_are_each_measured_against_the_truth() {
+    // Seven lights: the measuring view takes two passes (four lights each); every light's column
+    // is compared with its own truth, as `bench` and `tune` compare them.
+    let mut app = boxes(Settings { shadow_map_size: 1024, ..Settings::default() });
+    let sun = DirectionalLight { direction: Vec3::new(0.3, -1.0, 0.2), intensity: 0.6, ..Default::default() };
+    app.world.spawn((sun, ShadowMap::default()));
+    for (x, z) in [(-3.0, -3.0), (3.0, -3.0), (-3.0, 3.0), (3.0, 3.0)] {
+        let spot = SpotLight { range: 12.0, intensity: 2.0, inner_angle: 0.5, outer_angle: 0.7, ..Default::default() };
+        let at = Transform::from_xyz(x, 4.0, z).looking_to(Vec3::new(-x, -4.0, -z));
+        app.world.spawn((spot, at, ShadowMap::default()));
+    }
+    for at in [Vec3::new(0.0, 1.6, 0.0), Vec3::new(-1.5, 2.5, 1.5)] {
+        let lamp = PointLight { range: 10.0, intensity: 2.0, ..Default::default() };
+        app.world.spawn((lamp, Transform::from_translation(at), ShadowMap::default()));
+    }
+    let gpu = gpu();
+    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
+    app.set_time(0.0);
+    let frame = render_debug_frame(&gpu, &mut renderer, &mut app, SIZE, SIZE).unwrap();
+    drop(gpu);
+    let names: Vec<String> = light_list(&mut app.world).iter().map(|l| l.label.to_string()).collect();
+    assert_eq!(names, ["sun", "spot 1", "spot 2", "spot 3", "spot 4", "point 1", "point 2"]);
+    assert_eq!(frame.visibility.len(), 7, "a column per light");
+    let occluders = truth::Occluders::from_world(&mut app.world);
+    let lights = truth::truth_lights(&mut app.world, truth::SizeOverride::default());
+    let truth = truth::truth_frame(&frame, &occluders, &lights, 0);
+    for (light, report) in metrics::report(&frame, &truth, 2).iter().enumerate() {
+        let t = report.all;
+        eprintln!("{}: {} pixels, {:.4} % misclassified", names[light], t.pixels, 100.0 * t.misclassified());
+        assert!(t.pixels > 2000, "{}: only {} pixels reached", names[light], t.pixels);
+        assert!(t.misclassified() < 0.01, "{}: {:.4} misclassified", names[light], t.misclassified());
+    }
+}

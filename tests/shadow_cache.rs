@@ -1,6 +1,7 @@
-//! The shadow-map cache is invisible: 300 frames of random motion rendered once drawing every
-//! shadow map every frame and once drawing only dirty lights' maps give bit-identical pictures,
-//! and when nothing moves nothing is drawn.
+//! The shadow-map cache is invisible: 300 frames of random motion (a sun, two spots, a point
+//! light, and a second point light that comes and goes) rendered once drawing every shadow map
+//! every frame and once drawing only dirty lights' maps give bit-identical pictures, and when
+//! nothing moves nothing is drawn.
 
 mod common;
 
@@ -64,9 +65,15 @@ fn script(rng: &mut Rng) -> Vec<Stretch> {
     frames
 }
 
+/// Frames at which a second point light is added and removed again.
+const LAMP_COMES: usize = 100;
+const LAMP_GOES: usize = 200;
+
 struct World {
     app: App,
     cubes: Vec<bevy_ecs::entity::Entity>,
+    /// The second point light while it is there.
+    visitor: Option<bevy_ecs::entity::Entity>,
     /// Scene time: it runs only while the walking, skinned character moves.
     clock: f64,
 }
@@ -107,6 +114,8 @@ fn build(reuse: bool) -> World {
             light.insert(c);
         }
     }
+    let lamp = PointLight { color: Vec3::new(1.0, 0.8, 0.5), intensity: 3.0, range: 9.0, ..Default::default() };
+    app.world.spawn((lamp, Transform::from_xyz(1.0, 2.5, 0.5), ShadowMap::default()));
     let character =
         std::sync::Arc::new(umbra::assets::parse_model(umbra::scene::CHARACTER_GLB, None, "character").unwrap());
     let walker = umbra::scene::spawn_model(&mut app.world, character, Transform::default(), Some(0));
@@ -122,11 +131,20 @@ fn build(reuse: bool) -> World {
         Transform::from_xyz(eye.x, eye.y, eye.z).looking_to(Vec3::new(0.0, 0.5, 0.0) - eye),
     ));
     app.resize(SIZE, SIZE);
-    World { app, cubes, clock: 0.0 }
+    World { app, cubes, visitor: None, clock: 0.0 }
 }
 
-fn apply(w: &mut World, stretch: Stretch, rng: &mut Rng) {
+fn apply(w: &mut World, frame: usize, stretch: Stretch, rng: &mut Rng) {
     let world = &mut w.app.world;
+    if frame == LAMP_COMES {
+        let lamp = PointLight { intensity: 2.0, range: 8.0, ..Default::default() };
+        w.visitor = Some(world.spawn((lamp, Transform::from_xyz(-3.0, 1.5, 2.0), ShadowMap::default())).id());
+    }
+    if frame == LAMP_GOES
+        && let Some(e) = w.visitor.take()
+    {
+        world.despawn(e);
+    }
     let moves_cubes = matches!(stretch, Stretch::Cubes | Stretch::Everything);
     for (i, e) in w.cubes.iter().enumerate() {
         if moves_cubes || (stretch == Stretch::OneCube && i == 2) {
@@ -142,6 +160,9 @@ fn apply(w: &mut World, stretch: Stretch, rng: &mut Rng) {
         }
         for (_, mut t) in world.query::<(&SpotLight, &mut Transform)>().iter_mut(world) {
             t.translation += Vec3::new(rng.signed(), 0.0, rng.signed()) * 0.05;
+        }
+        for (_, mut t) in world.query::<(&PointLight, &mut Transform)>().iter_mut(world) {
+            t.translation += Vec3::new(rng.signed(), rng.signed(), rng.signed()) * 0.03;
         }
     }
     if matches!(stretch, Stretch::Character | Stretch::Everything) {
@@ -165,8 +186,9 @@ fn play(reuse: bool) -> Vec<(Image, ShadowStats, Stretch)> {
     let mut motion = Rng(0xbeef);
     stretches
         .into_iter()
-        .map(|stretch| {
-            apply(&mut w, stretch, &mut motion);
+        .enumerate()
+        .map(|(frame, stretch)| {
+            apply(&mut w, frame, stretch, &mut motion);
             let clock = w.clock;
             w.app.set_time(clock);
             let image = render_headless(&gpu, &mut renderer, &mut w.app, SIZE, SIZE).expect("no wgpu error");
@@ -179,13 +201,14 @@ fn play(reuse: bool) -> Vec<(Image, ShadowStats, Stretch)> {
 fn drawing_only_dirty_shadow_maps_gives_the_same_frames_and_skips_every_layer_when_still() {
     let every = play(false);
     let cached = play(true);
-    let layers = 3 + 2;
     let (mut drawn, mut still_frames) = (0, 0);
     for (i, ((a, full, stretch), (b, stats, _))) in every.iter().zip(&cached).enumerate() {
+        // 3 cascades, 2 spots and a point light's 6 faces, and 6 more while the visitor is there.
+        let layers = 3 + 2 + 6 + if (LAMP_COMES..LAMP_GOES).contains(&i) { 6 } else { 0 };
         assert!(a == b, "frame {i} ({stretch:?}) differs between redrawing everything and the cache");
         assert_eq!(full.drawn(), layers, "frame {i}: without the cache every layer is drawn");
         assert_eq!(stats.drawn() + stats.kept(), layers, "frame {i}: every layer is drawn or kept");
-        if *stretch == Stretch::Still && i > 0 {
+        if *stretch == Stretch::Still && i > 0 && i != LAMP_COMES && i != LAMP_GOES {
             still_frames += 1;
             assert_eq!(stats.kept(), layers, "frame {i}: nothing moved, so every layer is kept");
         }
@@ -194,8 +217,12 @@ fn drawing_only_dirty_shadow_maps_gives_the_same_frames_and_skips_every_layer_wh
     assert!(still_frames >= 30, "the script has only {still_frames} still frames");
     let walking = cached.iter().filter(|(_, _, s)| *s == Stretch::Character).count();
     assert!(walking >= 10, "the script walks the character for only {walking} frames");
-    let all = layers as usize * FRAMES;
-    assert!(drawn > 0 && (drawn as usize) < all * 3 / 4, "the cache drew {drawn} of {all} layers");
+    let all: u32 = every.iter().map(|(_, full, _)| full.drawn()).sum();
+    assert!(drawn > 0 && drawn < all * 3 / 4, "the cache drew {drawn} of {all} layers");
+    // The visitor arrives with nothing drawn: every one of its faces is drawn.
+    let (_, came, _) = &cached[LAMP_COMES];
+    let visitor = came.lights.iter().find(|l| l.light.to_string() == "point 2").expect("the visitor");
+    assert_eq!((visitor.drawn, visitor.kept), (6, 0), "new, so every face is drawn");
     // The frames are not all alike: something really moved.
     assert!(every.windows(2).filter(|w| w[0].0 != w[1].0).count() > FRAMES / 3);
 }

@@ -32,6 +32,7 @@ fn holds_and_breaks(name: &str, broken: Settings) -> (Score, Score) {
         case.threshold
     );
     assert!(bad.value() > case.threshold, "{name} broken: {:.5} <= {} ({bad:?})", bad.value(), case.threshold);
+    eprintln!("{name}: {:.5} at the defaults, {:.5} broken", good.value(), bad.value());
     (good, bad)
 }
 
@@ -117,4 +118,15 @@ fn probes_make_the_same_shadow_tests_as_the_pixels_they_sit_on() {
             assert!((column[k] - pixels[i]).abs() < 1e-5, "light {light}, pixel {i}: {} vs {}", column[k], pixels[i]);
         }
     }
+}
+
+#[test]
+fn a_point_lights_shadow_holds_across_its_cube_seams_but_not_without_seam_handling() {
+    holds_and_breaks("cube-seams", Settings { cube_seams: false, ..Settings::default() });
+}
+
+#[test]
+fn a_170_degree_spot_is_shadowed_to_its_rim_but_not_through_one_map() {
+    let one_map = Settings { spot_map_limit: 85f32.to_radians(), ..Settings::default() };
+    holds_and_breaks("wide-spot", one_map);
 }

@@ -14,7 +14,11 @@ fn tuned_biases_are_no_worse_and_come_back_from_their_file() {
     // Start from a deliberately poor bias so there is something to find.
     let poor = Settings { depth_bias: 0.0, slope_bias: 0.0, normal_bias: 0.0, ..Settings::default() };
     let (lights, biases) = tune(&gpu, &poor, (192, 108), |_, _| {}).unwrap();
-    assert_eq!(lights.iter().map(|l| l.light.as_str()).collect::<Vec<_>>(), ["sun", "spot 1", "spot 2"]);
+    assert_eq!(
+        lights.iter().map(|l| l.light.as_str()).collect::<Vec<_>>(),
+        ["sun", "spot 1", "spot 2", "point 1"],
+        "every light of any kind"
+    );
     for l in &lights {
         let (before, after) = l.wrong();
         assert!(after <= before, "{}: {before} wrong pixels became {after}", l.light);

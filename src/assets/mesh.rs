@@ -127,6 +127,39 @@ pub fn plane(size: f32) -> MeshData {
     MeshData::new(vertices, vec![0, 1, 2, 0, 2, 3])
 }
 
+/// A sphere of `radius` around the origin, smooth-shaded: `rings` bands from pole to pole and
+/// twice as many segments around.
+pub fn sphere(radius: f32, rings: u32) -> MeshData {
+    let rings = rings.max(2);
+    let segments = rings * 2;
+    let mut vertices = Vec::with_capacity(((rings + 1) * (segments + 1)) as usize);
+    for r in 0..=rings {
+        let phi = r as f32 / rings as f32 * std::f32::consts::PI;
+        for k in 0..=segments {
+            let theta = k as f32 / segments as f32 * std::f32::consts::TAU;
+            let n = Vec3::new(phi.sin() * theta.cos(), phi.cos(), phi.sin() * theta.sin());
+            let mut v = Vertex::new((n * radius).to_array(), n.to_array());
+            v.uv = [k as f32 / segments as f32, r as f32 / rings as f32];
+            vertices.push(v);
+        }
+    }
+    let row = segments + 1;
+    let mut indices = Vec::with_capacity((rings * segments * 6) as usize);
+    for r in 0..rings {
+        for k in 0..segments {
+            let (a, b) = (r * row + k, (r + 1) * row + k);
+            // Counter-clockwise seen from outside; the poles' degenerate triangles are left out.
+            if r > 0 {
+                indices.extend([a, a + 1, b]);
+            }
+            if r + 1 < rings {
+                indices.extend([a + 1, b + 1, b]);
+            }
+        }
+    }
+    MeshData::new(vertices, indices)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -147,6 +180,17 @@ mod tests {
         assert_eq!(c.triangle_count(), 12);
         assert_outward(&c);
         assert_eq!(c.bounds, Aabb::new(Vec3::new(-1.0, -2.0, -3.0), Vec3::new(1.0, 2.0, 3.0)));
+    }
+
+    #[test]
+    fn sphere_is_round_and_faces_out() {
+        let s = sphere(0.8, 12);
+        assert_outward(&s);
+        for v in &s.vertices {
+            assert!((Vec3::from(v.position).length() - 0.8).abs() < 1e-5);
+        }
+        assert!((s.bounds.max - Vec3::splat(0.8)).abs().max_element() < 1e-5);
+        assert_eq!(s.triangle_count(), 12 * 24 * 2 - 2 * 24, "no triangles of zero area at the poles");
     }
 
     #[test]

@@ -26,6 +26,11 @@ impl Default for Transform {
 }
 
 impl Transform {
+    /// A transform at `at` with no rotation or scale.
+    pub fn from_translation(at: Vec3) -> Self {
+        Transform { translation: at, ..Default::default() }
+    }
+
     /// A transform at `(x, y, z)` with no rotation or scale.
     pub fn from_xyz(x: f32, y: f32, z: f32) -> Self {
         Transform { translation: Vec3::new(x, y, z), ..Default::default() }

@@ -151,6 +151,8 @@ pub struct Row {
     pub cost: Cost,
     /// Its accuracy on the sample scene, per light, all views together.
     pub scene: Vec<LightReport>,
+    /// The sample scene's lights' names, in the order of `scene`.
+    pub lights: Vec<String>,
     /// Its score in each failure case, in [`CASES`] order.
     pub cases: Vec<Score>,
 }
@@ -198,9 +200,10 @@ impl SweepOptions {
     }
 }
 
-/// Accuracy of `settings` on the sample scene, per light, over every view.
-fn scene_accuracy(m: &mut Measurer<'_>, settings: &Settings) -> Result<Vec<LightReport>, MeasureError> {
-    m.subject(SubjectId::Accuracy, settings, |s| App::new(s.clone()))?;
+/// Accuracy of `settings` on the sample scene, per light, over every view, with the lights' names.
+fn scene_accuracy(m: &mut Measurer<'_>, settings: &Settings) -> Result<(Vec<LightReport>, Vec<String>), MeasureError> {
+    let app = &mut m.subject(SubjectId::Accuracy, settings, |s| App::new(s.clone()))?.app;
+    let names = crate::systems::light_list(&mut app.world).iter().map(|l| l.label.to_string()).collect();
     let mut total: Vec<LightReport> = Vec::new();
     for v in VIEWS {
         let (app, _) = m.parts(SubjectId::Accuracy)?;
@@ -213,7 +216,7 @@ fn scene_accuracy(m: &mut Measurer<'_>, settings: &Settings) -> Result<Vec<Light
             t.merge(r);
         }
     }
-    Ok(total)
+    Ok((total, names))
 }
 
 /// Runs the sweep on `gpu`: first every configuration's cost, timed in interleaved rounds, then
@@ -235,9 +238,9 @@ pub fn run(
     for ((i, config), cost) in configs.iter().enumerate().zip(costs) {
         progress(rounds + i, steps, &config.label());
         let settings = config.settings(&base);
-        let accuracy = scene_accuracy(&mut scene, &settings)?;
+        let (accuracy, lights) = scene_accuracy(&mut scene, &settings)?;
         let scores = CASES.iter().map(|c| (c.run)(&mut cases, &settings)).collect::<Result<Vec<_>, _>>()?;
-        rows.push(Row { config: *config, cost, scene: accuracy, cases: scores });
+        rows.push(Row { config: *config, cost, scene: accuracy, lights, cases: scores });
     }
     progress(steps, steps, "done");
     Ok(rows)

@@ -101,7 +101,7 @@ fn gpu_light(light: &SceneLight, first_layer: usize, layer_count: usize) -> GpuL
         bias_slope: light.bias.slope,
         bias_normal: light.bias.normal,
         method: light.method as u32,
-        shape: shape_id(light.kind.shadow_shape()),
+        shape: shape_id(light.shape),
         ..GpuLight::zeroed()
     };
     match light.kind {
@@ -237,6 +237,7 @@ pub fn extract(world: &mut World) -> FrameData {
         shadows_on: settings.shadows as u32,
         cascade_debug: settings.cascade_debug as u32,
         light_count: lights.len() as u32,
+        cube_seams: settings.cube_seams as u32,
         ..Frame::zeroed()
     };
     let items = items.into_iter().map(|(item, _)| item).collect();

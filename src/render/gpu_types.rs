@@ -78,6 +78,11 @@ gpu_struct! {
         pub probe_width: u32,
         /// Height of the probe grid in pixels.
         pub probe_height: u32,
+        /// 1 when the seams of shadow cubes are handled.
+        pub cube_seams: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 }
 

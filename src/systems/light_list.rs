@@ -6,7 +6,7 @@ use crate::components::{
     Cookie, DirectionalLight, PointLight, ShadowBias, ShadowMap, ShadowMethod, SpotLight, Transform,
 };
 use crate::settings::Settings;
-use crate::shadow::{MAX_MAP_HALF_ANGLE, light_range, spot_cone};
+use crate::shadow::{light_range, spot_cone};
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
@@ -62,12 +62,12 @@ pub enum ShadowShape {
 }
 
 impl LightKind {
-    /// How its shadow is laid out: a spot wider than one map holds takes a cube, as a point
-    /// light does.
-    pub fn shadow_shape(&self) -> ShadowShape {
+    /// How its shadow is laid out: a spot wider than `spot_map_limit` (the widest half angle one
+    /// map shadows, [`Settings::spot_map_limit`]) takes a cube, as a point light does.
+    pub fn shadow_shape(&self, spot_map_limit: f32) -> ShadowShape {
         match self {
             LightKind::Sun { .. } => ShadowShape::Cascades,
-            LightKind::Spot { outer, .. } if *outer <= MAX_MAP_HALF_ANGLE => ShadowShape::Single,
+            LightKind::Spot { outer, .. } if *outer <= spot_map_limit => ShadowShape::Single,
             LightKind::Spot { .. } | LightKind::Point { .. } => ShadowShape::Cube,
         }
     }
@@ -110,6 +110,8 @@ pub struct SceneLight {
     pub label: LightLabel,
     /// Its kind, pose and size.
     pub kind: LightKind,
+    /// How its shadow is laid out.
+    pub shape: ShadowShape,
     /// Linear RGB colour times intensity.
     pub color: Vec3,
     /// It casts a shadow (it has a [`ShadowMap`]).
@@ -177,6 +179,7 @@ pub fn light_list(world: &mut World) -> Vec<SceneLight> {
                 entity,
                 label: LightLabel { kind: kind.word(), number: *number },
                 kind,
+                shape: kind.shadow_shape(settings.spot_map_limit),
                 color,
                 shadowed: world.get::<ShadowMap>(entity).is_some(),
                 bias: world.get::<ShadowBias>(entity).copied().unwrap_or_else(|| settings.shadow_bias()),
@@ -214,7 +217,7 @@ mod tests {
         assert_eq!(lights[1].method, Settings::default().method, "the settings' method by default");
         assert_eq!((lights[1].bias, lights[2].bias), (Settings::default().shadow_bias(), bias));
         assert!(!lights[3].shadowed);
-        let shapes: Vec<ShadowShape> = lights.iter().map(|l| l.kind.shadow_shape()).collect();
+        let shapes: Vec<ShadowShape> = lights.iter().map(|l| l.shape).collect();
         assert_eq!(shapes, vec![ShadowShape::Cascades, ShadowShape::Single, ShadowShape::Cube, ShadowShape::Cube]);
     }
 

@@ -9,7 +9,7 @@ use crate::components::{
 };
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{
-    Aabb, LightProjection, MAX_MAP_HALF_ANGLE, SceneBounds, ViewFrustum, blend_bands, cube_projections, fit_cascade,
+    Aabb, LightProjection, SceneBounds, ViewFrustum, blend_bands, cube_projections, fit_cascade,
     intersects_clip_volume, split_depths, spot_cone, spot_projection,
 };
 use bevy_ecs::prelude::*;
@@ -132,7 +132,7 @@ pub fn update_light_matrices(
     settings: Res<Settings>,
     viewport: Res<Viewport>,
     changes: Res<CasterChanges>,
-    mut last_maps: Local<Option<(u32, crate::settings::ShadowFaces, CasterCulling, u32)>>,
+    mut last_maps: Local<Option<(u32, crate::settings::ShadowFaces, CasterCulling, bool, u32)>>,
     mut told: Local<HashSet<Entity>>,
     mut notices: Option<ResMut<Notices>>,
     cameras: Query<(&Camera, Ref<Transform>)>,
@@ -148,8 +148,14 @@ pub fn update_light_matrices(
         (Without<DirectionalLight>, Without<SpotLight>),
     >,
 ) {
-    // A new map size, face choice, culling or cube margin changes every map's contents.
-    let maps = (settings.shadow_map_size, settings.shadow_faces, settings.caster_culling, settings.cube_margin);
+    // A new map size, face choice, culling, cube seams or spot limit changes every map.
+    let maps = (
+        settings.shadow_map_size,
+        settings.shadow_faces,
+        settings.caster_culling,
+        settings.cube_seams,
+        settings.spot_map_limit.to_bits(),
+    );
     // Culled to the camera's view, what a map holds changes whenever the camera moves.
     let camera_moved = cameras.iter().any(|(_, t)| t.is_changed());
     let all_dirty =
@@ -166,7 +172,8 @@ pub fn update_light_matrices(
     let scene = SceneBounds { casters: &caster_boxes, receivers: &seen_boxes };
     let size = settings.shadow_map_size;
     let cube = |at: Vec3, range: f32| {
-        cube_projections(at, range, size, settings.cube_margin).map(|fit| (fit, f32::INFINITY, 0.0)).to_vec()
+        let margin = if settings.cube_seams { crate::settings::CUBE_MARGIN } else { 0 };
+        cube_projections(at, range, size, margin).map(|fit| (fit, f32::INFINITY, 0.0)).to_vec()
     };
     for (sun, mut map) in &mut suns {
         let fits = match camera {
@@ -177,7 +184,7 @@ pub fn update_light_matrices(
     }
     for (spot, transform, mut map) in &mut spots {
         let (at, forward) = (transform.translation, transform.forward());
-        let fits = if spot_cone(spot.inner_angle, spot.outer_angle).1 <= MAX_MAP_HALF_ANGLE {
+        let fits = if spot_cone(spot.inner_angle, spot.outer_angle).1 <= settings.spot_map_limit {
             vec![(spot_projection(at, forward, spot.outer_angle, spot.range, size), f32::INFINITY, 0.0)]
         } else {
             cube(at, spot.range)

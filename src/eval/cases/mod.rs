@@ -56,8 +56,8 @@ pub struct Case {
     pub run: fn(&mut Measurer<'_>, &Settings) -> Result<Score, MeasureError>,
 }
 
-/// Every case, in the order the issue lists them.
-pub const CASES: [Case; 8] = [
+/// Every case, in the order the issues list them.
+pub const CASES: [Case; 10] = [
     Case {
         name: "acne", measures: "false-shadow share of an open plane, sun at 2°..89°", threshold: 0.001, run: acne
     },
@@ -103,7 +103,22 @@ pub const CASES: [Case; 8] = [
         threshold: 0.1,
         run: skinned_caster,
     },
+    Case {
+        name: "cube-seams",
+        measures: "misclassified share of the ground along the seams of a point light's shadow cube",
+        threshold: CUBE_SEAMS_THRESHOLD,
+        run: cube_seams,
+    },
+    Case {
+        name: "wide-spot",
+        measures: "misclassified share of the ground in the outer ring (60° to 85°) of a 170° spot",
+        threshold: WIDE_SPOT_THRESHOLD,
+        run: wide_spot,
+    },
 ];
+
+const CUBE_SEAMS_THRESHOLD: f64 = 0.01;
+const WIDE_SPOT_THRESHOLD: f64 = 0.003;
 
 /// The case called `name`.
 pub fn case(name: &str) -> Option<&'static Case> {
@@ -167,6 +182,8 @@ const THIN_CASTERS: SubjectId = SubjectId::Case(CaseScene::ThinCasters);
 const OFF_SCREEN_CASTER: SubjectId = SubjectId::Case(CaseScene::OffScreenCaster);
 const DEGENERATE_LIGHTS: SubjectId = SubjectId::Case(CaseScene::DegenerateLights);
 const FAR_FIELD: SubjectId = SubjectId::Case(CaseScene::FarField);
+const CUBE_SEAMS: SubjectId = SubjectId::Case(CaseScene::CubeSeams);
+const WIDE_SPOT_SCENE: SubjectId = SubjectId::Case(CaseScene::WideSpot);
 
 fn acne(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(0.0, 5.0, 10.0), Vec3::new(0.0, 0.0, -2.0));
@@ -320,6 +337,30 @@ fn far_field(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, Measure
         start = end;
     }
     Ok(worst)
+}
+
+fn cube_seams(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    m.subject(CUBE_SEAMS, settings, seams_scene)?;
+    let measured = measure_at(m, CUBE_SEAMS, "seams", |_| {})?;
+    // Near a seam the two largest components of the direction from the light are within 4 %.
+    let near_seam = |i: usize| {
+        let d = (measured.frame.position[i].truncate() - SEAMS_LAMP).abs();
+        let mut c = d.to_array();
+        c.sort_by(f32::total_cmp);
+        c[1] >= 0.96 * c[2]
+    };
+    Ok(misclassified(&measured, 0, |i| on_ground(&measured)(i) && near_seam(i)))
+}
+
+fn wide_spot(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    m.subject(WIDE_SPOT_SCENE, settings, wide_spot_scene)?;
+    let measured = measure_at(m, WIDE_SPOT_SCENE, "ring", |_| {})?;
+    // The outer ring: more than 60° from the spot's axis (straight down).
+    let outer_ring = |i: usize| {
+        let d = (measured.frame.position[i].truncate() - WIDE_SPOT.0).normalize_or_zero();
+        d.dot(Vec3::NEG_Y) < 60f32.to_radians().cos()
+    };
+    Ok(misclassified(&measured, 0, |i| on_ground(&measured)(i) && outer_ring(i)))
 }
 
 /// How far the leaping character's hips are carried from their bind pose.

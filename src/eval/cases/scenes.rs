@@ -27,6 +27,20 @@ pub fn ground(
     size: f32,
     ground_casts: bool,
     sun: Vec3,
+    view: (Vec3, Vec3),
+) -> Result<App, AppError> {
+    let mut app = unlit_ground(settings, size, ground_casts, view)?;
+    let light = DirectionalLight { direction: sun, color: Vec3::ONE, intensity: 1.0, ..Default::default() };
+    app.world.spawn((light, ShadowMap::default()));
+    Ok(app)
+}
+
+/// An app with a square ground `size` metres across (a caster too if `ground_casts`) and a
+/// camera at `eye` looking at `target`, but no light.
+pub fn unlit_ground(
+    settings: &Settings,
+    size: f32,
+    ground_casts: bool,
     (eye, target): (Vec3, Vec3),
 ) -> Result<App, AppError> {
     let mut app = App::empty(settings.clone())?;
@@ -35,9 +49,47 @@ pub fn ground(
     if ground_casts {
         g.insert(ShadowCaster);
     }
-    let light = DirectionalLight { direction: sun, color: Vec3::ONE, intensity: 1.0, ..Default::default() };
-    app.world.spawn((light, ShadowMap::default()));
     app.world.spawn(camera_looking(eye, target));
+    Ok(app)
+}
+
+/// Where the cube-seams case hangs its point light.
+pub const SEAMS_LAMP: Vec3 = Vec3::new(0.0, 1.0, 0.0);
+
+/// A point light 1 m over the ground, seen close up where the face looking down meets the
+/// face looking along +X (the line x = 1 on the ground): a bar whose shadow's edge runs along that
+/// seam, boxes whose shadows cross it and the diagonal seams. The lamp has the large normal bias a
+/// point light often needs (2 texels), which moves a lookup next to a seam across it.
+pub fn seams_scene(settings: &Settings) -> Result<App, AppError> {
+    let mut app = unlit_ground(settings, 40.0, false, (Vec3::new(1.3, 1.1, 1.0), Vec3::new(1.0, 0.0, 0.1)))?;
+    // The bar's top outer edge (x = 0.5, 0.5 m up) throws its shadow's edge onto x = 1.
+    add_box(&mut app, Vec3::new(0.4, 0.25, 0.0), Vec3::new(0.1, 0.25, 0.8));
+    for (x, z) in [(0.75, 0.55), (0.7, -0.6), (1.3, 1.25), (1.35, -1.3)] {
+        add_box(&mut app, Vec3::new(x, 0.2, z), Vec3::new(0.06, 0.2, 0.06));
+    }
+    let lamp = PointLight { range: 15.0, intensity: 3.0, ..Default::default() };
+    let bias = ShadowBias { constant: 1.0, slope: 1.0, normal: 2.0 };
+    app.world.spawn((lamp, Transform::from_translation(SEAMS_LAMP), ShadowMap::default(), bias));
+    Ok(app)
+}
+
+/// Where the wide-spot case hangs its spot, and the half angle of its cone (a 170° spot).
+pub const WIDE_SPOT: (Vec3, f32) = (Vec3::new(0.0, 0.6, 0.0), 85.0);
+
+/// A 170° spot 60 cm over the ground, shining down, with low boxes in the outer ring of its cone
+/// (75° to 83° from its axis) whose long shadows reach outwards.
+pub fn wide_spot_scene(settings: &Settings) -> Result<App, AppError> {
+    let mut app = unlit_ground(settings, 80.0, false, (Vec3::new(0.0, 16.0, 7.0), Vec3::ZERO))?;
+    for k in 0..7 {
+        let a = k as f32 * 0.9;
+        let r = 2.4 + (k % 3) as f32 * 1.2;
+        add_box(&mut app, Vec3::new(a.cos() * r, 0.2, a.sin() * r), Vec3::new(0.25, 0.2, 0.25));
+    }
+    let outer = WIDE_SPOT.1.to_radians();
+    let spot =
+        SpotLight { range: 15.0, intensity: 4.0, inner_angle: outer - 0.1, outer_angle: outer, ..Default::default() };
+    let at = Transform::from_translation(WIDE_SPOT.0).looking_to(Vec3::NEG_Y);
+    app.world.spawn((spot, at, ShadowMap::default()));
     Ok(app)
 }
 
