@@ -161,7 +161,7 @@ fn light_sample(i: u32, p: vec3<f32>, n: vec3<f32>, depth: f32, test: bool) -> L
         // Inverse-square-like falloff, windowed to reach exactly zero at the range.
         let x = distance / light.range;
         let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
-        s.reach = window * window / (1.0 + 0.05 * distance * distance);
+        s.reach = window * window / (1.0 + LIGHT_FALLOFF * distance * distance);
         if (light.kind == LIGHT_SPOT) {
             // Full inside the inner angle, a smooth edge, nothing outside the outer angle; behind
             // the light the cosine is negative, so the back projection is cut here too.

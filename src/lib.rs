@@ -42,6 +42,7 @@ pub mod eval;
 pub mod play;
 pub mod render;
 pub mod scene;
+pub mod scene_file;
 pub mod settings;
 pub mod shadow;
 pub mod systems;
@@ -89,11 +90,18 @@ pub struct App {
 }
 
 impl App {
-    /// An app holding the sample scene (and the user's model, if the settings name one).
+    /// An app holding the sample scene (and the user's model, if the settings name one), or the
+    /// scene of the glTF file the settings name.
     pub fn new(settings: Settings) -> Result<App, AppError> {
         let mut app = App::empty(settings)?;
         let settings = app.world.resource::<Settings>().clone();
-        scene::spawn_sample_scene(&mut app.world, &settings)?;
+        match settings.scene {
+            Some(_) => scene_file::spawn_file_scene(&mut app.world, &settings)?,
+            None => scene::spawn_sample_scene(&mut app.world, &settings)?,
+        }
+        if let Some(biases) = &settings.biases {
+            biases.apply(&mut app.world);
+        }
         Ok(app)
     }
 
@@ -114,8 +122,12 @@ impl App {
         update
             .add_systems((systems::spin, systems::bob, systems::walk, systems::animate_models).in_set(Stage::Animate));
         update.add_systems(systems::fly_camera.in_set(Stage::Camera));
-        let lights =
-            (systems::pose_parts, systems::update_bounds, systems::track_casters, systems::update_light_matrices);
+        let lights = (
+            (systems::pose_parts, systems::follow_nodes),
+            systems::update_bounds,
+            systems::track_casters,
+            systems::update_light_matrices,
+        );
         update.add_systems(lights.chain().in_set(Stage::Lights));
         Ok(App { world, update })
     }

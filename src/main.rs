@@ -92,6 +92,15 @@ struct SceneArgs {
     /// Place this glTF model (.gltf or .glb) in the middle of the scene, playing its first clip.
     #[arg(long, value_name = "PATH")]
     model: Option<PathBuf>,
+    /// Play this glTF scene (.gltf or .glb) instead of the sample: its meshes, its lights
+    /// (KHR_lights_punctual) with shadows, its first camera (or one that frames it); a sun is
+    /// added when it has no light.
+    #[arg(long, value_name = "PATH", conflicts_with = "model")]
+    scene: Option<PathBuf>,
+    /// What one lux (or one candela at 1 m) of a scene file's lights is worth on screen; files
+    /// with physical values (a 100000 lux sun) want about 0.00001.
+    #[arg(long, value_name = "FACTOR")]
+    exposure: Option<f32>,
     /// Per-light shadow biases from a file written by `umbra tune`.
     #[arg(long, value_name = "FILE")]
     biases: Option<PathBuf>,
@@ -227,6 +236,8 @@ impl SceneArgs {
             reuse_shadow_maps: !self.redraw_shadows,
             character: !self.no_character,
             model: self.model.clone(),
+            scene: self.scene.clone(),
+            exposure: self.exposure.unwrap_or(d.exposure),
             biases,
             ..d
         })
@@ -276,22 +287,35 @@ fn bench(args: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
-/// The sample scene, with what was mended in the user's model (if any) said on stderr.
+/// The sample scene or the user's, with what was mended in the user's file (if any) said on
+/// stderr.
 fn app(scene: &SceneArgs) -> Result<App> {
     let mut app = App::new(scene.settings()?)?;
     let mut models = app.world.query::<(&ModelInstance, &Transform)>();
-    let user = |m: &ModelInstance| scene.model.as_ref().is_some_and(|p| p.display().to_string() == m.0.name);
-    for (model, placement) in models.iter(&app.world).filter(|(m, _)| user(m)) {
+    let file = scene.model.as_ref().or(scene.scene.as_ref()).map(|p| p.display().to_string());
+    for (model, placement) in models.iter(&app.world).filter(|(m, _)| file.as_ref() == Some(&m.0.name)) {
         for warning in &model.0.warnings {
             eprintln!("warning: {warning}");
         }
         let joints = model.0.skins.iter().map(|s| s.joints.len()).sum::<usize>();
         let clip = model.0.clips.first().map_or("no animation".to_string(), |c| format!("playing \"{}\"", c.name));
         println!(
-            "model {}: {} parts, {joints} joints, {clip}, at scale {}",
+            "{} {}: {} parts, {joints} joints, {clip}, at scale {}",
+            if scene.scene.is_some() { "scene" } else { "model" },
             model.0.name,
             model.0.parts.len(),
             placement.scale.x
+        );
+    }
+    if let Some((model, _)) = models.iter(&app.world).find(|_| scene.scene.is_some()) {
+        let (lights, camera) = (model.0.lights.len(), model.0.camera.is_some());
+        let names: Vec<String> =
+            umbra::systems::light_list(&mut app.world).iter().map(|l| l.label.to_string()).collect();
+        println!(
+            "lights: {}{}; {}",
+            names.join(", "),
+            if lights == 0 { " (added: the file has no light)" } else { "" },
+            if camera { "its own camera" } else { "a camera that frames it (the file has none)" }
         );
     }
     Ok(app)
@@ -299,11 +323,19 @@ fn app(scene: &SceneArgs) -> Result<App> {
 
 fn sweep(args: &BenchArgs) -> Result<()> {
     use umbra::eval::{results, sweep};
-    if args.scene.settings()? != Settings::default() {
-        anyhow::bail!("the sweep sets the shadow settings itself; scene options apply to `bench --cache` only");
+    let settings = args.scene.settings()?;
+    let d = Settings::default();
+    if (Settings { scene: None, exposure: d.exposure, ..settings.clone() }) != d {
+        anyhow::bail!(
+            "the sweep sets the shadow settings itself; of the scene options it takes --scene and --exposure, the rest apply to `bench --cache` only"
+        );
+    }
+    let mut options = sweep::SweepOptions::new(args.quick);
+    if settings.scene.is_some() {
+        options.views = sweep::views(&mut app(&args.scene)?);
+        options.base = settings;
     }
     let gpu = Gpu::headless()?;
-    let mut options = sweep::SweepOptions::new(args.quick);
     if let Some(n) = args.soft_rays {
         options.truth.soft_rays = n as usize;
     }
@@ -314,14 +346,18 @@ fn sweep(args: &BenchArgs) -> Result<()> {
         options.truth.sizes.light_radius = Some(r);
     }
     let configs = sweep::configs(args.quick).len();
+    let scene = match &options.base.scene {
+        Some(path) => format!("the scene {}", path.display()),
+        None => "the sample scene".to_string(),
+    };
     let timing = if sweep::timed_on_gpu(&gpu) { "GPU timestamps" } else { "the wall clock (no timestamps here)" };
     println!("adapter: {}", gpu.describe());
     println!(
-        "{} sweep: {configs} configurations; sample scene at {}x{} from {} views, failure cases at {}x{}; timed by {timing}",
+        "{} sweep: {configs} configurations; {scene} at {}x{} from {} views, failure cases at {}x{}; timed by {timing}",
         if args.quick { "quick" } else { "full" },
         options.size.0,
         options.size.1,
-        sweep::VIEWS.len(),
+        options.views.len(),
         options.case_size.0,
         options.case_size.1,
     );
@@ -342,14 +378,14 @@ fn sweep(args: &BenchArgs) -> Result<()> {
 
 {} configurations on {}, timed by {timing}; {:.0} s in all. Shadow cost: the median over {} \
          frames of drawing every shadow layer plus what the lookups add to the main pass, every map redrawn every \
-         frame. Errors: pixels of {} views of the sample scene at {}x{} against a ray-traced truth (every light \
+         frame. Errors: pixels of {} views of {scene} at {}x{} against a ray-traced truth (every light \
          together; the soft truth from {} rays over each light's disc: {}).",
         if args.quick { " --quick" } else { "" },
         rows.len(),
         gpu.describe(),
         started.elapsed().as_secs_f64(),
-        options.frames as usize * sweep::VIEWS.len(),
-        sweep::VIEWS.len(),
+        options.frames as usize * options.views.len(),
+        options.views.len(),
         options.size.0,
         options.size.1,
         options.truth.soft_rays,
@@ -382,8 +418,8 @@ fn tune(args: &TuneArgs) -> Result<()> {
     })?;
     bar.finish_and_clear();
     println!(
-        "wrong pixels (false shadow + false lit) over {} views of the sample scene at {}x{}:",
-        umbra::eval::sweep::VIEWS.len(),
+        "wrong pixels (false shadow + false lit) over the views of {} at {}x{}:",
+        args.scene.scene.as_ref().map_or("the sample scene".to_string(), |p| p.display().to_string()),
         args.width,
         args.height
     );

@@ -88,9 +88,6 @@ pub fn spawn_sample_scene(world: &mut World, settings: &Settings) -> Result<(), 
         spawn_model(world, Arc::new(model), placement, clip);
     }
 
-    if let Some(biases) = &settings.biases {
-        biases.apply(world);
-    }
     world.spawn(default_camera());
     Ok(())
 }

@@ -54,6 +54,11 @@ pub struct Settings {
     pub character: bool,
     /// A glTF model of the user's to place in the middle of the sample scene.
     pub model: Option<std::path::PathBuf>,
+    /// A glTF scene of the user's to play instead of the sample scene, with its lights and camera.
+    pub scene: Option<std::path::PathBuf>,
+    /// What a file's lights give in umbra's units per lux (directional) or per candela at 1 m
+    /// (point, spot): see [`crate::scene_file`].
+    pub exposure: f32,
     /// Per-light biases (as `umbra tune` finds them) that replace the three above, light by light.
     pub biases: Option<crate::biases::LightBiases>,
     /// Fixed simulation step in seconds.
@@ -86,6 +91,8 @@ impl Default for Settings {
             cubes: 10,
             character: true,
             model: None,
+            scene: None,
+            exposure: 1.0,
             biases: None,
             dt: 1.0 / 60.0,
         }
@@ -204,6 +211,13 @@ impl Settings {
         {
             return bad("spot_map_limit", self.spot_map_limit, "must be an angle between 1° and 89° (in radians)");
         }
+        if !(self.exposure.is_finite() && (1e-6..=1e6).contains(&self.exposure)) {
+            return bad("exposure", self.exposure, "must be a factor between 0.000001 and 1000000");
+        }
+        if let (Some(model), Some(_)) = (&self.model, &self.scene) {
+            let why = "a model goes into the sample scene and a scene file replaces it: give one or the other";
+            return bad("model", model.display(), why);
+        }
         if self.cubes > 1000 {
             return bad("cubes", self.cubes, "must be at most 1000");
         }
@@ -237,7 +251,7 @@ mod tests {
     #[test]
     fn nonsense_is_named() {
         type Case = (fn(&mut Settings), &'static str);
-        let cases: [Case; 9] = [
+        let cases: [Case; 11] = [
             (|s| s.cascades = 5, "cascades"),
             (|s| s.split_lambda = -0.1, "split_lambda"),
             (|s| s.cascade_blend = 0.9, "cascade_blend"),
@@ -247,6 +261,8 @@ mod tests {
             (|s| s.shadow_distance = -1.0, "shadow_distance"),
             (|s| s.ambient = f32::INFINITY, "ambient"),
             (|s| s.dt = 0.0, "dt"),
+            (|s| s.exposure = 0.0, "exposure"),
+            (|s| (s.model, s.scene) = (Some("a.glb".into()), Some("b.gltf".into())), "model"),
         ];
         for (break_it, name) in cases {
             let mut s = Settings::default();

@@ -136,6 +136,30 @@ fn a_users_model_is_placed_in_the_scene_or_named_in_a_clear_error() {
 }
 
 #[test]
+fn a_scene_file_plays_with_its_lights_or_gets_a_sun() {
+    use common::scene_file::SceneFile;
+    use glam::Vec3;
+    let dir = scratch("scene");
+    let lamp = serde_json::json!({ "type": "point", "intensity": 10.0 });
+    SceneFile::new().light(lamp, Vec3::new(1.0, 2.0, 1.0), Vec3::NEG_Y).write(&dir, "lamp.gltf");
+    SceneFile::new().write(&dir, "bare.gltf");
+    let small = ["--width", "64", "--height", "36"];
+    let out = umbra(&[&["render", "--scene", "lamp.gltf", "--out", "s.png"][..], &small].concat(), &dir);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("scene lamp.gltf: 3 parts"), "{stdout}");
+    assert!(stdout.contains("lights: point 1; a camera that frames it (the file has none)"), "{stdout}");
+    assert_eq!(png_size(&dir.join("s.png")), (64, 36));
+    let out = umbra(&[&["render", "--scene", "bare.gltf", "--out", "b.png"][..], &small].concat(), &dir);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("lights: sun (added: the file has no light)"));
+    // A scene replaces the sample, so a model cannot go into it; nonsense exposure is named.
+    let out = umbra(&["render", "--scene", "bare.gltf", "--model", "bare.gltf"], &dir);
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("--model"));
+    let out = umbra(&["render", "--scene", "bare.gltf", "--exposure", "0"], &dir);
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("exposure"));
+}
+
+#[test]
 fn a_broken_bias_file_is_named_and_nothing_is_written() {
     let dir = scratch("biases");
     std::fs::write(dir.join("bad.json"), "{ not json").unwrap();

@@ -9,7 +9,7 @@ use super::skin::posed_bounds;
 use super::texture::TextureData;
 use crate::components::{Material, Transform};
 use crate::shadow::Aabb;
-use glam::Mat4;
+use glam::{Mat4, Vec3};
 use std::sync::Arc;
 
 /// Models smaller than this across (metres) are taken to have no size: placed unscaled, with a
@@ -54,6 +54,51 @@ pub struct Part {
     pub joint_boxes: Arc<[Aabb]>,
 }
 
+/// What kind of light a file's light is, as `KHR_lights_punctual` defines it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FileLightKind {
+    /// Parallel light along the node's -Z axis; intensity in lux.
+    Directional,
+    /// Light every way from the node's origin; intensity in candela.
+    Point,
+    /// A cone along the node's -Z axis between two half angles (radians); intensity in candela.
+    Spot {
+        /// Where the edge starts to fade.
+        inner: f32,
+        /// Where the light ends.
+        outer: f32,
+    },
+}
+
+/// A light hung on a node, with the file's (photometric) values, checked to be finite and not
+/// negative.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelLight {
+    /// The node it hangs on.
+    pub node: usize,
+    /// Its kind and cone.
+    pub kind: FileLightKind,
+    /// Linear RGB colour.
+    pub color: Vec3,
+    /// Lux (directional) or candela (point, spot).
+    pub intensity: f32,
+    /// Where it ends, in metres; `None` means it never does.
+    pub range: Option<f32>,
+}
+
+/// A camera hung on a node, looking along the node's -Z axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModelCamera {
+    /// The node it hangs on.
+    pub node: usize,
+    /// Vertical field of view in radians (`None`: an orthographic camera, shown in perspective).
+    pub fov_y: Option<f32>,
+    /// Near plane distance in metres (`None`: not a usable one).
+    pub near: Option<f32>,
+    /// Far plane distance in metres (`None`: infinite, or not beyond the near plane).
+    pub far: Option<f32>,
+}
+
 /// A whole model as loaded from a file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Model {
@@ -69,6 +114,10 @@ pub struct Model {
     pub skins: Vec<Skin>,
     /// Animation clips.
     pub clips: Vec<Clip>,
+    /// The lights (`KHR_lights_punctual`) of the scene's nodes.
+    pub lights: Vec<ModelLight>,
+    /// The first camera of the scene's nodes, if any.
+    pub camera: Option<ModelCamera>,
     /// Things that were wrong with the file but could be mended, one line each.
     pub warnings: Vec<String>,
 }
@@ -155,7 +204,7 @@ pub fn hierarchy(children: &[Vec<usize>]) -> Result<(Vec<Option<usize>>, Vec<usi
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::{Quat, Vec3};
+    use glam::Quat;
 
     #[test]
     fn hierarchy_puts_parents_first_and_refuses_cycles_and_shared_children() {
@@ -181,6 +230,8 @@ mod tests {
             parts: Vec::new(),
             skins: Vec::new(),
             clips: Vec::new(),
+            lights: Vec::new(),
+            camera: None,
             warnings: Vec::new(),
         };
         let g = model.globals(&model.rest_locals());

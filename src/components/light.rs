@@ -4,6 +4,11 @@
 use bevy_ecs::prelude::*;
 use glam::{Mat4, Vec2, Vec3};
 
+/// How a spot or point light fades with distance d (metres): by `1 / (1 + LIGHT_FALLOFF·d²)`,
+/// times a window that reaches zero at its range. Far from the light this is an inverse square,
+/// `1 / (LIGHT_FALLOFF·d²)`; at the light it stays finite.
+pub const LIGHT_FALLOFF: f32 = 0.05;
+
 /// The sun: parallel light travelling along `direction`.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct DirectionalLight {

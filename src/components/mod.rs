@@ -263,6 +263,16 @@ pub struct ModelPart {
     pub part: usize,
 }
 
+/// An entity hung on a node of a model (a file's light): it goes where the model's pose puts
+/// the node, turning with it.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct AtNode {
+    /// The entity holding the [`ModelInstance`].
+    pub root: Entity,
+    /// Index into the model's nodes.
+    pub node: usize,
+}
+
 /// The joint matrices that skin this entity's mesh (model space: `global joint × inverse bind`);
 /// the vertex shader blends them, and the entity's bounds follow them.
 #[derive(Component, Clone, Debug, Default, PartialEq)]

@@ -6,7 +6,7 @@
 //! speed drifts over the run slows all configurations alike and the ratios stay fair.
 
 use super::measure::{MeasureError, Measurer, Subject, SubjectId, apply_settings, place_camera};
-use super::sweep::{Config, SweepOptions, VIEWS};
+use super::sweep::{Config, SweepOptions};
 use crate::App;
 use crate::render::{Gpu, HEADLESS_FORMAT, PassTimes, Renderer};
 use crate::settings::Settings;
@@ -52,7 +52,7 @@ fn frame(
     })
 }
 
-/// Times every configuration in `configs` over [`VIEWS`]; `progress` hears each round. One scene
+/// Times every configuration in `configs` over the options' views; `progress` hears each round. One scene
 /// per map size is kept, so switching configuration never re-allocates the maps.
 pub fn time_all(
     gpu: &Gpu,
@@ -67,7 +67,7 @@ pub fn time_all(
     let mut m = Measurer::new(gpu, options.size, options.truth);
     let mut times: Vec<Vec<(PassTimes, PassTimes)>> = vec![Vec::new(); configs.len()];
     let mut round = 0;
-    for v in VIEWS {
+    for v in &options.views {
         for k in 0..options.frames + 2 {
             progress(round);
             round += 1;

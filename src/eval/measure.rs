@@ -46,9 +46,9 @@ pub enum MeasureError {
 /// Which scene a measurer holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SubjectId {
-    /// The sample scene as the sweep measures it.
+    /// The measured scene (the sample's or a file's) as the sweep measures it.
     Accuracy,
-    /// The sample scene as `tune` measures it.
+    /// The measured scene as `tune` measures it.
     Tune,
     /// The sample scene timed with maps of this many texels.
     Timing(u32),

@@ -10,6 +10,7 @@ use crate::components::ShadowMethod;
 use crate::render::Gpu;
 use crate::settings::{Settings, ShadowFaces};
 use crate::shadow::FitMode;
+use bevy_ecs::prelude::With;
 use glam::Vec3;
 
 /// One shadow configuration.
@@ -121,7 +122,7 @@ pub fn configs(quick: bool) -> Vec<Config> {
     out
 }
 
-/// A view of the sample scene: a camera and a time.
+/// A view of a measured scene: a camera and a time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
     /// Its name.
@@ -142,16 +143,29 @@ pub const VIEWS: [View; 4] = [
     View { name: "above", eye: Vec3::new(0.5, 18.0, 6.0), target: Vec3::ZERO, time: 9.0 },
 ];
 
+/// The views `app`'s scene is measured from: the sample scene's four, or a scene file's own
+/// camera (or the one that frames it) at 2 s.
+pub fn views(app: &mut App) -> Vec<View> {
+    if app.world.resource::<Settings>().scene.is_none() {
+        return VIEWS.to_vec();
+    }
+    let mut cameras = app.world.query_filtered::<&crate::components::Transform, With<crate::components::Camera>>();
+    cameras
+        .iter(&app.world)
+        .map(|t| View { name: "scene camera", eye: t.translation, target: t.translation + t.forward(), time: 2.0 })
+        .collect()
+}
+
 /// One configuration's results.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
     /// The configuration.
     pub config: Config,
-    /// Its cost on the sample scene.
+    /// Its cost on the measured scene (the sample's or a file's).
     pub cost: Cost,
-    /// Its accuracy on the sample scene, per light, all views together.
+    /// Its accuracy on the measured scene, per light, all views together.
     pub scene: Vec<LightReport>,
-    /// The sample scene's lights' names, in the order of `scene`.
+    /// The measured scene's lights' names, in the order of `scene`.
     pub lights: Vec<String>,
     /// Its score in each failure case, in [`CASES`] order.
     pub cases: Vec<Score>,
@@ -168,9 +182,13 @@ impl Row {
     }
 }
 
-/// How big and how long the sweep is.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// What the sweep measures, how big and how long.
+#[derive(Clone, Debug, PartialEq)]
 pub struct SweepOptions {
+    /// The settings every configuration starts from (which scene, its exposure).
+    pub base: Settings,
+    /// The views of the scene measured.
+    pub views: Vec<View>,
     /// Fewer configurations, smaller frames, fewer timed frames.
     pub quick: bool,
     /// Size of the sample-scene frames.
@@ -188,6 +206,8 @@ impl SweepOptions {
     pub fn new(quick: bool) -> SweepOptions {
         if quick {
             SweepOptions {
+                base: Settings::default(),
+                views: VIEWS.to_vec(),
                 quick,
                 size: (320, 180),
                 case_size: (192, 192),
@@ -195,17 +215,29 @@ impl SweepOptions {
                 truth: TruthSettings { soft_rays: 8, ..Default::default() },
             }
         } else {
-            SweepOptions { quick, size: (640, 360), case_size: (256, 256), frames: 10, truth: TruthSettings::default() }
+            SweepOptions {
+                base: Settings::default(),
+                views: VIEWS.to_vec(),
+                quick,
+                size: (640, 360),
+                case_size: (256, 256),
+                frames: 10,
+                truth: TruthSettings::default(),
+            }
         }
     }
 }
 
-/// Accuracy of `settings` on the sample scene, per light, over every view, with the lights' names.
-fn scene_accuracy(m: &mut Measurer<'_>, settings: &Settings) -> Result<(Vec<LightReport>, Vec<String>), MeasureError> {
+/// Accuracy of `settings` on its scene, per light, over `views`, with the lights' names.
+fn scene_accuracy(
+    m: &mut Measurer<'_>,
+    settings: &Settings,
+    views: &[View],
+) -> Result<(Vec<LightReport>, Vec<String>), MeasureError> {
     let app = &mut m.subject(SubjectId::Accuracy, settings, |s| App::new(s.clone()))?.app;
     let names = crate::systems::light_list(&mut app.world).iter().map(|l| l.label.to_string()).collect();
     let mut total: Vec<LightReport> = Vec::new();
-    for v in VIEWS {
+    for v in views {
         let (app, _) = m.parts(SubjectId::Accuracy)?;
         place_camera(&mut app.world, v.eye, v.target);
         app.set_time(v.time);
@@ -226,19 +258,19 @@ pub fn run(
     options: &SweepOptions,
     mut progress: impl FnMut(usize, usize, &str),
 ) -> Result<Vec<Row>, MeasureError> {
-    let base = Settings::default();
+    let base = &options.base;
     base.validate()?;
     let configs = configs(options.quick);
-    let rounds = (options.frames as usize + 2) * VIEWS.len();
+    let rounds = (options.frames as usize + 2) * options.views.len();
     let steps = rounds + configs.len();
-    let costs = time_all(gpu, &base, &configs, options, |round| progress(round, steps, "timing every configuration"))?;
+    let costs = time_all(gpu, base, &configs, options, |round| progress(round, steps, "timing every configuration"))?;
     let mut scene = Measurer::new(gpu, options.size, options.truth);
     let mut cases = Measurer::new(gpu, options.case_size, TruthSettings { soft_rays: 0, ..options.truth });
     let mut rows = Vec::new();
     for ((i, config), cost) in configs.iter().enumerate().zip(costs) {
         progress(rounds + i, steps, &config.label());
-        let settings = config.settings(&base);
-        let (accuracy, lights) = scene_accuracy(&mut scene, &settings)?;
+        let settings = config.settings(base);
+        let (accuracy, lights) = scene_accuracy(&mut scene, &settings, &options.views)?;
         let scores = CASES.iter().map(|c| (c.run)(&mut cases, &settings)).collect::<Result<Vec<_>, _>>()?;
         rows.push(Row { config: *config, cost, scene: accuracy, lights, cases: scores });
     }

@@ -1,13 +1,14 @@
 //! `umbra tune`: for each light, the constant, slope and normal bias that give the fewest wrong
-//! pixels (false shadow + false lit) over the sample scene's views: a coarse grid of all three
-//! together, then coordinate descent from the best of it over finer values.
+//! pixels (false shadow + false lit) over the scene's views (the sample's four, or a scene file's
+//! camera): a coarse grid of all three together, then coordinate descent from the best of it
+//! over finer values.
 //!
 //! Lights do not change each other's shadows, so every candidate is tried on all lights in one
 //! render and each light keeps what suits it. Every light of any kind is tuned.
 
 use super::measure::{MeasureError, Measurer, SubjectId, TruthSettings, place_camera};
 use super::metrics::{Tally, tally};
-use super::sweep::VIEWS;
+use super::sweep::{View, views};
 use crate::App;
 use crate::biases::LightBiases;
 use crate::components::ShadowBias;
@@ -43,10 +44,10 @@ impl LightTune {
     }
 }
 
-/// Every light's errors over the sample views with `biases`.
-fn errors(m: &mut Measurer<'_>, biases: &LightBiases) -> Result<Vec<Tally>, MeasureError> {
+/// Every light's errors over `views` with `biases`.
+fn errors(m: &mut Measurer<'_>, views: &[View], biases: &LightBiases) -> Result<Vec<Tally>, MeasureError> {
     let mut total: Vec<Tally> = Vec::new();
-    for v in VIEWS {
+    for v in views {
         let (app, _) = m.parts(SubjectId::Tune)?;
         biases.apply(&mut app.world);
         place_camera(&mut app.world, v.eye, v.target);
@@ -72,7 +73,7 @@ fn set(b: &mut ShadowBias, param: usize, v: f32) {
 /// with less bias in all: less loosening where the views do not look) takes it. Light `i` of
 /// `current` is column `i` of the measurements.
 fn try_candidate(
-    m: &mut Measurer<'_>,
+    (m, views): (&mut Measurer<'_>, &[View]),
     current: &mut LightBiases,
     best: &mut [Tally],
     candidate: impl Fn(&ShadowBias) -> ShadowBias,
@@ -81,7 +82,7 @@ fn try_candidate(
     for (_, b) in &mut trial.0 {
         *b = candidate(b);
     }
-    let errs = errors(m, &trial)?;
+    let errs = errors(m, views, &trial)?;
     let sum = |b: &ShadowBias| b.constant + b.slope + b.normal;
     for (column, ((_, b), (_, t))) in current.0.iter_mut().zip(&trial.0).enumerate() {
         let (Some(&e), Some(kept)) = (errs.get(column), best.get_mut(column)) else { continue };
@@ -93,7 +94,7 @@ fn try_candidate(
     Ok(())
 }
 
-/// Tunes the biases of the sample scene under `base` with frames of `size`; `progress` hears
+/// Tunes the biases of `base`'s scene (the sample's or a file's) with frames of `size`; `progress` hears
 /// each step (done, of). Returns each light's result and the biases to save.
 pub fn tune(
     gpu: &Gpu,
@@ -102,11 +103,11 @@ pub fn tune(
     mut progress: impl FnMut(usize, usize),
 ) -> Result<(Vec<LightTune>, LightBiases), MeasureError> {
     let mut m = Measurer::new(gpu, size, TruthSettings { soft_rays: 0, ..TruthSettings::default() });
-    let mut current = {
+    let (views, mut current) = {
         let subject = m.subject(SubjectId::Tune, base, |s| App::new(s.clone()))?;
-        LightBiases::of(&mut subject.app.world)
+        (views(&mut subject.app), LightBiases::of(&mut subject.app.world))
     };
-    let before = errors(&mut m, &current)?;
+    let before = errors(&mut m, &views, &current)?;
     let mut best = before.clone();
     let grid: Vec<ShadowBias> = COARSE
         .iter()
@@ -121,14 +122,14 @@ pub fn tune(
     for b in &grid {
         progress(done, steps);
         done += 1;
-        try_candidate(&mut m, &mut current, &mut best, |_| *b)?;
+        try_candidate((&mut m, &views), &mut current, &mut best, |_| *b)?;
     }
     for _ in 0..ROUNDS {
         for param in 0..3 {
             for v in CANDIDATES {
                 progress(done, steps);
                 done += 1;
-                try_candidate(&mut m, &mut current, &mut best, |b| {
+                try_candidate((&mut m, &views), &mut current, &mut best, |b| {
                     let mut b = *b;
                     set(&mut b, param, v);
                     b
@@ -137,7 +138,7 @@ pub fn tune(
         }
     }
     progress(steps, steps);
-    let after = errors(&mut m, &current)?;
+    let after = errors(&mut m, &views, &current)?;
     let tunes = current
         .0
         .iter()

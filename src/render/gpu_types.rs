@@ -201,5 +201,6 @@ pub fn prelude() -> String {
     for method in ShadowMethod::ALL {
         constant(&format!("METHOD_{}", method.name().to_uppercase()), *method as u64);
     }
+    out.push_str(&format!("const LIGHT_FALLOFF: f32 = {:?};\n", crate::components::LIGHT_FALLOFF));
     out
 }

@@ -10,4 +10,4 @@ pub use animate::{bob, spin};
 pub use camera::fly_camera;
 pub use light_list::{LightKind, LightLabel, MAX_LIGHTS, SceneLight, ShadowShape, light_list};
 pub use lights::{CasterChanges, CasterState, track_casters, update_bounds, update_light_matrices};
-pub use skeletal::{animate_models, pose_parts, walk};
+pub use skeletal::{animate_models, follow_nodes, pose_parts, walk};

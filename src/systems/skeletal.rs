@@ -1,7 +1,9 @@
 //! Models in motion: a walker's path, its clip's pose, and the parts that follow the pose (rigid
 //! parts by their node, skinned parts by their joint matrices and pose-fitted bounds).
 
-use crate::components::{Animator, Joints, ModelInstance, ModelPart, Pose, Time, Transform, Walker, WorldBounds};
+use crate::components::{
+    Animator, AtNode, DirectionalLight, Joints, ModelInstance, ModelPart, Pose, Time, Transform, Walker, WorldBounds,
+};
 use bevy_ecs::prelude::*;
 use glam::{Quat, Vec3};
 
@@ -51,6 +53,24 @@ pub fn pose_parts(
                     (placement.matrix() * pose.0[part.node]).to_scale_rotation_translation();
                 transform.set_if_neq(Transform { translation, rotation, scale });
             }
+        }
+    }
+}
+
+/// Places every entity hung on a model's node (a file's light) where its model's transform and
+/// pose put the node, unscaled; a directional light also turns to shine along the node's -Z axis.
+pub fn follow_nodes(
+    models: Query<(&Transform, &Pose), With<ModelInstance>>,
+    mut hung: Query<(&AtNode, &mut Transform, Option<&mut DirectionalLight>), Without<ModelInstance>>,
+) {
+    for (at, mut transform, sun) in &mut hung {
+        let Ok((placement, pose)) = models.get(at.root) else { continue };
+        let Some(node) = pose.0.get(at.node) else { continue };
+        let (_, rotation, translation) = (placement.matrix() * *node).to_scale_rotation_translation();
+        transform.set_if_neq(Transform { translation, rotation, scale: Vec3::ONE });
+        if let Some(mut sun) = sun {
+            let direction = rotation * Vec3::NEG_Z;
+            sun.set_if_neq(DirectionalLight { direction, ..*sun });
         }
     }
 }
@@ -105,6 +125,29 @@ mod tests {
             let p = placement.matrix().transform_point3(Vec3::from(v.position));
             assert!(p.cmpge(bounds.min - 1e-4).all() && p.cmple(bounds.max + 1e-4).all(), "{p:?} outside {bounds:?}");
         }
+    }
+
+    #[test]
+    fn lights_hung_on_nodes_follow_them() {
+        let model = character();
+        let mut world = at_time(0.3);
+        let placement = Transform::from_xyz(5.0, 0.0, -2.0).with_rotation(Quat::from_rotation_y(2.0));
+        let root = world.spawn((ModelInstance(model.clone()), Animator { clip: Some(0), speed: 1.0 }, placement)).id();
+        let node = model.nodes.len() - 1;
+        let lamp = world.spawn((AtNode { root, node }, Transform::default())).id();
+        let sun = world.spawn((AtNode { root, node }, Transform::default(), DirectionalLight::default())).id();
+        world.run_system_once(animate_models).unwrap();
+        world.run_system_once(follow_nodes).unwrap();
+        let pose = world.get::<Pose>(root).unwrap().0[node];
+        let (_, rotation, translation) = (placement.matrix() * pose).to_scale_rotation_translation();
+        let t = *world.get::<Transform>(lamp).unwrap();
+        assert!(t.translation.abs_diff_eq(translation, 1e-5) && t.scale == Vec3::ONE, "{t:?}");
+        let d = world.get::<DirectionalLight>(sun).unwrap().direction;
+        assert!(d.abs_diff_eq(rotation * Vec3::NEG_Z, 1e-5), "{d:?}");
+        // A link to something that is not a model leaves the entity where it is.
+        let stray = world.spawn((AtNode { root: lamp, node: 0 }, Transform::from_xyz(1.0, 2.0, 3.0))).id();
+        world.run_system_once(follow_nodes).unwrap();
+        assert_eq!(world.get::<Transform>(stray).unwrap().translation, Vec3::new(1.0, 2.0, 3.0));
     }
 
     #[test]

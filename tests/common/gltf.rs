@@ -162,6 +162,22 @@ impl TestModel {
         TestModel { json, bin }
     }
 
+    /// A document with no nodes, meshes or data yet (one empty scene, one empty buffer).
+    pub fn empty() -> TestModel {
+        let json = json!({
+            "asset": { "version": "2.0" },
+            "scene": 0,
+            "scenes": [{ "nodes": [] }],
+            "nodes": [],
+            "meshes": [],
+            "materials": [],
+            "buffers": [{ "byteLength": 0 }],
+            "bufferViews": [],
+            "accessors": [],
+        });
+        TestModel { json, bin: Vec::new() }
+    }
+
     /// Adds a float accessor (with its view) over new bytes; returns its index.
     pub fn add_floats(&mut self, values: &[f32], kind: &str) -> usize {
         let width = match kind {

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod gltf;
+pub mod scene_file;
 
 use glam::{Vec2, Vec3};
 use std::sync::{Mutex, MutexGuard, OnceLock};

@@ -10,6 +10,7 @@ use super::container::Source;
 use super::keys::clip;
 use super::material::Materials;
 use super::primitive::{Shape, shape};
+use super::punctual;
 use crate::assets::mesh::MeshData;
 use crate::assets::model::{MIN_MODEL_SIZE, Model, Node, Part, Skin, hierarchy};
 use crate::assets::skin::{MAX_JOINTS, joint_boxes};
@@ -41,6 +42,8 @@ pub(super) fn build(src: &Source, name: &str, input: &Budget, warnings: &mut Vec
         parts: Vec::new(),
         skins,
         clips: Vec::new(),
+        lights: punctual::lights(&all_nodes, &scene, &data, warnings)?,
+        camera: punctual::camera(&all_nodes, &scene, warnings),
         warnings: Vec::new(),
     };
     let globals = model.globals(&model.rest_locals());

@@ -19,9 +19,9 @@ pub(super) struct Source<'a> {
     pub dir: Option<&'a Path>,
 }
 
-/// Extensions that may be required without changing what umbra draws: quantized attributes
-/// are read like any other accessor, and unlit materials only change shading.
-const TOLERATED_EXTENSIONS: [&str; 2] = ["KHR_mesh_quantization", "KHR_materials_unlit"];
+/// Extensions a file may require: quantized attributes are read like any other accessor, unlit
+/// materials only change shading, and punctual lights become umbra's lights (with `--scene`).
+const TOLERATED_EXTENSIONS: [&str; 3] = ["KHR_mesh_quantization", "KHR_materials_unlit", "KHR_lights_punctual"];
 
 /// Parses `bytes` (a .glb or .gltf) and loads its buffers, paid from `input`; external files are
 /// looked up in `dir`.

@@ -12,6 +12,7 @@ mod container;
 mod keys;
 mod material;
 mod primitive;
+mod punctual;
 
 use super::model::Model;
 use budget::Budget;
