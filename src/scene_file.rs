@@ -27,8 +27,8 @@ use std::sync::Arc;
 /// A file's light as an umbra light: its component and where it stands.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum FileLight {
-    /// A directional light.
-    Sun(DirectionalLight),
+    /// A directional light, along its transform (which an animated node turns).
+    Sun(DirectionalLight, Transform),
     /// A spot light, at and along its transform.
     Spot(SpotLight, Transform),
     /// A point light, at its transform.
@@ -44,12 +44,15 @@ pub fn file_light(light: &ModelLight, world_from_node: Mat4, exposure: f32, boun
     let local = light.intensity * exposure * LIGHT_FALLOFF;
     let range = light.range.unwrap_or_else(|| unbounded_range(translation, bounds));
     match light.kind {
-        FileLightKind::Directional => FileLight::Sun(DirectionalLight {
-            direction: rotation * Vec3::NEG_Z,
-            color: light.color,
-            intensity: light.intensity * exposure,
-            ..Default::default()
-        }),
+        FileLightKind::Directional => {
+            let sun = DirectionalLight {
+                direction: rotation * Vec3::NEG_Z,
+                color: light.color,
+                intensity: light.intensity * exposure,
+                ..Default::default()
+            };
+            FileLight::Sun(sun, transform)
+        }
         FileLightKind::Point => FileLight::Point(
             PointLight { color: light.color, intensity: local, range, ..Default::default() },
             transform,
@@ -123,7 +126,7 @@ pub fn spawn_file_scene(world: &mut World, settings: &Settings) -> Result<(), Mo
     for light in &lights {
         let at = AtNode { root, node: light.node };
         match file_light(light, globals[light.node], settings.exposure, bounds) {
-            FileLight::Sun(sun) => world.spawn((sun, at, ShadowMap::default())),
+            FileLight::Sun(sun, t) => world.spawn((sun, t, at, ShadowMap::default())),
             FileLight::Spot(spot, t) => world.spawn((spot, t, at, ShadowMap::default())),
             FileLight::Point(point, t) => world.spawn((point, t, at, ShadowMap::default())),
         };
@@ -169,7 +172,8 @@ mod tests {
             glam::Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2),
             Vec3::new(0.0, 5.0, 0.0),
         );
-        let FileLight::Sun(sun) = file_light(&light(FileLightKind::Directional, 3.0, None), node, 0.5, bounds) else {
+        let FileLight::Sun(sun, _) = file_light(&light(FileLightKind::Directional, 3.0, None), node, 0.5, bounds)
+        else {
             panic!("a directional light is a sun")
         };
         assert_eq!(sun.intensity, 1.5, "lux × exposure");

@@ -47,7 +47,8 @@ fn a_files_lights_shadow_the_scene_where_the_truth_says() {
     assert_eq!(names, ["sun", "spot 1", "point 1"], "the file's three lights and no added sun");
 
     // Where the file put them, in umbra's units (exposure 1: lux as is, candela × the falloff).
-    let sun = *app.world.query::<&DirectionalLight>().single(&app.world).unwrap();
+    let (sun, _, _) = app.world.query::<(&DirectionalLight, &Transform, &AtNode)>().single(&app.world).unwrap();
+    let sun = *sun;
     assert!(sun.direction.abs_diff_eq(Vec3::new(-1.0, -0.6, 0.2).normalize(), 1e-5), "{:?}", sun.direction);
     assert_eq!((sun.intensity, sun.color), (0.8, Vec3::new(1.0, 0.9, 0.8)));
     let (spot, at) = app.world.query::<(&SpotLight, &Transform)>().single(&app.world).map(|(s, t)| (*s, *t)).unwrap();
