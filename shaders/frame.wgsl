@@ -22,7 +22,9 @@ struct Frame {
     probe_height: u32,
     // 1 when the seams of shadow cubes are handled (see cube_test in lights.wgsl).
     cube_seams: u32,
-    _pad0: u32,
+    // 1 when filters compare each tap with the receiver's plane (see receiver_plane in
+    // shadow_sampling.wgsl).
+    receiver_plane: u32,
     _pad1: u32,
     _pad2: u32,
 };
@@ -51,7 +53,8 @@ struct GpuLight {
     method: u32,
     // SHAPE_CASCADES, SHAPE_SINGLE or SHAPE_CUBE.
     shape: u32,
-    _pad0: u32,
+    // Size for soft shadows: tan of a sun's angular radius, or a spot or point light's radius.
+    size: f32,
     _pad1: u32,
     _pad2: u32,
     // The cookie's projection (spots with a cookie only).
@@ -67,6 +70,10 @@ struct GpuLayer {
     // View depth where this cascade ends, and the band before it where it blends into the next.
     far: f32,
     blend: f32,
+    // How its projection turns distance from the light into depth (see view_distance).
+    depth_terms: vec2<f32>,
+    _pad0: u32,
+    _pad1: u32,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;

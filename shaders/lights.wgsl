@@ -36,33 +36,40 @@ fn texel_size(index: u32, distance: f32) -> f32 {
 }
 
 // The shadow test through layer `index` of the array, `distance` metres from the light.
-fn layer_test(light: GpuLight, index: u32, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>) -> f32 {
-    let biased = biased_point(p, n, l, texel_size(index, distance), light_bias(light));
-    return shadow_lookup(layers[index].clip_from_world, index, biased, light.method);
+fn layer_test(light: GpuLight, index: u32, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint) -> f32 {
+    let texel = texel_size(index, distance);
+    let biased = biased_point(p, n, l, texel, light_bias(light));
+    return shadow_lookup(layer_ref(light, index), biased, light.method, f, frame.receiver_plane == 1u, l, texel);
+}
+
+// Layer `index` of `light` as a lookup sees it.
+fn layer_ref(light: GpuLight, index: u32) -> LayerRef {
+    return LayerRef(index, layers[index], light.size, light.shape != SHAPE_CASCADES);
 }
 
 // The shadow test through a light's cube. With seams handled (frame.cube_seams), the face is
 // picked for the biased point, so the lookup lands on the face it reads (and the faces reach a
 // few texels past their edges for the filters); without, it is picked for the surface point and
 // a biased point next to a seam can fall off its face, which reads as lit.
-fn cube_test(light: GpuLight, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>) -> f32 {
+fn cube_test(light: GpuLight, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint) -> f32 {
     // Every face has texels of the same size.
-    let biased = biased_point(p, n, l, texel_size(light.first_layer, distance), light_bias(light));
+    let texel = texel_size(light.first_layer, distance);
+    let biased = biased_point(p, n, l, texel, light_bias(light));
     let picked = select(p, biased, frame.cube_seams == 1u);
     let index = light.first_layer + cube_face(picked - light.position);
-    return shadow_lookup(layers[index].clip_from_world, index, biased, light.method);
+    return shadow_lookup(layer_ref(light, index), biased, light.method, f, frame.receiver_plane == 1u, l, texel);
 }
 
 // Visibility of a sun at `p` (view depth `depth`): past the last cascade everything is lit, and
 // the shadow fades out before it rather than ending in a hard edge.
-fn sun_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, depth: f32) -> f32 {
+fn sun_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint, depth: f32) -> f32 {
     let pick = pick_cascade(light, depth);
     if (pick.index >= light.layer_count) {
         return 1.0;
     }
-    var vis = layer_test(light, light.first_layer + pick.index, 0.0, p, n, l);
+    var vis = layer_test(light, light.first_layer + pick.index, 0.0, p, n, l, f);
     if (pick.next_weight > 0.0) {
-        vis = mix(vis, layer_test(light, light.first_layer + pick.index + 1u, 0.0, p, n, l), pick.next_weight);
+        vis = mix(vis, layer_test(light, light.first_layer + pick.index + 1u, 0.0, p, n, l, f), pick.next_weight);
     }
     let fade = smoothstep(frame.fade_start, frame.shadow_distance, depth);
     return mix(vis, 1.0, fade);
@@ -82,19 +89,19 @@ fn cube_face(d: vec3<f32>) -> u32 {
 }
 
 // Visibility of light `light` at `p`, `distance` metres from it (1 where it casts no shadow).
-fn light_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, depth: f32, distance: f32) -> f32 {
+fn light_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint, depth: f32, distance: f32) -> f32 {
     if (light.layer_count == 0u) {
         return 1.0;
     }
     switch light.shape {
         case SHAPE_CASCADES: {
-            return sun_visibility(light, p, n, l, depth);
+            return sun_visibility(light, p, n, l, f, depth);
         }
         case SHAPE_SINGLE: {
-            return layer_test(light, light.first_layer, distance, p, n, l);
+            return layer_test(light, light.first_layer, distance, p, n, l, f);
         }
         default: {
-            return cube_test(light, distance, p, n, l);
+            return cube_test(light, distance, p, n, l, f);
         }
     }
 }
@@ -148,9 +155,9 @@ struct LightSample {
     cookie: f32,
 };
 
-// Light `i` at `p` (unit normal `n`, view depth `depth`); `test` says whether to look up its
-// shadow.
-fn light_sample(i: u32, p: vec3<f32>, n: vec3<f32>, depth: f32, test: bool) -> LightSample {
+// Light `i` at `p` (unit normal `n`, footprint `f`, view depth `depth`); `test` says whether to
+// look up its shadow.
+fn light_sample(i: u32, p: vec3<f32>, n: vec3<f32>, f: Footprint, depth: f32, test: bool) -> LightSample {
     let light = lights[i];
     var s = LightSample(-light.direction, 1.0, 1.0, 1.0);
     var distance = 0.0;
@@ -173,7 +180,7 @@ fn light_sample(i: u32, p: vec3<f32>, n: vec3<f32>, depth: f32, test: bool) -> L
     }
     if (s.reach > 0.0) {
         if (test) {
-            s.visibility = light_visibility(light, p, n, s.l, depth, distance);
+            s.visibility = light_visibility(light, p, n, s.l, f, depth, distance);
         }
         s.cookie = cookie(light, p);
     }

@@ -76,12 +76,12 @@ struct Shaded {
     visibility: vec4<f32>,
 };
 
-fn shade(world: vec3<f32>, n: vec3<f32>, r: Response, test: bool) -> Shaded {
+fn shade(world: vec3<f32>, n: vec3<f32>, f: Footprint, r: Response, test: bool) -> Shaded {
     let v = normalize(frame.camera_position - world);
     let depth = dot(world - frame.camera_position, frame.camera_forward);
     var out = Shaded(r.albedo * frame.ambient, vec4<f32>(-1.0));
     for (var i = 0u; i < min(frame.light_count, MAX_LIGHTS); i += 1u) {
-        let s = light_sample(i, world, n, depth, test);
+        let s = light_sample(i, world, n, f, depth, test);
         if (s.reach > 0.0) {
             let k = i - frame.first_measured;
             if (i >= frame.first_measured && k < MEASURED_PER_PASS) {
@@ -106,10 +106,16 @@ fn response(s: Surface) -> Response {
     return Response(s.albedo.rgb, object.specular, object.shininess);
 }
 
+// The fragment's footprint; taken before anything can branch, as derivatives must be.
+fn footprint(in: VertexOut) -> Footprint {
+    return Footprint(dpdx(in.world), dpdy(in.world), in.clip.xy);
+}
+
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let f = footprint(in);
     let s = surface(in, front);
-    let color = shade(in.world, s.normal, response(s), receives_shadows()).color;
+    let color = shade(in.world, s.normal, f, response(s), receives_shadows()).color;
     return vec4<f32>(color, select(1.0, s.albedo.a, ALPHA_BLEND));
 }
 
@@ -126,8 +132,9 @@ struct DebugOut {
 
 @fragment
 fn fs_debug(in: VertexOut, @builtin(front_facing) front: bool) -> DebugOut {
+    let f = footprint(in);
     let s = surface(in, front);
-    let shaded = shade(in.world, s.normal, response(s), receives_shadows());
+    let shaded = shade(in.world, s.normal, f, response(s), receives_shadows());
     let depth = dot(in.world - frame.camera_position, frame.camera_forward);
     return DebugOut(
         bitcast<vec4<u32>>(vec4<f32>(in.world, 1.0)),
@@ -162,5 +169,6 @@ fn vs_probe(@builtin(vertex_index) i: u32, v: ProbeIn) -> ProbeOut {
 @fragment
 fn fs_probe(in: ProbeOut) -> @location(0) vec4<u32> {
     let white = Response(vec3<f32>(1.0), 0.0, 1.0);
-    return bitcast<vec4<u32>>(shade(in.world, normalize(in.normal), white, true).visibility);
+    let f = Footprint(vec3<f32>(0.0), vec3<f32>(0.0), in.clip.xy);
+    return bitcast<vec4<u32>>(shade(in.world, normalize(in.normal), f, white, true).visibility);
 }

@@ -15,52 +15,243 @@ struct Bias {
     normal: f32,
 };
 
+// What a lookup knows of the receiving surface besides its point: how its world position changes
+// to the next pixel right and down (screen-space derivatives, for the receiver plane) and the
+// pixel itself (to turn Poisson discs). Where there are no neighbours (probes) both changes are
+// zero and no plane is found.
+struct Footprint {
+    dp_dx: vec3<f32>,
+    dp_dy: vec3<f32>,
+    pixel: vec2<f32>,
+};
+
+// Where a lookup lands in a layer: the map position, the depth compared there, and how the
+// receiver's depth changes across the map (depth per unit of uv; zero when not used).
+struct ShadowCoord {
+    uv: vec2<f32>,
+    layer: u32,
+    depth: f32,
+    plane: vec2<f32>,
+    pixel: vec2<f32>,
+};
+
+// A 2x2 comparison at `at` with the receiver's depth there: on its plane, not at the centre.
+fn compare_at(c: ShadowCoord, at: vec2<f32>) -> f32 {
+    let depth = c.depth + dot(c.plane, at - c.uv);
+    return textureSampleCompareLevel(shadow_maps, shadow_sampler, at, c.layer, depth);
+}
+
+fn map_size() -> vec2<f32> {
+    return vec2<f32>(textureDimensions(shadow_maps));
+}
+
 // One comparison with the texel under `uv`: at a texel centre the bilinear weights are all on
 // that texel.
-fn shadow_nearest(uv: vec2<f32>, layer: u32, depth: f32) -> f32 {
-    let size = vec2<f32>(textureDimensions(shadow_maps));
-    let centre = (floor(uv * size) + 0.5) / size;
-    return textureSampleCompareLevel(shadow_maps, shadow_sampler, centre, layer, depth);
+fn shadow_nearest(c: ShadowCoord) -> f32 {
+    let centre = (floor(c.uv * map_size()) + 0.5) / map_size();
+    return textureSampleCompareLevel(shadow_maps, shadow_sampler, centre, c.layer, c.depth);
 }
 
 // The hardware's 2x2 comparison filter.
-fn shadow_bilinear(uv: vec2<f32>, layer: u32, depth: f32) -> f32 {
-    return textureSampleCompareLevel(shadow_maps, shadow_sampler, uv, layer, depth);
+fn shadow_bilinear(c: ShadowCoord) -> f32 {
+    return textureSampleCompareLevel(shadow_maps, shadow_sampler, c.uv, c.layer, c.depth);
 }
 
 // Percentage-closer filtering (Reeves, Salesin and Cook 1987): a (2r + 1)² grid of 2x2
 // comparisons one texel apart, averaged.
-fn shadow_pcf(uv: vec2<f32>, layer: u32, depth: f32, r: i32) -> f32 {
-    let size = vec2<f32>(textureDimensions(shadow_maps));
+fn shadow_pcf(c: ShadowCoord, r: i32) -> f32 {
     var sum = 0.0;
     for (var y = -r; y <= r; y += 1) {
         for (var x = -r; x <= r; x += 1) {
-            let at = uv + vec2<f32>(f32(x), f32(y)) / size;
-            sum += textureSampleCompareLevel(shadow_maps, shadow_sampler, at, layer, depth);
+            sum += compare_at(c, c.uv + vec2<f32>(f32(x), f32(y)) / map_size());
         }
     }
     let n = f32((2 * r + 1) * (2 * r + 1));
     return sum / n;
 }
 
+// The optimised Gaussian PCF of Castaño (2013, "Shadow Mapping Summary, part 1"; shipped by The
+// Witness, Bevy and Filament): a 5x5-texel kernel with tent-like weights, taken as 3x3 bilinear
+// comparisons placed between texels so that their bilinear weights add up to the kernel's. Along
+// each axis, with s the point's place between two texel centres, the three taps weigh 4 - 3s, 7
+// and 1 + 3s (12 in all) and sit where those weights split between their texels.
+fn shadow_gauss5(c: ShadowCoord) -> f32 {
+    let t = c.uv * map_size() + 0.5;
+    let base = floor(t) - 0.5;
+    let s = t - floor(t);
+    let w = array<vec2<f32>, 3>(4.0 - 3.0 * s, vec2<f32>(7.0), 1.0 + 3.0 * s);
+    let o = array<vec2<f32>, 3>((3.0 - 2.0 * s) / w[0] - 2.0, (3.0 + s) / 7.0, s / w[2] + 2.0);
+    var sum = 0.0;
+    for (var j = 0; j < 3; j += 1) {
+        for (var i = 0; i < 3; i += 1) {
+            let at = (base + vec2<f32>(o[i].x, o[j].y)) / map_size();
+            sum += w[i].x * w[j].y * compare_at(c, at);
+        }
+    }
+    return sum / 144.0;
+}
+
+// Interleaved gradient noise (Jimenez 2014, "Next generation post processing in Call of Duty:
+// Advanced Warfare"): a value in 0..1 per pixel whose neighbours differ as much as they can.
+fn interleaved_gradient_noise(pixel: vec2<f32>) -> f32 {
+    return fract(52.9829189 * fract(dot(floor(pixel), vec2<f32>(0.06711056, 0.00583715))));
+}
+
+// The rotation (cos, sin) a pixel turns its Poisson disc by.
+fn disc_turn(pixel: vec2<f32>) -> vec2<f32> {
+    let a = 6.2831853 * interleaved_gradient_noise(pixel);
+    return vec2<f32>(cos(a), sin(a));
+}
+
+// Point `d` of a unit disc turned by `turn` and scaled to `radius` texels, as a uv offset.
+fn disc_offset(d: vec2<f32>, turn: vec2<f32>, radius: f32) -> vec2<f32> {
+    let r = vec2<f32>(d.x * turn.x - d.y * turn.y, d.x * turn.y + d.y * turn.x);
+    return r * radius / map_size();
+}
+
+// Poisson-disc PCF: comparisons spread evenly over a disc (points no two of which are close,
+// src/shadow/poisson.rs), the disc turned per pixel so the pattern's banding becomes fine noise.
+fn shadow_poisson16(c: ShadowCoord, radius: f32) -> f32 {
+    var disc = POISSON_16;
+    let turn = disc_turn(c.pixel);
+    var sum = 0.0;
+    for (var i = 0; i < 16; i += 1) {
+        sum += compare_at(c, c.uv + disc_offset(disc[i], turn, radius));
+    }
+    return sum / 16.0;
+}
+
+fn shadow_poisson32(c: ShadowCoord, radius: f32) -> f32 {
+    var disc = POISSON_32;
+    let turn = disc_turn(c.pixel);
+    var sum = 0.0;
+    for (var i = 0; i < 32; i += 1) {
+        sum += compare_at(c, c.uv + disc_offset(disc[i], turn, radius));
+    }
+    return sum / 32.0;
+}
+
+// One layer as a lookup sees it: its slot in the array, its data, the size of its light (see
+// GpuLight.size) and whether its projection is a perspective one (spots and cube faces).
+struct LayerRef {
+    index: u32,
+    layer: GpuLayer,
+    light_size: f32,
+    perspective: bool,
+};
+
+// Distance from the light along the layer's view axis of depth `z`, as `shadow::view_distance`
+// computes it.
+fn view_distance(at: LayerRef, z: f32) -> f32 {
+    let t = at.layer.depth_terms;
+    if (at.perspective) {
+        return t.y / (z + t.x);
+    }
+    return (t.y - z) / t.x;
+}
+
+// Widest penumbra PCSS draws (and so the widest it searches for blockers), in texels, and
+// the depth levels its blocker search compares with.
+const PCSS_MAX_PENUMBRA: f32 = 24.0;
+const PCSS_LEVELS: i32 = 6;
+
+// How far, in texels at the receiver `receiver` metres from the light, a blocker `blocker`
+// metres from it shifts its shadow for each side of the light: for a sun, (receiver - blocker)
+// times tan of its angular radius; for a light of radius R, R (receiver - blocker) / blocker
+// at the receiver (similar triangles); over the texel's size there.
+fn penumbra_texels(at: LayerRef, receiver: f32, blocker: f32) -> f32 {
+    let gap = max(receiver - blocker, 0.0);
+    let texel = at.layer.texel_base + at.layer.texel_per_metre * receiver;
+    if (at.perspective) {
+        return at.light_size * gap / max(blocker, 1e-4) / max(texel, 1e-9);
+    }
+    return at.light_size * gap / max(texel, 1e-9);
+}
+
+// The depth of a blocker whose penumbra at the receiver is `w` texels wide: penumbra_texels
+// turned round, then view_distance turned round.
+fn depth_for_penumbra(at: LayerRef, receiver: f32, w: f32) -> f32 {
+    let texel = at.layer.texel_base + at.layer.texel_per_metre * receiver;
+    let shift = w * texel / max(at.light_size, 1e-9);
+    let t = at.layer.depth_terms;
+    if (at.perspective) {
+        return t.y * (1.0 + shift) / receiver - t.x;
+    }
+    return t.y - t.x * (receiver - shift);
+}
+
+// Percentage-closer soft shadows (Fernando 2005, "Percentage-closer soft shadows"): search the
+// part of the map through which the light's disc sees the receiver for blockers, estimate how
+// wide a penumbra they throw, and filter with a Poisson disc that wide. No blocker: lit.
+//
+// The search reads the maps only through comparisons (GL cannot read a depth map's raw values),
+// so it finds the blockers' mean penumbra, not their mean depth: for each tap it compares with
+// the depths whose blockers would throw penumbrae of w_1 < w_2 < ... texels. The share of
+// blockers throwing more than w is the share of taps nearer than that depth over the share
+// nearer than the receiver, and the mean penumbra is the integral of that share over w.
+fn shadow_pcss(c: ShadowCoord, at: LayerRef) -> f32 {
+    let receiver = view_distance(at, c.depth);
+    // A blocker at the map's near plane throws the widest penumbra: search that far.
+    let widest = clamp(penumbra_texels(at, receiver, max(view_distance(at, 0.0), 1e-3)), 0.5, PCSS_MAX_PENUMBRA);
+    let step = widest / f32(PCSS_LEVELS);
+    var levels: array<f32, PCSS_LEVELS>;
+    for (var k = 0; k < PCSS_LEVELS; k += 1) {
+        levels[k] = depth_for_penumbra(at, receiver, (f32(k) + 0.5) * step);
+    }
+    var disc = POISSON_16;
+    let turn = disc_turn(c.pixel);
+    var blocked = 0.0;
+    var beyond = 0.0;
+    for (var i = 0; i < 16; i += 1) {
+        let tap = c.uv + disc_offset(disc[i], turn, widest);
+        let along = dot(c.plane, tap - c.uv);
+        blocked += 1.0 - textureSampleCompareLevel(shadow_maps, shadow_sampler, tap, c.layer, c.depth + along);
+        for (var k = 0; k < PCSS_LEVELS; k += 1) {
+            beyond += 1.0 - textureSampleCompareLevel(shadow_maps, shadow_sampler, tap, c.layer, levels[k] + along);
+        }
+    }
+    if (blocked < 1e-3) {
+        return 1.0;
+    }
+    let radius = clamp(step * beyond / blocked, 0.5, PCSS_MAX_PENUMBRA);
+    return shadow_poisson32(c, radius);
+}
+
 fn method_used(method: u32) -> bool {
     return (SHADOW_METHODS & (1u << method)) != 0u;
 }
 
-// The lookup of `method` (a METHOD_* constant).
-fn sample_shadow(method: u32, uv: vec2<f32>, layer: u32, depth: f32) -> f32 {
+// True for methods that compare away from the lookup's own point.
+fn method_spreads(method: u32) -> bool {
+    return method != METHOD_NEAREST && method != METHOD_BILINEAR;
+}
+
+// The lookup of `method` (a METHOD_* constant) in layer `at`.
+fn sample_shadow(method: u32, c: ShadowCoord, at: LayerRef) -> f32 {
     let only = countOneBits(SHADOW_METHODS) == 1u;
     if (method_used(METHOD_NEAREST) && (only || method == METHOD_NEAREST)) {
-        return shadow_nearest(uv, layer, depth);
+        return shadow_nearest(c);
     }
     if (method_used(METHOD_BILINEAR) && (only || method == METHOD_BILINEAR)) {
-        return shadow_bilinear(uv, layer, depth);
+        return shadow_bilinear(c);
     }
     if (method_used(METHOD_PCF3) && (only || method == METHOD_PCF3)) {
-        return shadow_pcf(uv, layer, depth, 1);
+        return shadow_pcf(c, 1);
     }
     if (method_used(METHOD_PCF5) && (only || method == METHOD_PCF5)) {
-        return shadow_pcf(uv, layer, depth, 2);
+        return shadow_pcf(c, 2);
+    }
+    if (method_used(METHOD_GAUSS5) && (only || method == METHOD_GAUSS5)) {
+        return shadow_gauss5(c);
+    }
+    if (method_used(METHOD_POISSON16) && (only || method == METHOD_POISSON16)) {
+        return shadow_poisson16(c, POISSON16_RADIUS);
+    }
+    if (method_used(METHOD_POISSON32) && (only || method == METHOD_POISSON32)) {
+        return shadow_poisson32(c, POISSON32_RADIUS);
+    }
+    if (method_used(METHOD_PCSS) && (only || method == METHOD_PCSS)) {
+        return shadow_pcss(c, at);
     }
     return 1.0;
 }
@@ -75,9 +266,48 @@ fn biased_point(p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, texel: f32, bias: Bias
     return p + n * (bias.normal * texel) + l * ((bias.constant + bias.slope * tan_t) * texel);
 }
 
-// Visibility of the (already biased) world point `biased` in shadow-map `layer` seen through
-// `clip_from_world`: 1 lit, 0 shadowed. Points outside the map are lit.
-fn shadow_lookup(clip_from_world: mat4x4<f32>, layer: u32, biased: vec3<f32>, method: u32) -> f32 {
+// How ndc = clip.xyz / clip.w of a layer changes when the world point moves by `dp`.
+fn ndc_change(clip_from_world: mat4x4<f32>, clip: vec4<f32>, dp: vec3<f32>) -> vec3<f32> {
+    let d = clip_from_world * vec4<f32>(dp, 0.0);
+    return (d.xyz * clip.w - clip.xyz * d.w) / (clip.w * clip.w);
+}
+
+// Steepest receiver plane used, as the tangent of the surface's angle to the map (84°): beyond
+// it derivatives say more about the pixel grid than about the surface.
+const MAX_PLANE_SLOPE: f32 = 10.0;
+
+// Receiver-plane depth bias (Isidoro 2006, "Shadow mapping: GPU-based tips and techniques"):
+// from how the map position (u, v) and the depth z change per pixel right (x) and down (y),
+// solve for how z changes per unit of u and of v across the map, so a filter compares each tap
+// with the depth of the receiver's plane there. The surface moves `toward` (world units towards
+// the light) by `depth_per_metre` of depth a metre and spans `texel` metres a texel.
+//
+// Safe where derivatives are not: a surface seen edge-on in the map (the two pixel steps land
+// on one line of it) or not finite gives no plane (the centre depth for every tap), and a plane
+// steeper than MAX_PLANE_SLOPE is laid down to it.
+fn receiver_plane(dx: vec3<f32>, dy: vec3<f32>, depth_per_metre: f32, texel: f32) -> vec2<f32> {
+    let du = vec2<f32>(dx.x, dy.x) * 0.5;
+    let dv = vec2<f32>(dx.y, dy.y) * -0.5;
+    let det = du.x * dv.y - du.y * dv.x;
+    let scale = length(vec2<f32>(dx.x, dx.y)) * length(vec2<f32>(dy.x, dy.y)) * 0.25;
+    if (!(abs(det) > 1e-4 * scale) || !(scale > 0.0)) {
+        return vec2<f32>(0.0);
+    }
+    let plane = vec2<f32>(dx.z * dv.y - dy.z * dv.x, dy.z * du.x - dx.z * du.y) / det;
+    let steepest = MAX_PLANE_SLOPE * abs(depth_per_metre) * texel * map_size().x;
+    let len = length(plane);
+    if (!(len <= 3.0e38)) {
+        return vec2<f32>(0.0);
+    }
+    return plane * min(1.0, steepest / max(len, 1e-30));
+}
+
+// Visibility of the (already biased) world point `biased` in layer `at`: 1 lit, 0 shadowed.
+// Points outside the map are lit. With `plane_on`, a spreading filter compares with the
+// receiver's plane; `l` is the unit direction towards the light and `texel` the texel's world
+// size at the point.
+fn shadow_lookup(at: LayerRef, biased: vec3<f32>, method: u32, f: Footprint, plane_on: bool, l: vec3<f32>, texel: f32) -> f32 {
+    let clip_from_world = at.layer.clip_from_world;
     let clip = clip_from_world * vec4<f32>(biased, 1.0);
     if (clip.w <= 0.0) {
         return 1.0;
@@ -87,5 +317,11 @@ fn shadow_lookup(clip_from_world: mat4x4<f32>, layer: u32, biased: vec3<f32>, me
     if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0) {
         return 1.0;
     }
-    return sample_shadow(method, uv, layer, ndc.z);
+    var c = ShadowCoord(uv, at.index, ndc.z, vec2<f32>(0.0), f.pixel);
+    if (plane_on && method_spreads(method)) {
+        let dx = ndc_change(clip_from_world, clip, f.dp_dx);
+        let dy = ndc_change(clip_from_world, clip, f.dp_dy);
+        c.plane = receiver_plane(dx, dy, ndc_change(clip_from_world, clip, l).z, texel);
+    }
+    return sample_shadow(method, c, at);
 }

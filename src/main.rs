@@ -73,7 +73,7 @@ struct SceneArgs {
     #[arg(long)]
     cascade_debug: bool,
     /// How shadow maps are sampled, for every light without a method of its own: nearest,
-    /// bilinear, pcf3 or pcf5.
+    /// bilinear, pcf3, pcf5, gauss5, poisson16, poisson32 or pcss.
     #[arg(long, alias = "filter", value_name = "METHOD")]
     method: Option<ShadowMethod>,
     /// Which casters shadow maps take: light (all in the light's volume) or camera (only those

@@ -46,6 +46,10 @@ pub struct Settings {
     /// let each face reach [`CUBE_MARGIN`] texels past its 90° edge for the filters (off shows
     /// the seams).
     pub cube_seams: bool,
+    /// Filters compare each of their taps with the depth the receiver's plane has there
+    /// (receiver-plane depth bias), not with the depth at the lookup's centre (off shows the
+    /// "soft acne" of wide kernels on lit slopes).
+    pub receiver_plane: bool,
     /// Ambient light level (0..1) that reaches every surface.
     pub ambient: f32,
     /// Number of animated cubes in the sample scene.
@@ -86,6 +90,7 @@ impl Default for Settings {
             shadow_faces: ShadowFaces::Both,
             reuse_shadow_maps: true,
             cube_seams: true,
+            receiver_plane: true,
             spot_map_limit: crate::shadow::MAX_MAP_HALF_ANGLE,
             ambient: 0.12,
             cubes: 10,
@@ -133,7 +138,11 @@ named_choices!(
     Nearest = "nearest",
     Bilinear = "bilinear",
     Pcf3 = "pcf3",
-    Pcf5 = "pcf5"
+    Pcf5 = "pcf5",
+    Gauss5 = "gauss5",
+    Poisson16 = "poisson16",
+    Poisson32 = "poisson32",
+    Pcss = "pcss"
 );
 named_choices!(CasterCulling, "a culling mode", LightVolume = "light", CameraView = "camera");
 
@@ -161,7 +170,7 @@ pub const DEFAULT_SPLIT_LAMBDA: f32 = 0.75;
 
 /// Texels a cube face reaches past its edge when seams are handled: as far as the widest method
 /// samples.
-pub const CUBE_MARGIN: u32 = 3;
+pub const CUBE_MARGIN: u32 = 4;
 
 /// Largest shadow-map layer accepted (the device may allow less; the renderer checks again).
 pub const MAX_SHADOW_MAP_SIZE: u32 = 8192;
@@ -231,6 +240,13 @@ impl Settings {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cube_faces_reach_as_far_as_every_method_samples() {
+        for m in ShadowMethod::ALL {
+            assert!(m.reach() <= CUBE_MARGIN, "{m:?} reaches {} texels", m.reach());
+        }
+    }
 
     #[test]
     fn defaults_are_valid() {

@@ -130,3 +130,8 @@ fn a_170_degree_spot_is_shadowed_to_its_rim_but_not_through_one_map() {
     let one_map = Settings { spot_map_limit: 85f32.to_radians(), ..Settings::default() };
     holds_and_breaks("wide-spot", one_map);
 }
+
+#[test]
+fn a_wide_filter_leaves_a_lit_slope_lit_but_darkens_it_without_the_receiver_plane() {
+    holds_and_breaks("soft-acne", Settings { receiver_plane: false, ..Settings::default() });
+}

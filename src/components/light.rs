@@ -101,6 +101,9 @@ pub struct ShadowLayer {
     pub far: f32,
     /// Width of the band before `far` where this cascade blends into the next.
     pub blend: f32,
+    /// How its projection turns distance from the light into depth
+    /// ([`crate::shadow::depth_terms`]).
+    pub depth: Vec2,
     /// The layer changed in the last update and its map must be drawn again.
     pub dirty: bool,
     /// Identifies the layer's contents: a new number each time it becomes dirty, so a renderer
@@ -159,6 +162,16 @@ pub enum ShadowMethod {
     Pcf3 = 2,
     /// A 5x5 grid of 2x2 comparisons.
     Pcf5 = 3,
+    /// A 5x5-texel kernel with tent-like weights taken as nine 2x2 comparisons (Castaño 2013,
+    /// the one Bevy and Filament ship).
+    Gauss5 = 4,
+    /// 16 comparisons over a disc 1.5 texels in radius, turned per pixel (Poisson-disc PCF).
+    Poisson16 = 5,
+    /// 32 comparisons over a disc 2.5 texels in radius, turned per pixel.
+    Poisson32 = 6,
+    /// Percentage-closer soft shadows (Fernando 2005): a blocker search, then a Poisson filter
+    /// as wide as the penumbra the light's size and the blocker's distance give.
+    Pcss = 7,
 }
 
 impl ShadowMethod {
@@ -169,8 +182,26 @@ impl ShadowMethod {
             ShadowMethod::Nearest => 0,
             ShadowMethod::Bilinear => 1,
             ShadowMethod::Pcf3 => 2,
-            ShadowMethod::Pcf5 => 3,
+            ShadowMethod::Pcf5 | ShadowMethod::Gauss5 | ShadowMethod::Poisson16 => 3,
+            // PCSS reaches as far as its penumbra; on a cube face it may read past the face's
+            // margin, where the edge texels repeat.
+            ShadowMethod::Poisson32 | ShadowMethod::Pcss => 4,
         }
+    }
+
+    /// Radius in texels of the disc a Poisson filter spreads its comparisons over (0 for the
+    /// others).
+    pub fn disc_radius(self) -> f32 {
+        match self {
+            ShadowMethod::Poisson16 => 1.5,
+            ShadowMethod::Poisson32 => 2.5,
+            _ => 0.0,
+        }
+    }
+
+    /// It compares with depths away from the lookup's own point, so the receiver plane matters.
+    pub fn spreads(self) -> bool {
+        !matches!(self, ShadowMethod::Nearest | ShadowMethod::Bilinear)
     }
 }
 

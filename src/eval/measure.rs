@@ -81,6 +81,8 @@ pub enum CaseScene {
     CubeSeams,
     /// Boxes in the outer ring of a 170° spot.
     WideSpot,
+    /// An open plane under a low sun, sampled by PCF 5x5.
+    SoftAcne,
 }
 
 /// The truth of a frame: one column per light in the frame's order (sun, then spots), one entry

@@ -146,6 +146,31 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str) -> Result<String, Resu
     Ok(summary)
 }
 
+/// Each method's error against the soft truth light by light, on the rows that differ from the
+/// default only in how maps are sampled: where a filter helps (wide penumbrae) and where it blurs
+/// more than the light does.
+fn by_method(rows: &[Row]) -> String {
+    let d = Config::default_settings();
+    let same = |c: &Config| Config { method: d.method, receiver_plane: d.receiver_plane, ..*c } == d;
+    let rows: Vec<&Row> = rows.iter().filter(|r| same(&r.config)).collect();
+    let Some(first) = rows.first() else { return String::new() };
+    let mut out = String::from(
+        "\nMean absolute error against the soft truth light by light, method by method:\n\n| configuration |",
+    );
+    for name in &first.lights {
+        let _ = write!(out, " {name} |");
+    }
+    out += &format!("\n| --- |{}\n", " --- |".repeat(first.lights.len()));
+    for r in rows {
+        let _ = write!(out, "| {} |", r.config.label());
+        for report in &r.scene {
+            let _ = write!(out, " {:.4} |", report.all.mae_soft());
+        }
+        out.push('\n');
+    }
+    out
+}
+
 /// The results in Markdown: every configuration by cost, the front marked, then each case.
 pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
     let default = Config::default_settings();
@@ -187,6 +212,7 @@ pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
             );
         }
     }
+    out += &by_method(rows);
     out += "\n| case | what it counts | threshold % | default % | best % (configuration) |\n| --- | --- | --- | --- | --- |\n";
     for (k, case) in CASES.iter().enumerate() {
         let at_default = rows.iter().find(|r| r.config == default).map_or(f64::NAN, |r| r.cases[k].value());

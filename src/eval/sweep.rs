@@ -28,6 +28,8 @@ pub struct Config {
     pub bias: f32,
     /// Faces drawn into the maps.
     pub faces: ShadowFaces,
+    /// Filters compare with the receiver's plane.
+    pub receiver_plane: bool,
 }
 
 impl Config {
@@ -41,6 +43,7 @@ impl Config {
             method: d.method,
             bias: d.depth_bias,
             faces: d.shadow_faces,
+            receiver_plane: d.receiver_plane,
         }
     }
 
@@ -55,6 +58,7 @@ impl Config {
             slope_bias: self.bias,
             normal_bias: self.bias,
             shadow_faces: self.faces,
+            receiver_plane: self.receiver_plane,
             ..base.clone()
         }
     }
@@ -75,13 +79,25 @@ impl Config {
         if self.faces != d.faces {
             out += &format!(" {}", self.faces.name());
         }
+        if !self.receiver_plane {
+            out += " flat";
+        }
         out
     }
 
-    /// A short name: `2048 x4 stable bilinear b1`, with `back` when only back faces are drawn.
+    /// A short name: `2048 x4 stable bilinear b1`, with `back` when only back faces are drawn and
+    /// `flat` when filters compare with the centre's depth, not the receiver's plane.
     pub fn label(&self) -> String {
         let faces = if self.faces == ShadowFaces::Back { " back" } else { "" };
-        format!("{} x{} {} {} b{}{faces}", self.map_size, self.cascades, self.fit.name(), self.method.name(), self.bias)
+        let flat = if self.receiver_plane { "" } else { " flat" };
+        format!(
+            "{} x{} {} {} b{}{faces}{flat}",
+            self.map_size,
+            self.cascades,
+            self.fit.name(),
+            self.method.name(),
+            self.bias
+        )
     }
 }
 
@@ -107,9 +123,13 @@ pub fn configs(quick: bool) -> Vec<Config> {
         for fit in [FitMode::Unsnapped, FitMode::Tight] {
             push(Config { map_size, fit, ..d });
         }
-        for method in [ShadowMethod::Nearest, ShadowMethod::Pcf3, ShadowMethod::Pcf5] {
+        for &method in ShadowMethod::ALL {
             push(Config { map_size, method, ..d });
         }
+    }
+    // What the receiver plane does for the grid filters: the same without it.
+    for method in [ShadowMethod::Pcf3, ShadowMethod::Pcf5] {
+        push(Config { method, receiver_plane: false, ..d });
     }
     let biases: &[f32] = if quick { &[0.0] } else { &[0.0, 0.25, 1.0, 2.0, 4.0] };
     for &bias in biases {

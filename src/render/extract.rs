@@ -90,6 +90,15 @@ impl FrameData {
 }
 
 /// A light as the shaders read it, its layers from slot `first_layer` on.
+/// A light's size as PCSS takes it: tan of a sun's angular radius (so a blocker's distance times
+/// it is the penumbra's half width), a spot or point light's radius in metres.
+fn light_size(kind: &LightKind) -> f32 {
+    match *kind {
+        LightKind::Sun { angular_radius, .. } => angular_radius.min(1.5).tan(),
+        LightKind::Spot { radius, .. } | LightKind::Point { radius, .. } => radius,
+    }
+}
+
 fn gpu_light(light: &SceneLight, first_layer: usize, layer_count: usize) -> GpuLight {
     let mut g = GpuLight {
         color: light.color.to_array(),
@@ -102,6 +111,7 @@ fn gpu_light(light: &SceneLight, first_layer: usize, layer_count: usize) -> GpuL
         bias_normal: light.bias.normal,
         method: light.method as u32,
         shape: shape_id(light.shape),
+        size: light_size(&light.kind),
         ..GpuLight::zeroed()
     };
     match light.kind {
@@ -223,6 +233,9 @@ pub fn extract(world: &mut World) -> FrameData {
                 texel_per_metre: l.texel.y,
                 far: l.far,
                 blend: l.blend,
+                depth_terms: l.depth.to_array(),
+                _pad0: 0,
+                _pad1: 0,
             }));
         }
     }
@@ -238,6 +251,7 @@ pub fn extract(world: &mut World) -> FrameData {
         cascade_debug: settings.cascade_debug as u32,
         light_count: lights.len() as u32,
         cube_seams: settings.cube_seams as u32,
+        receiver_plane: settings.receiver_plane as u32,
         ..Frame::zeroed()
     };
     let items = items.into_iter().map(|(item, _)| item).collect();

@@ -80,7 +80,8 @@ gpu_struct! {
         pub probe_height: u32,
         /// 1 when the seams of shadow cubes are handled.
         pub cube_seams: u32,
-        pub _pad0: u32,
+        /// 1 when filters compare each tap with the receiver's plane.
+        pub receiver_plane: u32,
         pub _pad1: u32,
         pub _pad2: u32,
     }
@@ -119,7 +120,9 @@ gpu_struct! {
         pub method: u32,
         /// [`SHAPE_CASCADES`], [`SHAPE_SINGLE`] or [`SHAPE_CUBE`].
         pub shape: u32,
-        pub _pad0: u32,
+        /// Its size for soft shadows: tan of a sun's angular radius, or a spot or point light's
+        /// radius in metres.
+        pub size: f32,
         pub _pad1: u32,
         pub _pad2: u32,
         /// World to the cookie's clip space (spots with a cookie).
@@ -140,6 +143,11 @@ gpu_struct! {
         pub far: f32,
         /// Band before `far` where this cascade blends into the next.
         pub blend: f32,
+        /// How its projection turns distance from the light into depth
+        /// ([`crate::shadow::depth_terms`]).
+        pub depth_terms: [f32; 2],
+        pub _pad0: u32,
+        pub _pad1: u32,
     }
 }
 
@@ -202,5 +210,9 @@ pub fn prelude() -> String {
         constant(&format!("METHOD_{}", method.name().to_uppercase()), *method as u64);
     }
     out.push_str(&format!("const LIGHT_FALLOFF: f32 = {:?};\n", crate::components::LIGHT_FALLOFF));
+    out.push_str(&format!("const POISSON16_RADIUS: f32 = {:?};\n", ShadowMethod::Poisson16.disc_radius()));
+    out.push_str(&format!("const POISSON32_RADIUS: f32 = {:?};\n", ShadowMethod::Poisson32.disc_radius()));
+    out.push_str(&crate::shadow::wgsl_array("POISSON_16", &crate::shadow::poisson_disc(16)));
+    out.push_str(&crate::shadow::wgsl_array("POISSON_32", &crate::shadow::poisson_disc(32)));
     out
 }

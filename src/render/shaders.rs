@@ -86,6 +86,7 @@ impl Composed {
 mod tests {
     use super::super::gpu_types;
     use super::*;
+    use crate::components::ShadowMethod;
     use naga::valid::{Capabilities, ValidationFlags, Validator};
 
     /// Parses and validates `composed`; an error names the file and line it is in.
@@ -115,7 +116,10 @@ mod tests {
             // Every value the pipelines give the constants, in every combination.
             for textured in [0.0, 1.0] {
                 for (mask, blend) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)] {
-                    for methods in 0..16u32 {
+                    // No method, each alone, and all together.
+                    let all = ShadowMethod::ALL.iter().fold(0u32, |m, &x| m | 1 << x as u32);
+                    let sets = ShadowMethod::ALL.iter().map(|&m| 1u32 << m as u32).chain([0, all]);
+                    for methods in sets {
                         let mut constants = naga::back::PipelineConstants::default();
                         constants.insert("TEXTURED".into(), textured);
                         constants.insert("ALPHA_MASK".into(), mask);

@@ -16,6 +16,21 @@ pub struct LightProjection {
     pub texel: glam::Vec2,
 }
 
+/// How a projection (right-handed, depth 0..1) turns distance along the view axis into depth:
+/// `(z_axis.z, w_axis.z)` of its matrix, with which [`view_distance`] undoes it.
+#[must_use]
+pub fn depth_terms(proj: &Mat4) -> glam::Vec2 {
+    glam::Vec2::new(proj.z_axis.z, proj.w_axis.z)
+}
+
+/// The distance along the view axis of depth `z` (0..1) of a projection with [`depth_terms`]
+/// `terms`: an orthographic one maps it linearly, a perspective one by its reciprocal. The WGSL
+/// twin is `view_distance` in shadow_sampling.wgsl.
+#[must_use]
+pub fn view_distance(terms: glam::Vec2, z: f32, perspective: bool) -> f32 {
+    if perspective { terms.y / (z + terms.x) } else { (terms.y - z) / terms.x }
+}
+
 /// Widest spot cone (half angle), as glTF allows: a hemisphere.
 pub const MAX_SPOT_HALF_ANGLE: f32 = std::f32::consts::FRAC_PI_2;
 /// Narrowest spot cone (half angle).
@@ -118,6 +133,21 @@ mod tests {
         let c = *m * p.extend(1.0);
         let n = c.truncate() / c.w;
         c.w > 0.0 && n.x.abs() <= 1.0 + 1e-4 && n.y.abs() <= 1.0 + 1e-4 && (-1e-4..=1.0 + 1e-4).contains(&n.z)
+    }
+
+    #[test]
+    fn view_distance_undoes_both_kinds_of_projection() {
+        let cases = [
+            (directx::perspective(1.2, 1.0, 0.05, 20.0), true),
+            (directx::orthographic(-5.0, 5.0, -5.0, 5.0, -3.0, 40.0), false),
+        ];
+        for (proj, perspective) in cases {
+            for d in [0.05f32, 0.5, 3.0, 19.9] {
+                let z = proj.project_point3(Vec3::new(0.3, -0.2, -d)).z;
+                let back = view_distance(depth_terms(&proj), z, perspective);
+                assert!((back - d).abs() < 1e-3 * d.max(1.0), "{perspective}: {d} came back as {back}");
+            }
+        }
     }
 
     #[test]

@@ -6,6 +6,7 @@
 mod bounds;
 mod cascade;
 mod fit;
+mod poisson;
 
 pub use bounds::{Aabb, MAX_WORLD_EXTENT, frustum_corners, intersects_clip_volume};
 pub use cascade::{
@@ -13,5 +14,6 @@ pub use cascade::{
 };
 pub use fit::{
     CUBE_FACES, LightProjection, MAX_MAP_HALF_ANGLE, MAX_SPOT_HALF_ANGLE, MIN_SPOT_HALF_ANGLE, cube_face,
-    cube_projections, light_range, light_view, spot_cone, spot_projection,
+    cube_projections, depth_terms, light_range, light_view, spot_cone, spot_projection, view_distance,
 };
+pub use poisson::{poisson_disc, wgsl_array};

@@ -249,7 +249,15 @@ fn refresh_layers(map: &mut ShadowMap, fits: &[(LightProjection, f32, f32)], for
                 Some(o) if !dirty => o.version,
                 _ => next_version(),
             };
-            ShadowLayer { clip_from_world: fit.view_proj, texel: fit.texel, far: *far, blend: *blend, dirty, version }
+            ShadowLayer {
+                clip_from_world: fit.view_proj,
+                texel: fit.texel,
+                far: *far,
+                blend: *blend,
+                depth: crate::shadow::depth_terms(&fit.proj),
+                dirty,
+                version,
+            }
         })
         .collect();
     // Writing only on a difference keeps `Changed<ShadowMap>` meaningful.

@@ -1,0 +1,124 @@
+//! The filters and PCSS against the ray-traced truth: every method's shadow where the truth puts
+//! it, and PCSS's penumbra as wide as a 10 cm light makes it: narrow where a caster is close to the
+//! ground, wide where it is high (contact hardening).
+
+mod common;
+
+use common::*;
+use glam::Vec3;
+use umbra::assets::{MeshLibrary, cube, plane};
+use umbra::components::*;
+use umbra::eval::{metrics, truth};
+use umbra::render::{HEADLESS_FORMAT, Renderer, render_debug_frame};
+use umbra::{App, Settings};
+
+fn grey() -> Material {
+    Material { specular: 0.0, shininess: 1.0, ..Material::color(0.6, 0.6, 0.6) }
+}
+
+/// Height of the low plate (over x < 0) and of the high one (over x > 0).
+const LOW: f32 = 0.25;
+const HIGH: f32 = 2.0;
+
+/// A spot light (10 cm across) 4 m over the ground shining down on two thin plates, one low and
+/// one high, seen from straight above. The penumbra of a plate's edge is 2 R h / (4 - h) wide:
+/// 1.3 cm for the low one, 20 cm for the high one.
+fn plates(method: ShadowMethod) -> App {
+    let mut app = App::empty(Settings { method, ..Settings::default() }).unwrap();
+    let (ground, block) = {
+        let mut meshes = app.world.resource_mut::<MeshLibrary>();
+        (meshes.add(plane(40.0)), meshes.add(cube(Vec3::splat(0.5))))
+    };
+    app.world.spawn((ground, Transform::default(), grey(), ShadowReceiver));
+    for (x, h) in [(-1.2, LOW), (1.2, HIGH)] {
+        let t = Transform::from_xyz(x, h, 0.0).with_scale(Vec3::new(1.0, 0.02, 1.6));
+        app.world.spawn((block, t, grey(), ShadowCaster));
+    }
+    let spot = SpotLight { range: 12.0, intensity: 4.0, inner_angle: 0.7, outer_angle: 0.8, ..Default::default() };
+    let at = Transform::from_translation(Vec3::new(0.0, 4.0, 0.0)).looking_to(Vec3::NEG_Y);
+    app.world.spawn((spot, at, ShadowMap::default()));
+    app.world.spawn(camera_at(Vec3::new(0.0, 5.0, 0.01), Vec3::ZERO));
+    app.resize(SIZE, SIZE);
+    app
+}
+
+/// What one method gives on the plates' ground against the truth (32 rays over the light).
+struct Seen {
+    tally: metrics::Tally,
+    /// Ground pixels partly lit (0.05..0.95) under the low plate's side and the high one's, as
+    /// rendered and as the soft truth has them.
+    partial_low: usize,
+    partial_high: usize,
+    truth_low: usize,
+    truth_high: usize,
+}
+
+fn measure(method: ShadowMethod) -> Seen {
+    let mut app = plates(method);
+    let gpu = gpu();
+    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
+    app.set_time(0.0);
+    let frame = render_debug_frame(&gpu, &mut renderer, &mut app, SIZE, SIZE).unwrap();
+    drop(gpu);
+    let occluders = truth::Occluders::from_world(&mut app.world);
+    let lights = truth::truth_lights(&mut app.world, truth::SizeOverride::default());
+    let truth = truth::truth_frame(&frame, &occluders, &lights, 32);
+    let on_ground = |i: usize| frame.covered(i) && frame.position[i].y.abs() < 1e-3;
+    let tally = metrics::tally(&frame, &truth[0], 0, on_ground);
+    let partial = |v: f32| (0.05..0.95).contains(&v);
+    let count = |high: bool, of: &dyn Fn(usize) -> Option<f32>| {
+        (0..truth[0].len())
+            .filter(|&i| on_ground(i) && (frame.position[i].x > 0.0) == high && of(i).is_some_and(partial))
+            .count()
+    };
+    let rendered = |i: usize| metrics::rendered(&frame, 0, i);
+    let soft = |i: usize| truth[0][i].map(|t| t.soft);
+    let seen = Seen {
+        tally,
+        partial_low: count(false, &rendered),
+        partial_high: count(true, &rendered),
+        truth_low: count(false, &soft),
+        truth_high: count(true, &soft),
+    };
+    eprintln!(
+        "{}: misclassified {:.4} %, MAE soft {:.4}; partly lit pixels low/high {}/{} (truth {}/{})",
+        method.name(),
+        100.0 * seen.tally.misclassified(),
+        seen.tally.mae_soft(),
+        seen.partial_low,
+        seen.partial_high,
+        seen.truth_low,
+        seen.truth_high
+    );
+    seen
+}
+
+#[test]
+fn every_method_puts_the_plates_shadows_where_the_truth_does() {
+    for &method in ShadowMethod::ALL {
+        let seen = measure(method);
+        assert!(seen.tally.pixels > 30_000, "{method:?}: {} ground pixels", seen.tally.pixels);
+        // Edges are the only place a method can be wrong here: a few hundred pixels of 65,000.
+        assert!(seen.tally.misclassified() < 0.01, "{method:?}: {:.4} misclassified", seen.tally.misclassified());
+    }
+}
+
+#[test]
+fn pcss_penumbrae_grow_with_the_casters_height_as_the_truths_do() {
+    let bilinear = measure(ShadowMethod::Bilinear);
+    let pcss = measure(ShadowMethod::Pcss);
+    // The truth itself: the high plate's penumbra is many times the low one's.
+    assert!(bilinear.truth_high > 4 * bilinear.truth_low.max(1), "the scene lost its point");
+    // A fixed filter draws both edges alike; PCSS widens the high one's as the light does.
+    assert!(pcss.partial_high > 4 * pcss.partial_low.max(1), "PCSS: {} / {}", pcss.partial_high, pcss.partial_low);
+    let (got, want) = (pcss.partial_high as f64, pcss.truth_high as f64);
+    assert!((got / want - 1.0).abs() < 0.5, "PCSS's wide penumbra has {got} pixels, the truth's {want}");
+    assert!(bilinear.partial_high < bilinear.truth_high / 2, "bilinear draws a soft edge after all");
+    // And so it is at most half as wrong against the soft truth.
+    assert!(
+        pcss.tally.mae_soft() <= 0.5 * bilinear.tally.mae_soft(),
+        "PCSS {:.4} against bilinear {:.4}",
+        pcss.tally.mae_soft(),
+        bilinear.tally.mae_soft()
+    );
+}
