@@ -25,8 +25,10 @@ struct Frame {
     // 1 when filters compare each tap with the receiver's plane (see receiver_plane in
     // shadow_sampling.wgsl).
     receiver_plane: u32,
-    _pad1: u32,
-    _pad2: u32,
+    // Depth bias in metres along the light, on top of every light's own (in texels).
+    depth_bias_metres: f32,
+    // 1 when PCSS searches for blockers (else it filters with a fixed kernel).
+    pcss_search: u32,
 };
 
 // One light; `kind` is LIGHT_SUN, LIGHT_SPOT or LIGHT_POINT.

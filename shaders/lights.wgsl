@@ -27,7 +27,7 @@ fn pick_cascade(light: GpuLight, depth: f32) -> CascadePick {
 }
 
 fn light_bias(light: GpuLight) -> Bias {
-    return Bias(light.bias_constant, light.bias_slope, light.bias_normal);
+    return Bias(light.bias_constant, light.bias_slope, light.bias_normal, frame.depth_bias_metres);
 }
 
 // World size of a texel of layer `index`, `distance` metres from the light.
@@ -44,7 +44,7 @@ fn layer_test(light: GpuLight, index: u32, distance: f32, p: vec3<f32>, n: vec3<
 
 // Layer `index` of `light` as a lookup sees it.
 fn layer_ref(light: GpuLight, index: u32) -> LayerRef {
-    return LayerRef(index, layers[index], light.size, light.shape != SHAPE_CASCADES);
+    return LayerRef(index, layers[index], light.size, light.shape != SHAPE_CASCADES, frame.pcss_search == 1u);
 }
 
 // The shadow test through a light's cube. With seams handled (frame.cube_seams), the face is

@@ -8,11 +8,12 @@
 // built: with one method in use only its code is reached, so no fragment chooses at run time.
 override SHADOW_METHODS: u32 = 0xfu;
 
-// Depth biases, each in shadow-map texels.
+// Depth biases, in shadow-map texels but for `metres`, a constant one in metres.
 struct Bias {
     constant: f32,
     slope: f32,
     normal: f32,
+    metres: f32,
 };
 
 // What a lookup knows of the receiving surface besides its point: how its world position changes
@@ -112,32 +113,32 @@ fn disc_offset(d: vec2<f32>, turn: vec2<f32>, radius: f32) -> vec2<f32> {
 // Poisson-disc PCF: comparisons spread evenly over a disc (points no two of which are close,
 // src/shadow/poisson.rs), the disc turned per pixel so the pattern's banding becomes fine noise.
 fn shadow_poisson16(c: ShadowCoord, radius: f32) -> f32 {
-    var disc = POISSON_16;
     let turn = disc_turn(c.pixel);
     var sum = 0.0;
     for (var i = 0; i < 16; i += 1) {
-        sum += compare_at(c, c.uv + disc_offset(disc[i], turn, radius));
+        sum += compare_at(c, c.uv + disc_offset(POISSON_16[i], turn, radius));
     }
     return sum / 16.0;
 }
 
 fn shadow_poisson32(c: ShadowCoord, radius: f32) -> f32 {
-    var disc = POISSON_32;
     let turn = disc_turn(c.pixel);
     var sum = 0.0;
     for (var i = 0; i < 32; i += 1) {
-        sum += compare_at(c, c.uv + disc_offset(disc[i], turn, radius));
+        sum += compare_at(c, c.uv + disc_offset(POISSON_32[i], turn, radius));
     }
     return sum / 32.0;
 }
 
 // One layer as a lookup sees it: its slot in the array, its data, the size of its light (see
-// GpuLight.size) and whether its projection is a perspective one (spots and cube faces).
+// GpuLight.size), whether its projection is a perspective one (spots and cube faces), and
+// whether PCSS searches it for blockers (else PCSS filters with a fixed kernel).
 struct LayerRef {
     index: u32,
     layer: GpuLayer,
     light_size: f32,
     perspective: bool,
+    pcss_search: bool,
 };
 
 // Distance from the light along the layer's view axis of depth `z`, as `shadow::view_distance`
@@ -190,6 +191,9 @@ fn depth_for_penumbra(at: LayerRef, receiver: f32, w: f32) -> f32 {
 // blockers throwing more than w is the share of taps nearer than that depth over the share
 // nearer than the receiver, and the mean penumbra is the integral of that share over w.
 fn shadow_pcss(c: ShadowCoord, at: LayerRef) -> f32 {
+    if (!at.pcss_search) {
+        return shadow_poisson32(c, POISSON32_RADIUS);
+    }
     let receiver = view_distance(at, c.depth);
     // A blocker at the map's near plane throws the widest penumbra: search that far.
     let widest = clamp(penumbra_texels(at, receiver, max(view_distance(at, 0.0), 1e-3)), 0.5, PCSS_MAX_PENUMBRA);
@@ -198,12 +202,11 @@ fn shadow_pcss(c: ShadowCoord, at: LayerRef) -> f32 {
     for (var k = 0; k < PCSS_LEVELS; k += 1) {
         levels[k] = depth_for_penumbra(at, receiver, (f32(k) + 0.5) * step);
     }
-    var disc = POISSON_16;
     let turn = disc_turn(c.pixel);
     var blocked = 0.0;
     var beyond = 0.0;
     for (var i = 0; i < 16; i += 1) {
-        let tap = c.uv + disc_offset(disc[i], turn, widest);
+        let tap = c.uv + disc_offset(POISSON_16[i], turn, widest);
         let along = dot(c.plane, tap - c.uv);
         blocked += 1.0 - textureSampleCompareLevel(shadow_maps, shadow_sampler, tap, c.layer, c.depth + along);
         for (var k = 0; k < PCSS_LEVELS; k += 1) {
@@ -258,12 +261,13 @@ fn sample_shadow(method: u32, c: ShadowCoord, at: LayerRef) -> f32 {
 
 // World point `p` (unit normal `n`, unit direction `l` towards the light) pushed along the
 // normal and towards the light by amounts measured in texels of world size `texel`, the slope
-// term growing with tan(angle) as the depth error across a texel does on a tilted surface.
+// term growing with tan(angle) as the depth error across a texel does on a tilted surface; and
+// `bias.metres` further towards the light.
 fn biased_point(p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, texel: f32, bias: Bias) -> vec3<f32> {
     let n_dot_l = clamp(dot(n, l), 0.0, 1.0);
     let sin_t = sqrt(1.0 - n_dot_l * n_dot_l);
     let tan_t = min(sin_t / max(n_dot_l, 1e-3), 10.0);
-    return p + n * (bias.normal * texel) + l * ((bias.constant + bias.slope * tan_t) * texel);
+    return p + n * (bias.normal * texel) + l * ((bias.constant + bias.slope * tan_t) * texel + bias.metres);
 }
 
 // How ndc = clip.xyz / clip.w of a layer changes when the world point moves by `dp`.

@@ -63,6 +63,14 @@ pub enum AppError {
     /// A model file could not be loaded.
     #[error(transparent)]
     Model(#[from] assets::ModelError),
+    /// A per-light setting names a light the scene does not have.
+    #[error("no light is called `{name}`: the scene's lights are {known}")]
+    UnknownLight {
+        /// The name given.
+        name: String,
+        /// The lights there are, listed.
+        known: String,
+    },
 }
 
 /// The fixed-step update schedule.
@@ -80,6 +88,19 @@ pub enum Stage {
     Gameplay,
     /// Model parts posed, world bounds, light matrices and shadow-map dirty flags.
     Lights,
+}
+
+/// Gives each light named in `methods` its method; a name no light has is an error.
+fn give_methods(world: &mut World, methods: &[(String, components::ShadowMethod)]) -> Result<(), AppError> {
+    let lights = systems::light_list(world);
+    for (name, method) in methods {
+        let Some(light) = lights.iter().find(|l| l.label.to_string() == *name) else {
+            let known: Vec<String> = lights.iter().map(|l| format!("`{}`", l.label)).collect();
+            return Err(AppError::UnknownLight { name: name.clone(), known: known.join(", ") });
+        };
+        world.entity_mut(light.entity).insert(*method);
+    }
+    Ok(())
 }
 
 /// The sample: a world, its update schedule and a fixed clock.
@@ -102,6 +123,7 @@ impl App {
         if let Some(biases) = &settings.biases {
             biases.apply(&mut app.world);
         }
+        give_methods(&mut app.world, &settings.light_methods)?;
         Ok(app)
     }
 

@@ -96,12 +96,13 @@ fn run(event_loop: EventLoop<()>, app: App, frames: Option<u32>) -> Result<(), P
 }
 
 /// Changes the setting a key stands for (F: fit mode, C: cascade tints, 1-4: cascades, P:
-/// filter, K: caster culling); false for any other key.
+/// filter, R: receiver plane, K: caster culling); false for any other key.
 pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
     match code {
         KeyCode::KeyF => settings.fit_mode = settings.fit_mode.next(),
         KeyCode::KeyC => settings.cascade_debug = !settings.cascade_debug,
         KeyCode::KeyP => settings.method = settings.method.next(),
+        KeyCode::KeyR => settings.receiver_plane = !settings.receiver_plane,
         KeyCode::KeyK => settings.caster_culling = settings.caster_culling.next(),
         KeyCode::Digit1 => settings.cascades = 1,
         KeyCode::Digit2 => settings.cascades = 2,
@@ -115,12 +116,13 @@ pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
 /// The shadow settings the keys change, in a few words.
 fn settings_line(settings: &Settings) -> String {
     let tints = if settings.cascade_debug { ", tinted" } else { "" };
+    let flat = if settings.receiver_plane { "" } else { " without receiver plane" };
     let culling = match settings.caster_culling {
         crate::settings::CasterCulling::LightVolume => "",
         crate::settings::CasterCulling::CameraView => ", culling to the camera view",
     };
     format!(
-        "{} cascades, {} fit, {} filter{culling}{tints}",
+        "{} cascades, {} fit, {} filter{flat}{culling}{tints}",
         settings.cascades,
         settings.fit_mode.name(),
         settings.method.name()
@@ -329,6 +331,8 @@ mod tests {
         assert!(change_setting(KeyCode::KeyK, &mut s));
         assert_eq!(s.caster_culling, CasterCulling::CameraView);
         assert_eq!(settings_line(&s), "2 cascades, unsnapped fit, pcf3 filter, culling to the camera view, tinted");
+        assert!(change_setting(KeyCode::KeyR, &mut s) && !s.receiver_plane);
+        assert!(settings_line(&s).contains("pcf3 filter without receiver plane"));
         let before = s.clone();
         assert!(!change_setting(KeyCode::KeyW, &mut s));
         assert_eq!(s, before);

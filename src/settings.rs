@@ -19,12 +19,17 @@ pub struct Settings {
     pub slope_bias: f32,
     /// Offset along the surface normal, in texels.
     pub normal_bias: f32,
+    /// A constant depth bias in metres along the light, on top of every light's bias (the way
+    /// engines such as Bevy give it; 0 in umbra, whose biases are all in texels).
+    pub depth_bias_metres: f32,
     /// Beyond this view distance (metres) the sun casts no shadow.
     pub shadow_distance: f32,
     /// Cascades of the sun's shadow, 1 to 4.
     pub cascades: u32,
     /// Split scheme: 0 = uniform splits, 1 = logarithmic; in between blends the two.
     pub split_lambda: f32,
+    /// Split geometrically instead, from a first cascade that ends this far (metres) out.
+    pub first_cascade_far: Option<f32>,
     /// Fraction (0..0.5) at the end of each cascade over which it blends into the next.
     pub cascade_blend: f32,
     /// How each cascade's box is fitted to its slice of the view.
@@ -33,6 +38,9 @@ pub struct Settings {
     pub cascade_debug: bool,
     /// How shadow maps are sampled, for every light without a method of its own.
     pub method: ShadowMethod,
+    /// Methods of their own for the lights so named ("sun", "spot 1", "point 1"); a name no light
+    /// has is an error when the scene is made.
+    pub light_methods: Vec<(String, ShadowMethod)>,
     /// Which casters are drawn into a shadow map and fitted into its depth range.
     pub caster_culling: CasterCulling,
     /// Which faces of the casters are drawn into shadow maps.
@@ -50,6 +58,9 @@ pub struct Settings {
     /// (receiver-plane depth bias), not with the depth at the lookup's centre (off shows the
     /// "soft acne" of wide kernels on lit slopes).
     pub receiver_plane: bool,
+    /// PCSS searches for blockers and sizes its filter by their distance (off: a fixed kernel,
+    /// the Poisson 32 one, which loses contact hardening).
+    pub pcss_blocker_search: bool,
     /// Ambient light level (0..1) that reaches every surface.
     pub ambient: f32,
     /// Number of animated cubes in the sample scene.
@@ -79,18 +90,22 @@ impl Default for Settings {
             depth_bias: 0.5,
             slope_bias: 0.5,
             normal_bias: 0.5,
+            depth_bias_metres: 0.0,
             shadow_distance: 60.0,
             cascades: 4,
             split_lambda: DEFAULT_SPLIT_LAMBDA,
+            first_cascade_far: None,
             cascade_blend: 0.1,
             fit_mode: FitMode::Stable,
             cascade_debug: false,
             method: ShadowMethod::Bilinear,
+            light_methods: Vec::new(),
             caster_culling: CasterCulling::LightVolume,
             shadow_faces: ShadowFaces::Both,
             reuse_shadow_maps: true,
             cube_seams: true,
             receiver_plane: true,
+            pcss_blocker_search: true,
             spot_map_limit: crate::shadow::MAX_MAP_HALF_ANGLE,
             ambient: 0.12,
             cubes: 10,
@@ -200,6 +215,14 @@ impl Settings {
             if !non_negative(v) || v > 100.0 {
                 return bad(name, v, "must be between 0 and 100 texels");
             }
+        }
+        if !(non_negative(self.depth_bias_metres) && self.depth_bias_metres <= 10.0) {
+            return bad("depth_bias_metres", self.depth_bias_metres, "must be between 0 and 10 m");
+        }
+        if let Some(first) = self.first_cascade_far
+            && !(first.is_finite() && first > 0.1 && first <= self.shadow_distance)
+        {
+            return bad("first_cascade_far", first, "must be a distance above 0.1 m and within the shadow distance");
         }
         if !(self.shadow_distance.is_finite() && self.shadow_distance > 0.1) {
             return bad("shadow_distance", self.shadow_distance, "must be a finite distance above 0.1 m");

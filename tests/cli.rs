@@ -45,7 +45,7 @@ fn without_a_display_play_renders_umbra_png() {
 #[test]
 fn bad_arguments_are_named_and_fail() {
     let dir = scratch("bad");
-    let cases: [(&[&str], &str); 11] = [
+    let cases: [(&[&str], &str); 14] = [
         (&["bench", "--shadow-map-size", "512"], "apply to `bench --cache` only"),
         (&["bench", "--sun-radius", "45"], "not an angle"),
         (&["render", "--width", "-5"], "not a size"),
@@ -57,6 +57,9 @@ fn bad_arguments_are_named_and_fail() {
         (&["render", "--time", "nan"], "not a time"),
         (&["render", "--frobnicate"], "--frobnicate"),
         (&["render", "--shadow-strength", "3"], "shadow_strength"),
+        (&["render", "--light-method", "lamp=pcss"], "no light is called `lamp`: the scene's lights are `sun`"),
+        (&["render", "--light-method", "spot 1=blurry"], "not a shadow method"),
+        (&["render", "--light-method", "pcss"], "not LIGHT=METHOD"),
     ];
     for (args, says) in cases {
         let out = umbra(args, &dir);

@@ -135,3 +135,8 @@ fn a_170_degree_spot_is_shadowed_to_its_rim_but_not_through_one_map() {
 fn a_wide_filter_leaves_a_lit_slope_lit_but_darkens_it_without_the_receiver_plane() {
     holds_and_breaks("soft-acne", Settings { receiver_plane: false, ..Settings::default() });
 }
+
+#[test]
+fn pcss_penumbrae_harden_towards_a_poles_foot_but_not_with_a_fixed_kernel() {
+    holds_and_breaks("contact-hardening", Settings { pcss_blocker_search: false, ..Settings::default() });
+}

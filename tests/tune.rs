@@ -25,6 +25,15 @@ fn tuned_biases_are_no_worse_and_come_back_from_their_file() {
     }
     let sun = &lights[0];
     assert!(sun.wrong().0 > 10 * sun.wrong().1.max(1), "zero bias leaves acne that tuning removes: {:?}", sun.wrong());
+    // The acne is everywhere, so the biases found remove it from the views the search never saw too.
+    let (held_before, held_after) = sun.held_out.expect("the sample's four views: two held out");
+    let wrong = |t: &umbra::eval::metrics::Tally| t.false_shadow + t.false_lit;
+    assert!(
+        wrong(&held_before) > 10 * wrong(&held_after).max(1),
+        "held out: {} wrong pixels became {}",
+        wrong(&held_before),
+        wrong(&held_after)
+    );
 
     let file = std::env::temp_dir().join(format!("umbra-tune-{}.json", std::process::id()));
     biases.save(&file).unwrap();

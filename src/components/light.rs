@@ -199,6 +199,17 @@ impl ShadowMethod {
         }
     }
 
+    /// The family it belongs to, as the charts colour it.
+    pub fn family(self) -> &'static str {
+        match self {
+            ShadowMethod::Nearest | ShadowMethod::Bilinear => "hard",
+            ShadowMethod::Pcf3 | ShadowMethod::Pcf5 => "grid PCF",
+            ShadowMethod::Gauss5 => "Gaussian PCF",
+            ShadowMethod::Poisson16 | ShadowMethod::Poisson32 => "Poisson PCF",
+            ShadowMethod::Pcss => "PCSS",
+        }
+    }
+
     /// It compares with depths away from the lookup's own point, so the receiver plane matters.
     pub fn spreads(self) -> bool {
         !matches!(self, ShadowMethod::Nearest | ShadowMethod::Bilinear)

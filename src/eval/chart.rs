@@ -35,7 +35,37 @@ pub struct Point {
     pub label: String,
     /// Drawn as the default configuration.
     pub default: bool,
+    /// Its family: each has its own colour and marker, named in the legend.
+    pub family: &'static str,
 }
+
+/// The families in legend order, each with its colour (the marker goes by the position).
+const FAMILIES: [(&str, RGBColor); 6] = [
+    ("hard", RGBColor(110, 110, 110)),
+    ("grid PCF", RGBColor(0, 140, 200)),
+    ("Gaussian PCF", RGBColor(0, 160, 80)),
+    ("Poisson PCF", RGBColor(200, 120, 0)),
+    ("PCSS", RGBColor(170, 0, 170)),
+    ("Bevy-like", RGBColor(0, 0, 0)),
+];
+
+/// A family's marker: its shape (circle, triangle or cross), size in pixels and whether it is
+/// filled.
+#[derive(Clone, Copy)]
+enum Shape {
+    Circle,
+    Triangle,
+    Cross,
+}
+
+const MARKERS: [(Shape, i32, bool); 6] = [
+    (Shape::Circle, 4, true),
+    (Shape::Triangle, 6, true),
+    (Shape::Cross, 5, false),
+    (Shape::Circle, 5, false),
+    (Shape::Triangle, 7, false),
+    (Shape::Circle, 6, true),
+];
 
 /// Why a chart could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -133,10 +163,29 @@ where
         .y_label_formatter(&|v| format!("{v}%"))
         .draw()
         .map_err(|e| e.to_string())?;
-    let grey = RGBColor(120, 120, 120);
-    chart
-        .draw_series(points.iter().map(|p| Circle::new((p.cost, y(p.error)), 4, grey.filled())))
-        .map_err(|e| e.to_string())?;
+    for ((family, colour), (shape, size, filled)) in FAMILIES.into_iter().zip(MARKERS) {
+        let at: Vec<(f64, f64)> = points.iter().filter(|p| p.family == family).map(|p| (p.cost, y(p.error))).collect();
+        if at.is_empty() {
+            continue;
+        }
+        let style = if filled { colour.filled() } else { colour.stroke_width(2) };
+        // Each shape is its own element type, so each draws (and keys its legend) on its own.
+        let series = match shape {
+            Shape::Circle => chart
+                .draw_series(at.iter().map(|&a| Circle::new(a, size, style)))
+                .map_err(|e| e.to_string())?
+                .legend(move |(x, y)| Circle::new((x + 8, y), size, style)),
+            Shape::Triangle => chart
+                .draw_series(at.iter().map(|&a| TriangleMarker::new(a, size, style)))
+                .map_err(|e| e.to_string())?
+                .legend(move |(x, y)| TriangleMarker::new((x + 8, y), size, style)),
+            Shape::Cross => chart
+                .draw_series(at.iter().map(|&a| Cross::new(a, size, style)))
+                .map_err(|e| e.to_string())?
+                .legend(move |(x, y)| Cross::new((x + 8, y), size, style)),
+        };
+        series.label(family);
+    }
     let line: Vec<(f64, f64)> = front.iter().map(|&i| (points[i].cost, y(points[i].error))).collect();
     chart.draw_series(LineSeries::new(line.clone(), RED.stroke_width(2))).map_err(|e| e.to_string())?;
     chart.draw_series(line.iter().map(|&p| Circle::new(p, 5, RED.filled()))).map_err(|e| e.to_string())?;
@@ -161,6 +210,13 @@ where
         chart.draw_series([Circle::new(at, 9, BLUE.stroke_width(2))]).map_err(|e| e.to_string())?;
         chart.draw_series([labelled(at, "default".into(), (-20, 12), BLUE)]).map_err(|e| e.to_string())?;
     }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| e.to_string())?;
     Ok(())
 }
 

@@ -83,6 +83,8 @@ pub enum CaseScene {
     WideSpot,
     /// An open plane under a low sun, sampled by PCF 5x5.
     SoftAcne,
+    /// A tall pole under a 10 cm spot, sampled by PCSS.
+    ContactHardening,
 }
 
 /// The truth of a frame: one column per light in the frame's order (sun, then spots), one entry

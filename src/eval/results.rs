@@ -4,6 +4,7 @@ use super::cases::CASES;
 use super::chart::{ChartError, Point, cost_chart, distance_chart};
 use super::metrics::DISTANCE_BANDS;
 use super::sweep::{Config, Row, pareto};
+use crate::settings::Settings;
 use std::fmt::Write;
 use std::path::Path;
 
@@ -48,16 +49,17 @@ pub fn csv(rows: &[Row]) -> String {
     out.push('\n');
     for r in rows {
         let (c, all) = (&r.config, r.scene_all());
+        let s = c.settings(&Settings::default());
         let _ = write!(
             out,
             "{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.5},{:.5},{}",
             c.label(),
-            c.map_size,
-            c.cascades,
-            c.fit.name(),
-            c.method.name(),
-            c.bias,
-            c.faces.name(),
+            s.shadow_map_size,
+            s.cascades,
+            s.fit_mode.name(),
+            s.method.name(),
+            s.depth_bias,
+            s.shadow_faces.name(),
             r.cost.total_ms(),
             r.cost.shadow_ms,
             r.cost.lookup_ms,
@@ -89,6 +91,7 @@ fn points(rows: &[Row], error: impl Fn(&Row) -> f64) -> Vec<Point> {
             error: error(r),
             label: r.config.short_label(),
             default: r.config == default,
+            family: r.config.family(),
         })
         .collect()
 }
@@ -107,10 +110,26 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str) -> Result<String, Resu
     let scene_front = front(&scene);
     cost_chart(
         &dir.join("scene"),
-        "Sample scene: shadow cost against error",
+        "Sample scene: shadow cost against error (hard truth)",
         "misclassified pixels (log; on the bottom line: none)",
         &scene,
         &scene_front,
+    )?;
+    let edge = points(rows, |r| r.scene_all().edge.misclassified());
+    cost_chart(
+        &dir.join("scene-edge"),
+        "Sample scene: shadow cost against error within 2 pixels of a true shadow edge",
+        "misclassified edge pixels (log)",
+        &edge,
+        &front(&edge),
+    )?;
+    let soft = points(rows, |r| r.scene_all().all.mae_soft());
+    cost_chart(
+        &dir.join("scene-soft"),
+        "Sample scene: shadow cost against mean error against the soft truth",
+        "mean absolute error, as a percentage of full light (log)",
+        &soft,
+        &front(&soft),
     )?;
     for (k, case) in CASES.iter().enumerate() {
         let p = points(rows, |r| r.cases[k].value());
@@ -151,7 +170,7 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str) -> Result<String, Resu
 /// more than the light does.
 fn by_method(rows: &[Row]) -> String {
     let d = Config::default_settings();
-    let same = |c: &Config| Config { method: d.method, receiver_plane: d.receiver_plane, ..*c } == d;
+    let same = |c: &Config| c.bevy_like || Config { method: d.method, receiver_plane: d.receiver_plane, ..*c } == d;
     let rows: Vec<&Row> = rows.iter().filter(|r| same(&r.config)).collect();
     let Some(first) = rows.first() else { return String::new() };
     let mut out = String::from(
@@ -171,24 +190,64 @@ fn by_method(rows: &[Row]) -> String {
     out
 }
 
-/// The results in Markdown: every configuration by cost, the front marked, then each case.
+/// Umbra's default against the Bevy-like baseline, measured in the same run.
+fn against_bevy(rows: &[Row]) -> String {
+    let default = Config::default_settings();
+    let (Some(d), Some(b)) = (rows.iter().find(|r| r.config == default), rows.iter().find(|r| r.config.bevy_like))
+    else {
+        return String::new();
+    };
+    let (da, ba) = (d.scene_all(), b.scene_all());
+    format!(
+        "\nUmbra's default against the Bevy-like baseline (same views, same truth): shadow cost {:.2} ms \
+         against {:.2} ms (x{:.2}); misclassified {} % against {} % (x{:.2}); within 2 pixels of a \
+         true edge {} % against {} %; mean error against the soft truth {:.4} against {:.4} (x{:.2}).\n",
+        d.cost.total_ms(),
+        b.cost.total_ms(),
+        d.cost.total_ms() / b.cost.total_ms(),
+        pct(da.all.misclassified()),
+        pct(ba.all.misclassified()),
+        da.all.misclassified() / ba.all.misclassified(),
+        pct(da.edge.misclassified()),
+        pct(ba.edge.misclassified()),
+        da.all.mae_soft(),
+        ba.all.mae_soft(),
+        da.all.mae_soft() / ba.all.mae_soft()
+    )
+}
+
+/// The results in Markdown: every configuration, family by family and each by cost, the front (of
+/// misclassified pixels against cost) marked, then each case.
 pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
     let default = Config::default_settings();
     let mut out = format!("{heading}\n\n");
-    out += "| configuration | shadow cost ms (maps + lookup) | misclassified % | false shadow % | false lit % | MAE hard | MAE soft | front |\n";
-    out += "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
+    out += "| family | configuration | shadow cost ms (maps + lookup) | misclassified % | edge misclassified % | false shadow % | false lit % | MAE hard | MAE soft | front |\n";
+    out += "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+    // Grouped by family (in the order the families first appear), each by cost.
+    let mut families: Vec<&str> = Vec::new();
+    for r in rows {
+        if !families.contains(&r.config.family()) {
+            families.push(r.config.family());
+        }
+    }
+    let family_rank = |i: usize| families.iter().position(|f| *f == rows[i].config.family()).unwrap_or(0);
     let mut order: Vec<usize> = (0..rows.len()).collect();
-    order.sort_by(|&a, &b| rows[a].cost.total_ms().total_cmp(&rows[b].cost.total_ms()));
+    order.sort_by(|&a, &b| {
+        family_rank(a).cmp(&family_rank(b)).then(rows[a].cost.total_ms().total_cmp(&rows[b].cost.total_ms()))
+    });
     for i in order {
-        let (r, all) = (&rows[i], rows[i].scene_all().all);
+        let (r, report) = (&rows[i], rows[i].scene_all());
+        let all = report.all;
         let name = if r.config == default { format!("**{}** (default)", r.config.label()) } else { r.config.label() };
         let _ = writeln!(
             out,
-            "| {name} | {:.2} ({:.2} + {:.2}) | {} | {} | {} | {:.4} | {:.4} | {} |",
+            "| {} | {name} | {:.2} ({:.2} + {:.2}) | {} | {} | {} | {} | {:.4} | {:.4} | {} |",
+            r.config.family(),
             r.cost.total_ms(),
             r.cost.shadow_ms,
             r.cost.lookup_ms,
             pct(all.misclassified()),
+            pct(report.edge.misclassified()),
             pct(all.false_shadow_rate()),
             pct(all.false_lit_rate()),
             all.mae_hard(),
@@ -196,6 +255,7 @@ pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
             if front.contains(&i) { "yes" } else { "" }
         );
     }
+    out += &against_bevy(rows);
     if let Some(d) = rows.iter().find(|r| r.config == default) {
         out += "\nThe default configuration light by light:\n\n| light | pixels it reaches | misclassified % | false shadow % | false lit % | MAE hard | MAE soft |\n| --- | --- | --- | --- | --- | --- | --- |\n";
         for (name, report) in d.lights.iter().zip(&d.scene) {

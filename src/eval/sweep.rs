@@ -30,6 +30,35 @@ pub struct Config {
     pub faces: ShadowFaces,
     /// Filters compare with the receiver's plane.
     pub receiver_plane: bool,
+    /// Instead of the above: the Bevy-like baseline ([`bevy_like`]).
+    pub bevy_like: bool,
+}
+
+/// The family the Bevy-like baseline is charted as.
+pub const BEVY_FAMILY: &str = "Bevy-like";
+
+/// What a user would otherwise get from Bevy (0.16's defaults as its docs give them): 4 cascades
+/// split geometrically from 10 m to 150 m, each blending 20 % into the next; a depth bias of
+/// 0.02 m along the light and a normal bias of 1.8 texels; its 9-tap Gaussian PCF (Castaño's,
+/// `gauss5`); 2048² maps; no receiver plane. Umbra's stable fit stands in for Bevy's own.
+#[must_use]
+pub fn bevy_like(base: &Settings) -> Settings {
+    Settings {
+        shadow_map_size: 2048,
+        cascades: 4,
+        first_cascade_far: Some(10.0),
+        shadow_distance: 150.0,
+        cascade_blend: 0.2,
+        fit_mode: FitMode::Stable,
+        method: ShadowMethod::Gauss5,
+        depth_bias: 0.0,
+        slope_bias: 0.0,
+        normal_bias: 1.8,
+        depth_bias_metres: 0.02,
+        receiver_plane: false,
+        shadow_faces: ShadowFaces::Both,
+        ..base.clone()
+    }
 }
 
 impl Config {
@@ -44,11 +73,15 @@ impl Config {
             bias: d.depth_bias,
             faces: d.shadow_faces,
             receiver_plane: d.receiver_plane,
+            bevy_like: false,
         }
     }
 
     /// `base` with this configuration's shadow settings.
     pub fn settings(&self, base: &Settings) -> Settings {
+        if self.bevy_like {
+            return bevy_like(base);
+        }
         Settings {
             shadow_map_size: self.map_size,
             cascades: self.cascades,
@@ -63,8 +96,16 @@ impl Config {
         }
     }
 
+    /// Its family for the charts and the summary: the method's, or the baseline's own.
+    pub fn family(&self) -> &'static str {
+        if self.bevy_like { BEVY_FAMILY } else { self.method.family() }
+    }
+
     /// Its name for charts: map size and cascades, then only what differs from the defaults.
     pub fn short_label(&self) -> String {
+        if self.bevy_like {
+            return "bevy-like".into();
+        }
         let d = Config::default_settings();
         let mut out = format!("{} x{}", self.map_size, self.cascades);
         if self.fit != d.fit {
@@ -88,6 +129,9 @@ impl Config {
     /// A short name: `2048 x4 stable bilinear b1`, with `back` when only back faces are drawn and
     /// `flat` when filters compare with the centre's depth, not the receiver's plane.
     pub fn label(&self) -> String {
+        if self.bevy_like {
+            return "bevy-like (2048 x4 gauss5, 0.02 m + 1.8 texels normal)".into();
+        }
         let faces = if self.faces == ShadowFaces::Back { " back" } else { "" };
         let flat = if self.receiver_plane { "" } else { " flat" };
         format!(
@@ -136,6 +180,7 @@ pub fn configs(quick: bool) -> Vec<Config> {
         push(Config { bias, ..d });
     }
     push(Config { faces: ShadowFaces::Back, bias: 0.0, ..d });
+    push(Config { bevy_like: true, ..d });
     if !quick {
         push(Config { faces: ShadowFaces::Back, ..d });
     }

@@ -252,6 +252,8 @@ pub fn extract(world: &mut World) -> FrameData {
         light_count: lights.len() as u32,
         cube_seams: settings.cube_seams as u32,
         receiver_plane: settings.receiver_plane as u32,
+        depth_bias_metres: settings.depth_bias_metres,
+        pcss_search: settings.pcss_blocker_search as u32,
         ..Frame::zeroed()
     };
     let items = items.into_iter().map(|(item, _)| item).collect();

@@ -82,8 +82,10 @@ gpu_struct! {
         pub cube_seams: u32,
         /// 1 when filters compare each tap with the receiver's plane.
         pub receiver_plane: u32,
-        pub _pad1: u32,
-        pub _pad2: u32,
+        /// Depth bias in metres along the light, for every light.
+        pub depth_bias_metres: f32,
+        /// 1 when PCSS searches for blockers (else it filters with a fixed kernel).
+        pub pcss_search: u32,
     }
 }
 

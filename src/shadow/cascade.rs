@@ -42,6 +42,22 @@ pub fn split_depths(near: f32, far: f32, count: usize, lambda: f32) -> Vec<f32> 
     depths
 }
 
+/// View depths that split `[near, far]` into `count` cascades geometrically from a first cascade
+/// that ends at `first`: each ends `(far / first)^(1 / (count - 1))` times further than the one
+/// before (the scheme Bevy's cascade builder uses). `first` is held between `near` and `far`; one
+/// cascade covers everything.
+#[must_use]
+pub fn geometric_splits(near: f32, first: f32, far: f32, count: usize) -> Vec<f32> {
+    let mut depths = split_depths(near, far, count, 0.0);
+    let (near, far) = (depths[0], depths[depths.len() - 1]);
+    let count = depths.len() - 1;
+    let first = if first.is_finite() { first.clamp(near * 1.001, far) } else { far };
+    for (i, d) in depths.iter_mut().enumerate().take(count).skip(1) {
+        *d = first * (far / first).powf((i - 1) as f32 / (count - 1) as f32);
+    }
+    depths
+}
+
 /// Width of the band at the end of each cascade over which it blends into the next one:
 /// `blend` (a fraction, 0..0.5) of the cascade's length, and none after the last.
 pub fn blend_bands(depths: &[f32], blend: f32) -> Vec<f32> {
@@ -192,6 +208,14 @@ mod tests {
         let log = split_depths(1.0, 9.0, 2, 1.0);
         assert!((log[1] - 3.0).abs() < 1e-5);
         let half = split_depths(1.0, 9.0, 2, 0.5);
+        let bevy = geometric_splits(0.1, 10.0, 150.0, 4);
+        let want = [0.1, 10.0, 24.662, 60.822, 150.0];
+        assert!(bevy.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-2), "{bevy:?}");
+        assert_eq!(geometric_splits(0.1, 10.0, 150.0, 1), vec![0.1, 150.0]);
+        for odd in [f32::NAN, -5.0, 0.0, 1e9] {
+            let d = geometric_splits(0.1, odd, 60.0, 4);
+            assert!(d.windows(2).all(|w| w[0] <= w[1]) && d.iter().all(|x| x.is_finite()), "{odd}: {d:?}");
+        }
         assert!((half[1] - 4.0).abs() < 1e-5);
     }
 

@@ -10,7 +10,8 @@ mod poisson;
 
 pub use bounds::{Aabb, MAX_WORLD_EXTENT, frustum_corners, intersects_clip_volume};
 pub use cascade::{
-    FitMode, MAX_CASCADES, SceneBounds, ViewFrustum, blend_bands, depth_step, fit_cascade, split_depths,
+    FitMode, MAX_CASCADES, SceneBounds, ViewFrustum, blend_bands, depth_step, fit_cascade, geometric_splits,
+    split_depths,
 };
 pub use fit::{
     CUBE_FACES, LightProjection, MAX_MAP_HALF_ANGLE, MAX_SPOT_HALF_ANGLE, MIN_SPOT_HALF_ANGLE, cube_face,

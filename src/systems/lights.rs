@@ -9,7 +9,7 @@ use crate::components::{
 };
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{
-    Aabb, LightProjection, SceneBounds, ViewFrustum, blend_bands, cube_projections, fit_cascade,
+    Aabb, LightProjection, SceneBounds, ViewFrustum, blend_bands, cube_projections, fit_cascade, geometric_splits,
     intersects_clip_volume, split_depths, spot_cone, spot_projection,
 };
 use bevy_ecs::prelude::*;
@@ -210,7 +210,10 @@ fn cascades(
     let frustum =
         ViewFrustum { position: transform.translation, rotation: transform.rotation, fov_y: camera.fov_y, aspect };
     let far = settings.shadow_distance.min(camera.far).max(camera.near * 2.0);
-    let depths = split_depths(camera.near, far, settings.cascades as usize, settings.split_lambda);
+    let depths = match settings.first_cascade_far {
+        Some(first) => geometric_splits(camera.near, first, far, settings.cascades as usize),
+        None => split_depths(camera.near, far, settings.cascades as usize, settings.split_lambda),
+    };
     let bands = blend_bands(&depths, settings.cascade_blend);
     (0..bands.len())
         .map(|i| {

@@ -5,6 +5,7 @@
 //! benchmark charts each against the cost of every configuration.
 
 pub mod scenes;
+mod soft;
 
 use super::measure::{CaseScene, MeasureError, Measured, Measurer, SubjectId, place_camera};
 use super::metrics::{DISTANCE_BANDS, rendered};
@@ -57,7 +58,7 @@ pub struct Case {
 }
 
 /// Every case, in the order the issues list them.
-pub const CASES: [Case; 11] = [
+pub const CASES: [Case; 12] = [
     Case {
         name: "acne", measures: "false-shadow share of an open plane, sun at 2°..89°", threshold: 0.001, run: acne
     },
@@ -119,7 +120,13 @@ pub const CASES: [Case; 11] = [
         name: "soft-acne",
         measures: "mean false darkening of an open plane under PCF 5x5, sun at 10°..60°",
         threshold: 0.005,
-        run: soft_acne,
+        run: soft::soft_acne,
+    },
+    Case {
+        name: "contact-hardening",
+        measures: "share of a 2.5 m pole's penumbra under a 10 cm spot drawn where the soft truth has none, or missed (PCSS)",
+        threshold: 0.2,
+        run: soft::contact_hardening,
     },
 ];
 
@@ -190,7 +197,6 @@ const DEGENERATE_LIGHTS: SubjectId = SubjectId::Case(CaseScene::DegenerateLights
 const FAR_FIELD: SubjectId = SubjectId::Case(CaseScene::FarField);
 const CUBE_SEAMS: SubjectId = SubjectId::Case(CaseScene::CubeSeams);
 const WIDE_SPOT_SCENE: SubjectId = SubjectId::Case(CaseScene::WideSpot);
-const SOFT_ACNE: SubjectId = SubjectId::Case(CaseScene::SoftAcne);
 
 fn acne(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(0.0, 5.0, 10.0), Vec3::new(0.0, 0.0, -2.0));
@@ -201,31 +207,6 @@ fn acne(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError
             measure_at(m, ACNE, &format!("{elevation}"), |app| set_sun(app, sun_direction(elevation, 30.0)))?;
         // Nothing stands on the plane, so every pixel the sun reaches is truly lit.
         score.add(misclassified(&measured, 0, on_ground(&measured)));
-    }
-    Ok(score)
-}
-
-/// Darkening is scored in thousandths: `hits / of` is the mean.
-const DARKENING_STEPS: f64 = 1000.0;
-
-/// A wide filter compares depths up to 2.5 texels from its centre; on a plane the light meets at
-/// a slant those depths differ from the centre's by more than the bias, so without the receiver
-/// plane a lit surface partly shadows itself. Nothing stands on the plane: every pixel the sun
-/// reaches is truly lit, and any darkness is false.
-fn soft_acne(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
-    let view = (Vec3::new(0.0, 5.0, 10.0), Vec3::new(0.0, 0.0, -2.0));
-    let settings = Settings { method: crate::components::ShadowMethod::Pcf5, ..settings.clone() };
-    m.subject(SOFT_ACNE, &settings, |s| ground(s, 80.0, true, Vec3::NEG_Y, view))?;
-    let mut score = Score::default();
-    for elevation in [10.0, 20.0, 35.0, 60.0] {
-        let measured =
-            measure_at(m, SOFT_ACNE, &format!("{elevation}"), |app| set_sun(app, sun_direction(elevation, 30.0)))?;
-        for i in (0..measured.frame.position.len()).filter(|&i| on_ground(&measured)(i)) {
-            if let Some(r) = rendered(&measured.frame, 0, i) {
-                score.of += DARKENING_STEPS as u64;
-                score.hits += ((1.0 - r as f64).clamp(0.0, 1.0) * DARKENING_STEPS).round() as u64;
-            }
-        }
     }
     Ok(score)
 }

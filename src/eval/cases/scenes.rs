@@ -93,6 +93,18 @@ pub fn wide_spot_scene(settings: &Settings) -> Result<App, AppError> {
     Ok(app)
 }
 
+/// A 2.5 m pole, 6 cm thick, on the ground at the origin, and a 10 cm spot 5 m up and 2.5 m to
+/// its -X side aimed past it, so the pole's shadow runs 2.5 m along +X; seen from straight above.
+pub fn pole_scene(settings: &Settings) -> Result<App, AppError> {
+    let mut app = unlit_ground(settings, 40.0, false, (Vec3::new(1.25, 3.5, 0.01), Vec3::new(1.25, 0.0, 0.0)))?;
+    add_box(&mut app, Vec3::new(0.0, 1.25, 0.0), Vec3::new(0.03, 1.25, 0.03));
+    let spot = SpotLight { range: 15.0, intensity: 4.0, inner_angle: 0.5, outer_angle: 0.6, ..Default::default() };
+    let position = Vec3::new(-2.5, 5.0, 0.0);
+    let at = Transform::from_translation(position).looking_to(Vec3::new(1.5, 0.0, 0.0) - position);
+    app.world.spawn((spot, at, ShadowMap::default()));
+    Ok(app)
+}
+
 /// Adds a box with half extents `half` at `center`, casting and receiving.
 pub fn add_box(app: &mut App, center: Vec3, half: Vec3) {
     let mesh = app.world.resource_mut::<MeshLibrary>().add(cube(Vec3::splat(0.5)));

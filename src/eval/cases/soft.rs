@@ -1,0 +1,75 @@
+//! The failure cases of soft and filtered shadows: a wide filter darkening the lit slope it samples
+//! (soft acne), and a penumbra that stays one width however far its caster is (no contact
+//! hardening).
+
+use super::scenes::{ground, pole_scene, set_sun, sun_direction};
+use super::{Score, measure_at, on_ground};
+use crate::components::ShadowMethod;
+use crate::eval::measure::{CaseScene, MeasureError, Measurer, SubjectId};
+use crate::eval::metrics::rendered;
+use crate::eval::truth;
+use crate::settings::Settings;
+use glam::Vec3;
+
+const SOFT_ACNE: SubjectId = SubjectId::Case(CaseScene::SoftAcne);
+const CONTACT_HARDENING: SubjectId = SubjectId::Case(CaseScene::ContactHardening);
+
+/// Darkening is scored in thousandths: `hits / of` is the mean.
+const DARKENING_STEPS: f64 = 1000.0;
+
+/// A wide filter compares depths up to 2.5 texels from its centre; on a plane the light meets at
+/// a slant those depths differ from the centre's by more than the bias, so without the receiver
+/// plane a lit surface partly shadows itself. Nothing stands on the plane: every pixel the sun
+/// reaches is truly lit, and any darkness is false.
+pub fn soft_acne(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    let view = (Vec3::new(0.0, 5.0, 10.0), Vec3::new(0.0, 0.0, -2.0));
+    let settings = Settings { method: ShadowMethod::Pcf5, ..settings.clone() };
+    m.subject(SOFT_ACNE, &settings, |s| ground(s, 80.0, true, Vec3::NEG_Y, view))?;
+    let mut score = Score::default();
+    for elevation in [10.0, 20.0, 35.0, 60.0] {
+        let measured =
+            measure_at(m, SOFT_ACNE, &format!("{elevation}"), |app| set_sun(app, sun_direction(elevation, 30.0)))?;
+        for i in (0..measured.frame.position.len()).filter(|&i| on_ground(&measured)(i)) {
+            if let Some(r) = rendered(&measured.frame, 0, i) {
+                score.of += DARKENING_STEPS as u64;
+                score.hits += ((1.0 - r as f64).clamp(0.0, 1.0) * DARKENING_STEPS).round() as u64;
+            }
+        }
+    }
+    Ok(score)
+}
+
+/// Rays over the spot's disc for this case's own soft truth (the cases' measurer casts none).
+const SOFT_RAYS: usize = 64;
+
+/// Partly lit: neither fully lit nor fully dark.
+fn partial(v: f32) -> bool {
+    (0.05..0.95).contains(&v)
+}
+
+/// A 10 cm spot throws a 2.5 m pole's shadow along the ground, its penumbra growing from nothing
+/// at the pole's foot to about 20 cm at the tip. Over the ground round the shadow, a pixel is
+/// wrong where PCSS draws a penumbra the soft truth does not have, or misses one it has; the
+/// score is the share of wrong pixels among those partly lit in either.
+pub fn contact_hardening(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    let settings = Settings { method: ShadowMethod::Pcss, ..settings.clone() };
+    m.subject(CONTACT_HARDENING, &settings, pole_scene)?;
+    let measured = measure_at(m, CONTACT_HARDENING, "pole", |_| {})?;
+    let (app, _) = m.parts(CONTACT_HARDENING)?;
+    let occluders = truth::Occluders::from_world(&mut app.world);
+    let lights = truth::truth_lights(&mut app.world, truth::SizeOverride::default());
+    let soft = truth::truth_frame(&measured.frame, &occluders, &lights, SOFT_RAYS);
+    let along_shadow = |i: usize| {
+        let p = measured.frame.position[i];
+        on_ground(&measured)(i) && (0.15..2.4).contains(&p.x) && p.z.abs() < 0.4
+    };
+    let mut score = Score::default();
+    for i in (0..soft[0].len()).filter(|&i| along_shadow(i)) {
+        if let (Some(t), Some(r)) = (soft[0][i], rendered(&measured.frame, 0, i)) {
+            let (want, got) = (partial(t.soft), partial(r));
+            score.of += (want || got) as u64;
+            score.hits += (want != got) as u64;
+        }
+    }
+    Ok(score)
+}
