@@ -387,8 +387,8 @@ fn sweep(args: &BenchArgs) -> Result<()> {
         "# umbra bench{}
 
 {} configurations on {}, timed by {timing}; {:.0} s in all. Shadow cost: the median over {} \
-         frames of drawing every shadow layer plus what the lookups add to the main pass, every map redrawn every \
-         frame. Errors: pixels of {} views of {scene} at {}x{} against a ray-traced truth (every light \
+         frames of drawing every shadow layer (a frame with every map drawn against the same frame with every \
+         map kept) plus what the lookups add (that frame against one with shadows off). Errors: pixels of {} views of {scene} at {}x{} against a ray-traced truth (every light \
          together; the soft truth from {} rays over each light's disc: {}).",
         if args.quick { " --quick" } else { "" },
         rows.len(),

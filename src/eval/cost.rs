@@ -1,14 +1,15 @@
 //! What a configuration costs: the shadow pass and the extra work of the lookups, timed on the
 //! sample scene with every map redrawn every frame.
 //!
-//! Every configuration is timed in the same interleaved rounds (one frame of each, then the next
-//! round), and every frame is followed by the same frame with shadows off, so a machine whose
-//! speed drifts over the run slows all configurations alike and the ratios stay fair.
+//! Every configuration is timed in the same interleaved rounds (three frames of each, then the
+//! next round): the frame with every map drawn, the same frame with every map kept, and with
+//! shadows off. A machine whose speed drifts over the run slows all configurations alike and the
+//! ratios stay fair.
 
 use super::measure::{MeasureError, Measurer, Subject, SubjectId, apply_settings, place_camera};
 use super::sweep::{Config, SweepOptions};
 use crate::App;
-use crate::render::{Gpu, HEADLESS_FORMAT, PassTimes, Renderer};
+use crate::render::{Gpu, HEADLESS_FORMAT, Renderer};
 use crate::settings::Settings;
 use std::time::Instant;
 
@@ -31,15 +32,15 @@ impl Cost {
     }
 }
 
-/// One timed frame under `settings` at scene time `t`: GPU pass times, or the wall time of the
-/// whole frame where the device has no timestamps.
+/// One timed frame under `settings` at scene time `t`, in milliseconds: the GPU time of its
+/// passes where `stamps`, else the wall time of the whole frame, waited for.
 fn frame(
-    gpu: &Gpu,
+    (gpu, stamps): (&Gpu, bool),
     app: &mut App,
     renderer: &mut Renderer,
     target: (&wgpu::TextureView, u32, u32),
     (settings, t): (&Settings, f64),
-) -> Result<PassTimes, MeasureError> {
+) -> Result<f64, MeasureError> {
     apply_settings(app, settings);
     app.set_time(t);
     let start = Instant::now();
@@ -47,9 +48,21 @@ fn frame(
     gpu.wait()?;
     let wall = start.elapsed().as_secs_f64() * 1e3;
     Ok(match renderer.pass_times(gpu) {
-        Some(t) => t?,
-        None => PassTimes { shadow_ms: wall, main_ms: 0.0 },
+        Some(times) if stamps => {
+            let t = times?;
+            t.shadow_ms + t.main_ms
+        }
+        _ => wall,
     })
+}
+
+/// One round's three frames of a configuration: every map drawn, every map kept (the same
+/// frame again, nothing dirty), and shadows off.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Timed {
+    drawn: f64,
+    kept: f64,
+    off: f64,
 }
 
 /// Times every configuration in `configs` over the options' views; `progress` hears each round. One scene
@@ -64,27 +77,32 @@ pub fn time_all(
     let (w, h) = options.size;
     let texture = gpu.target("timed frame", (w, h), HEADLESS_FORMAT)?;
     let view = texture.create_view(&Default::default());
+    let stamps = super::sweep::timed_on_gpu(gpu);
     let mut m = Measurer::new(gpu, options.size, options.truth);
-    let mut times: Vec<Vec<(PassTimes, PassTimes)>> = vec![Vec::new(); configs.len()];
+    let mut times: Vec<Vec<Timed>> = vec![Vec::new(); configs.len()];
     let mut round = 0;
     for v in &options.views {
         for k in 0..options.frames + 2 {
             progress(round);
             round += 1;
             for (c, config) in configs.iter().enumerate() {
-                let on = Settings { reuse_shadow_maps: false, ..config.settings(base) };
-                let off = Settings { shadows: false, ..on.clone() };
+                let drawn = Settings { reuse_shadow_maps: false, ..config.settings(base) };
+                let kept = Settings { reuse_shadow_maps: true, ..drawn.clone() };
+                let off = Settings { shadows: false, ..kept.clone() };
                 let Subject { app, renderer } =
-                    m.subject(SubjectId::Timing(config.map_size), &on, |s| App::new(s.clone()))?;
-                renderer.enable_timing(gpu);
+                    m.subject(SubjectId::Timing(config.map_size), &drawn, |s| App::new(s.clone()))?;
+                if stamps {
+                    renderer.enable_timing(gpu);
+                }
                 place_camera(&mut app.world, v.eye, v.target);
                 let target = (&view, w, h);
-                let pair = (
-                    frame(gpu, app, renderer, target, (&on, v.time))?,
-                    frame(gpu, app, renderer, target, (&off, v.time))?,
-                );
+                let t = Timed {
+                    drawn: frame((gpu, stamps), app, renderer, target, (&drawn, v.time))?,
+                    kept: frame((gpu, stamps), app, renderer, target, (&kept, v.time))?,
+                    off: frame((gpu, stamps), app, renderer, target, (&off, v.time))?,
+                };
                 if k >= 2 {
-                    times[c].push(pair);
+                    times[c].push(t);
                 }
             }
         }
@@ -97,11 +115,12 @@ fn median(mut v: Vec<f64>) -> f64 {
     v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
-/// The cost from frames timed with shadows and without: drawing the maps, plus what the lookups
-/// add to the main pass (without timestamps, the whole frame's difference).
-fn cost(frames: &[(PassTimes, PassTimes)]) -> Cost {
-    let shadow: Vec<f64> = frames.iter().map(|(on, off)| on.shadow_ms - off.shadow_ms).collect();
-    let lookup = median(frames.iter().map(|(on, off)| on.main_ms - off.main_ms).collect());
+/// The cost from each round's three frames: drawing the maps is what a frame with every map drawn
+/// costs over the same frame with every map kept; the lookups, what that kept frame costs over one
+/// with shadows off.
+fn cost(frames: &[Timed]) -> Cost {
+    let shadow: Vec<f64> = frames.iter().map(|t| t.drawn - t.kept).collect();
+    let lookup = median(frames.iter().map(|t| t.kept - t.off).collect());
     let range = (
         shadow.iter().copied().fold(f64::INFINITY, f64::min),
         shadow.iter().copied().fold(f64::NEG_INFINITY, f64::max),
@@ -114,12 +133,10 @@ mod tests {
     use super::*;
 
     #[test]
-    fn cost_is_the_median_difference_with_shadows_off() {
-        let pair = |shadow, main, off_main| {
-            (PassTimes { shadow_ms: shadow, main_ms: main }, PassTimes { shadow_ms: 0.0, main_ms: off_main })
-        };
-        let c = cost(&[pair(4.0, 3.0, 2.0), pair(6.0, 3.5, 2.0), pair(5.0, 9.0, 2.0)]);
-        assert_eq!((c.shadow_ms, c.lookup_ms, c.range_ms), (5.0, 1.5, (4.0, 6.0)));
-        assert_eq!(c.total_ms(), 6.5);
+    fn cost_is_the_median_difference_between_drawn_kept_and_off() {
+        let t = |drawn, kept, off| Timed { drawn, kept, off };
+        let c = cost(&[t(9.0, 5.0, 2.0), t(12.0, 6.0, 2.5), t(9.0, 4.0, 3.0)]);
+        assert_eq!((c.shadow_ms, c.lookup_ms, c.range_ms), (5.0, 3.0, (4.0, 6.0)));
+        assert_eq!(c.total_ms(), 8.0);
     }
 }

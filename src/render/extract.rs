@@ -225,7 +225,11 @@ pub fn extract(world: &mut World) -> FrameData {
         lights.push(gpu_light(light, layers.len(), count));
         labels.push(light.label);
         if count > 0 {
-            methods |= 1 << light.method as u32;
+            // With shadows off the pipeline holds no sampling code at all: on a software
+            // rasterizer a wide filter's code slows every fragment even where it never runs.
+            if settings.shadows {
+                methods |= 1 << light.method as u32;
+            }
             draws.extend(layer_draws(light.label, map, layers.len(), &items, cull_to));
             layers.extend(map.layers.iter().map(|l| GpuLayer {
                 clip_from_world: l.clip_from_world,
