@@ -224,9 +224,10 @@ fn method_used(method: u32) -> bool {
     return (SHADOW_METHODS & (1u << method)) != 0u;
 }
 
-// True for methods that compare away from the lookup's own point.
+// True for methods that compare away from the lookup's own point (SPREADING_METHODS, a bit each,
+// from `ShadowMethod::spreads`).
 fn method_spreads(method: u32) -> bool {
-    return method != METHOD_NEAREST && method != METHOD_BILINEAR;
+    return (SPREADING_METHODS & (1u << method)) != 0u;
 }
 
 // The lookup of `method` (a METHOD_* constant) in layer `at`.

@@ -211,6 +211,8 @@ pub fn prelude() -> String {
     for method in ShadowMethod::ALL {
         constant(&format!("METHOD_{}", method.name().to_uppercase()), *method as u64);
     }
+    let spreading = ShadowMethod::ALL.iter().filter(|m| m.spreads()).fold(0u64, |mask, &m| mask | 1 << m as u64);
+    constant("SPREADING_METHODS", spreading);
     out.push_str(&format!("const LIGHT_FALLOFF: f32 = {:?};\n", crate::components::LIGHT_FALLOFF));
     out.push_str(&format!("const POISSON16_RADIUS: f32 = {:?};\n", ShadowMethod::Poisson16.disc_radius()));
     out.push_str(&format!("const POISSON32_RADIUS: f32 = {:?};\n", ShadowMethod::Poisson32.disc_radius()));
