@@ -1,8 +1,9 @@
 //! Per-light shadow biases, as `umbra tune` finds them and writes them to a file, and as `play`,
-//! `render` and `bench --cache` read them back (`--biases FILE`). Lights are named as
+//! `render` and `bench --cache` read them back (`--biases FILE`). The same file may also give
+//! lights methods of their own (`"methods": {"spot 1": "pcss"}`). Lights are named as
 //! [`crate::systems::light_list`] names them ("sun", "spot 1", "point 1").
 
-use crate::components::ShadowBias;
+use crate::components::{ShadowBias, ShadowMethod};
 use crate::systems::light_list;
 use bevy_ecs::prelude::*;
 use serde_json::{Value, json};
@@ -72,9 +73,9 @@ impl LightBiases {
     pub fn from_json(text: &str) -> Result<LightBiases, String> {
         let doc: Value = serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
         let keys = doc.as_object().ok_or("a bias file is a JSON object")?.keys();
-        if let Some(key) = keys.into_iter().find(|k| !["about", "lights"].contains(&k.as_str())) {
+        if let Some(key) = keys.into_iter().find(|k| !["about", "lights", "methods"].contains(&k.as_str())) {
             return Err(format!(
-                "unknown key `{key}`: a bias file lists `lights` by name (write it with `umbra tune`)"
+                "unknown key `{key}`: a bias file lists `lights` (and their `methods`) by name (write it with `umbra tune`)"
             ));
         }
         match doc.get("lights") {
@@ -90,9 +91,15 @@ impl LightBiases {
 
     /// Reads a bias file.
     pub fn load(path: &Path) -> Result<LightBiases, BiasFileError> {
+        Ok(LightBiases::load_with_methods(path)?.0)
+    }
+
+    /// Reads a bias file with the methods it gives lights (none if it has no `methods`).
+    pub fn load_with_methods(path: &Path) -> Result<(LightBiases, Vec<(String, ShadowMethod)>), BiasFileError> {
         let fail = |problem: String| BiasFileError { path: path.display().to_string(), problem };
         let text = std::fs::read_to_string(path).map_err(|e| fail(format!("cannot read it: {e}")))?;
-        LightBiases::from_json(&text).map_err(fail)
+        let biases = LightBiases::from_json(&text).map_err(fail)?;
+        Ok((biases, methods_from_json(&text).map_err(fail)?))
     }
 
     /// Writes a bias file, whole or not at all.
@@ -104,6 +111,22 @@ impl LightBiases {
             let _ = std::fs::remove_file(&tmp);
             fail(e.to_string())
         })
+    }
+}
+
+/// The methods a bias file's `methods` object gives lights by name, in its order.
+pub fn methods_from_json(text: &str) -> Result<Vec<(String, ShadowMethod)>, String> {
+    let doc: Value = serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
+    match doc.get("methods") {
+        None => Ok(Vec::new()),
+        Some(Value::Object(methods)) => methods
+            .iter()
+            .map(|(name, v)| {
+                let method = v.as_str().ok_or(format!("methods: `{name}` must be a method's name"))?;
+                Ok((name.clone(), method.parse().map_err(|e| format!("methods: {name}: {e}"))?))
+            })
+            .collect(),
+        Some(_) => Err("`methods` must be an object of light names and their methods".into()),
     }
 }
 
@@ -126,6 +149,16 @@ mod tests {
         assert!(LightBiases::from_json(r#"{"lights": [1]}"#).unwrap_err().contains("must be an object"));
         let old = r#"{"sun": {"constant": 1, "slope": 1, "normal": 1}}"#;
         assert!(LightBiases::from_json(old).unwrap_err().contains("unknown key `sun`"));
+        let with_methods = r#"{"lights": {}, "methods": {"spot 1": "pcss", "sun": "gauss5"}}"#;
+        assert_eq!(LightBiases::from_json(with_methods), Ok(LightBiases::default()));
+        assert_eq!(
+            methods_from_json(with_methods),
+            Ok(vec![("spot 1".into(), ShadowMethod::Pcss), ("sun".into(), ShadowMethod::Gauss5)])
+        );
+        assert!(methods_from_json(r#"{"methods": {"sun": "blurry"}}"#).unwrap_err().contains("sun: `blurry` is not"));
+        assert!(methods_from_json(r#"{"methods": {"sun": 3}}"#).unwrap_err().contains("must be a method's name"));
+        assert!(methods_from_json(r#"{"methods": []}"#).unwrap_err().contains("must be an object"));
+        assert_eq!(methods_from_json(r#"{"lights": {}}"#), Ok(Vec::new()));
         let err = LightBiases::load(Path::new("no/such/biases.json")).unwrap_err().to_string();
         assert!(err.starts_with("no/such/biases.json: cannot read it"), "{err}");
     }

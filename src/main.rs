@@ -101,7 +101,8 @@ struct SceneArgs {
     /// with physical values (a 100000 lux sun) want about 0.00001.
     #[arg(long, value_name = "FACTOR")]
     exposure: Option<f32>,
-    /// Per-light shadow biases from a file written by `umbra tune`.
+    /// Per-light shadow biases from a file written by `umbra tune` (and per-light methods, if it
+    /// has `"methods": {"spot 1": "pcss"}`).
     #[arg(long, value_name = "FILE")]
     biases: Option<PathBuf>,
     /// One light's shadow method, by its name: `--light-method "spot 1=pcss"` (repeat for more
@@ -225,7 +226,13 @@ fn parse_light_method(s: &str) -> Result<(String, ShadowMethod), String> {
 impl SceneArgs {
     fn settings(&self) -> Result<Settings> {
         let d = Settings::default();
-        let biases = self.biases.as_deref().map(umbra::biases::LightBiases::load).transpose()?;
+        let (biases, file_methods) = match self.biases.as_deref() {
+            Some(path) => {
+                let (biases, methods) = umbra::biases::LightBiases::load_with_methods(path)?;
+                (Some(biases), methods)
+            }
+            None => (None, Vec::new()),
+        };
         Ok(Settings {
             shadows: !self.no_shadows,
             shadow_map_size: self.shadow_map_size.unwrap_or(d.shadow_map_size),
@@ -240,7 +247,8 @@ impl SceneArgs {
             fit_mode: self.fit.unwrap_or(d.fit_mode),
             cascade_debug: self.cascade_debug,
             method: self.method.unwrap_or(d.method),
-            light_methods: self.light_method.clone(),
+            // The file's first, so the command line's win.
+            light_methods: file_methods.into_iter().chain(self.light_method.iter().cloned()).collect(),
             caster_culling: self.culling.unwrap_or(d.caster_culling),
             shadow_faces: self.shadow_faces.unwrap_or(d.shadow_faces),
             reuse_shadow_maps: !self.redraw_shadows,

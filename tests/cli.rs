@@ -168,14 +168,25 @@ fn a_broken_bias_file_is_named_and_nothing_is_written() {
     std::fs::write(dir.join("bad.json"), "{ not json").unwrap();
     std::fs::write(dir.join("negative.json"), r#"{"lights": {"sun": {"constant": -2, "slope": 0, "normal": 0}}}"#)
         .unwrap();
-    for (file, says) in
-        [("bad.json", "bad.json: not JSON"), ("negative.json", "sun: `constant` = -2"), ("gone.json", "cannot read it")]
-    {
+    std::fs::write(dir.join("lamp.json"), r#"{"methods": {"lamp": "pcss"}}"#).unwrap();
+    std::fs::write(dir.join("blurry.json"), r#"{"methods": {"sun": "blurry"}}"#).unwrap();
+    let cases = [
+        ("bad.json", "bad.json: not JSON"),
+        ("negative.json", "sun: `constant` = -2"),
+        ("gone.json", "cannot read it"),
+        ("lamp.json", "no light is called `lamp`"),
+        ("blurry.json", "blurry.json: methods: sun: `blurry` is not a shadow method"),
+    ];
+    for (file, says) in cases {
         let out = umbra(&["render", "--biases", file, "--out", "b.png"], &dir);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success() && stderr.contains(says) && !stderr.contains("panicked"), "{stderr}");
     }
     assert!(!dir.join("b.png").exists());
+    // A good file's methods are taken: the sun's shadow sampled by PCSS renders.
+    std::fs::write(dir.join("good.json"), r#"{"methods": {"sun": "pcss"}}"#).unwrap();
+    let out = umbra(&["render", "--biases", "good.json", "--width", "64", "--height", "36", "--out", "b.png"], &dir);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
 
 #[test]
