@@ -37,7 +37,7 @@ pub struct Config {
 /// The family the Bevy-like baseline is charted as.
 pub const BEVY_FAMILY: &str = "Bevy-like";
 
-/// What a user would otherwise get from Bevy (0.16's defaults as its docs give them): 4 cascades
+/// What a user would otherwise get from Bevy, as its documented defaults read: 4 cascades
 /// split geometrically from 10 m to 150 m, each blending 20 % into the next; a depth bias of
 /// 0.02 m along the light and a normal bias of 1.8 texels; its 9-tap Gaussian PCF (Castaño's,
 /// `gauss5`); 2048² maps; no receiver plane. Umbra's stable fit stands in for Bevy's own.
