@@ -90,9 +90,7 @@ fn gpu_skinning_puts_every_vertex_where_cpu_skinning_does() {
 
 /// Ground pixels the renderer shadowed from the sun, checked against the ray-traced truth.
 fn ground_shadow(app: &mut App, frame: &DebugFrame) -> Vec<bool> {
-    let occluders = truth::Occluders::from_world(&mut app.world);
-    let lights = truth::truth_lights(&mut app.world, truth::SizeOverride::default());
-    let truth = truth::truth_frame(frame, &occluders, &lights, 0);
+    let truth = truth::truth_of(&mut app.world, frame, truth::SizeOverride::default(), 0);
     let on_ground = |i: usize| frame.covered(i) && frame.position[i].y.abs() < 1e-3;
     let tally = metrics::tally(frame, &truth[0], 0, on_ground);
     let truly_dark = (0..truth[0].len()).filter(|&i| on_ground(i) && truth[0][i].is_some_and(|t| !t.lit)).count();

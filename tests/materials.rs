@@ -113,9 +113,7 @@ fn a_cut_out_caster_casts_a_cut_out_shadow_where_the_truth_says() {
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
     let frame = render_debug_frame(&gpu, &mut renderer, &mut app, SIZE, SIZE).unwrap();
     drop(gpu);
-    let occluders = truth::Occluders::from_world(&mut app.world);
-    let lights = truth::truth_lights(&mut app.world, truth::SizeOverride::default());
-    let truth = truth::truth_frame(&frame, &occluders, &lights, 0);
+    let truth = truth::truth_of(&mut app.world, &frame, truth::SizeOverride::default(), 0);
     let on_ground = |i: usize| frame.covered(i) && frame.position[i].y.abs() < 1e-3;
     let tally = metrics::tally(&frame, &truth[0], 0, on_ground);
     let truly_dark = (0..truth[0].len()).filter(|&i| on_ground(i) && truth[0][i].is_some_and(|t| !t.lit)).count();

@@ -41,9 +41,7 @@ fn ground_errors(app: &mut App, light: usize) -> (usize, u64) {
     app.set_time(0.0);
     let frame = render_debug_frame(&gpu, &mut renderer, app, SIZE, SIZE).unwrap();
     drop(gpu);
-    let occluders = truth::Occluders::from_world(&mut app.world);
-    let lights = truth::truth_lights(&mut app.world, truth::SizeOverride::default());
-    let truth = truth::truth_frame(&frame, &occluders, &lights, 0);
+    let truth = truth::truth_of(&mut app.world, &frame, truth::SizeOverride::default(), 0);
     let on_ground = |i: usize| frame.covered(i) && frame.position[i].y.abs() < 1e-3;
     let tally = metrics::tally(&frame, &truth[light], light, on_ground);
     let dark = (0..truth[light].len()).filter(|&i| on_ground(i) && truth[light][i].is_some_and(|t| !t.lit)).count();
@@ -114,9 +112,7 @@ fn a_sun_four_spots_and_two_point_lights_are_each_measured_against_the_truth() {
     let names: Vec<String> = light_list(&mut app.world).iter().map(|l| l.label.to_string()).collect();
     assert_eq!(names, ["sun", "spot 1", "spot 2", "spot 3", "spot 4", "point 1", "point 2"]);
     assert_eq!(frame.visibility.len(), 7, "a column per light");
-    let occluders = truth::Occluders::from_world(&mut app.world);
-    let lights = truth::truth_lights(&mut app.world, truth::SizeOverride::default());
-    let truth = truth::truth_frame(&frame, &occluders, &lights, 0);
+    let truth = truth::truth_of(&mut app.world, &frame, truth::SizeOverride::default(), 0);
     for (light, report) in metrics::report(&frame, &truth, 2).iter().enumerate() {
         let t = report.all;
         eprintln!("{}: {} pixels, {:.4} % misclassified", names[light], t.pixels, 100.0 * t.misclassified());

@@ -69,9 +69,7 @@ fn a_files_lights_shadow_the_scene_where_the_truth_says() {
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
     let frame = render_debug_frame(&gpu, &mut renderer, &mut app, SIZE, SIZE).unwrap();
     drop(gpu);
-    let occluders = truth::Occluders::from_world(&mut app.world);
-    let lights = truth::truth_lights(&mut app.world, truth::SizeOverride::default());
-    let truth = truth::truth_frame(&frame, &occluders, &lights, 0);
+    let truth = truth::truth_of(&mut app.world, &frame, truth::SizeOverride::default(), 0);
     for (light, column) in truth.iter().enumerate() {
         let dark = column.iter().filter(|t| t.is_some_and(|t| !t.lit)).count();
         let tally = metrics::tally(&frame, column, light, |_| true);

@@ -60,9 +60,7 @@ fn measure(method: ShadowMethod) -> Seen {
     app.set_time(0.0);
     let frame = render_debug_frame(&gpu, &mut renderer, &mut app, SIZE, SIZE).unwrap();
     drop(gpu);
-    let occluders = truth::Occluders::from_world(&mut app.world);
-    let lights = truth::truth_lights(&mut app.world, truth::SizeOverride::default());
-    let truth = truth::truth_frame(&frame, &occluders, &lights, 32);
+    let truth = truth::truth_of(&mut app.world, &frame, truth::SizeOverride::default(), 32);
     let on_ground = |i: usize| frame.covered(i) && frame.position[i].y.abs() < 1e-3;
     let tally = metrics::tally(&frame, &truth[0], 0, on_ground);
     let partial = |v: f32| (0.05..0.95).contains(&v);
@@ -100,6 +98,14 @@ fn every_method_puts_the_plates_shadows_where_the_truth_does() {
         assert!(seen.tally.pixels > 30_000, "{method:?}: {} ground pixels", seen.tally.pixels);
         // Edges are the only place a method can be wrong here: a few hundred pixels of 65,000.
         assert!(seen.tally.misclassified() < 0.01, "{method:?}: {:.4} misclassified", seen.tally.misclassified());
+        // And each draws the edge it should: a comparison per texel none partly lit, a filter that
+        // spreads its taps a soft band along the high plate's edge (bilinear's band is under a pixel).
+        let partial = seen.partial_low + seen.partial_high;
+        match method {
+            ShadowMethod::Nearest => assert_eq!(partial, 0, "nearest draws partly lit pixels"),
+            m if m.spreads() => assert!(seen.partial_high > 50, "{m:?}: {} partly lit pixels", seen.partial_high),
+            _ => {}
+        }
     }
 }
 

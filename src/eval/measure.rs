@@ -2,7 +2,7 @@
 //! with the truth kept for reuse while only the shadow settings change (the visible surfaces,
 //! and so the truth, do not depend on them).
 
-use super::truth::{Occluders, SizeOverride, Truth, truth_frame, truth_lights};
+use super::truth::{SizeOverride, Truth, truth_of};
 use crate::App;
 use crate::components::{Camera, FlyCamera, Transform};
 use crate::render::{DebugFrame, Gpu, HEADLESS_FORMAT, RenderError, Renderer, render_debug_frame};
@@ -165,8 +165,7 @@ impl<'g> Measurer<'g> {
         }
         let t = self.truth;
         let world = &mut subject.app.world;
-        let lights = truth_lights(world, t.sizes);
-        let truth = std::rc::Rc::new(truth_frame(&frame, &Occluders::from_world(world), &lights, t.soft_rays));
+        let truth = std::rc::Rc::new(truth_of(world, &frame, t.sizes, t.soft_rays));
         self.cache.insert(key, (frame.position.clone(), truth.clone()));
         Ok(Measured { frame, truth })
     }

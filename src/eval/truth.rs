@@ -348,6 +348,18 @@ fn soft_fraction(seen: usize, of: usize, lit: bool) -> f32 {
     if of == 0 { lit as u32 as f32 } else { seen as f32 / of as f32 }
 }
 
+/// The truth for `frame`, measured from `world` as it is now: its occluders and its lights (with
+/// `sizes` where given), `soft_rays` rays over each light's disc (see [`truth_frame`]).
+pub fn truth_of(
+    world: &mut World,
+    frame: &DebugFrame,
+    sizes: SizeOverride,
+    soft_rays: usize,
+) -> Vec<Vec<Option<Truth>>> {
+    let lights = truth_lights(world, sizes);
+    truth_frame(frame, &Occluders::from_world(world), &lights, soft_rays)
+}
+
 /// The truth for every pixel of a measured frame and every light (in the frame's order):
 /// `None` for the sky and where a light does not reach. `soft_rays` rays sample each light's
 /// disc. Rows are shared out over the machine's cores.

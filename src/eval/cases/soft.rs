@@ -56,9 +56,7 @@ pub fn contact_hardening(m: &mut Measurer<'_>, settings: &Settings) -> Result<Sc
     m.subject(CONTACT_HARDENING, &settings, pole_scene)?;
     let measured = measure_at(m, CONTACT_HARDENING, "pole", |_| {})?;
     let (app, _) = m.parts(CONTACT_HARDENING)?;
-    let occluders = truth::Occluders::from_world(&mut app.world);
-    let lights = truth::truth_lights(&mut app.world, truth::SizeOverride::default());
-    let soft = truth::truth_frame(&measured.frame, &occluders, &lights, SOFT_RAYS);
+    let soft = truth::truth_of(&mut app.world, &measured.frame, truth::SizeOverride::default(), SOFT_RAYS);
     let along_shadow = |i: usize| {
         let p = measured.frame.position[i];
         on_ground(&measured)(i) && (0.15..2.4).contains(&p.x) && p.z.abs() < 0.4
