@@ -63,21 +63,6 @@ struct GpuLight {
     cookie_from_world: mat4x4<f32>,
 };
 
-// One layer of the shadow-map array: its projection and the world size of its texels.
-struct GpuLayer {
-    clip_from_world: mat4x4<f32>,
-    // World size of one texel: texel_base + texel_per_metre * distance from the light.
-    texel_base: f32,
-    texel_per_metre: f32,
-    // View depth where this cascade ends, and the band before it where it blends into the next.
-    far: f32,
-    blend: f32,
-    // How its projection turns distance from the light into depth (see view_distance).
-    depth_terms: vec2<f32>,
-    _pad0: u32,
-    _pad1: u32,
-};
-
 @group(0) @binding(0) var<uniform> frame: Frame;
 // Cookie images, COOKIE_SIZE² bytes each, four bytes to a word, sixteen to an element.
 @group(0) @binding(3) var<uniform> cookies: array<vec4<u32>, COOKIE_VECTORS>;

@@ -1,12 +1,9 @@
-// Shadow pass: depth only. Opaque casters have no fragment stage (the rasterizer writes depth
-// by itself); cut-out casters (masked, or blended ones taken as masked) discard where the
-// surface is not there, so they cast cut-out shadows.
+// Shadow pass: depth, and for a light that uses a moment map, the moments of that depth. In a
+// depth-only layer opaque casters have no fragment stage (the rasterizer writes depth by
+// itself); cut-out casters (masked, or blended ones taken as masked) discard where the surface
+// is not there, so they cast cut-out shadows.
 
-struct Layer {
-    clip_from_world: mat4x4<f32>,
-};
-
-@group(0) @binding(0) var<uniform> layer: Layer;
+@group(0) @binding(0) var<uniform> layer: GpuLayer;
 
 struct ShadowOut {
     @builtin(position) clip: vec4<f32>,
@@ -25,9 +22,21 @@ fn vs_shadow_skinned(v: VertexIn, s: SkinIn) -> ShadowOut {
     return ShadowOut(layer.clip_from_world * object.world_from_local * skin_matrix(s) * vec4<f32>(v.position, 1.0), v.uv, v.color);
 }
 
-@fragment
-fn fs_shadow(in: ShadowOut) {
+fn cut_out(in: ShadowOut) {
     if (surface_color(in.uv, in.color).a < object.alpha_cutoff) {
         discard;
     }
+}
+
+@fragment
+fn fs_shadow(in: ShadowOut) {
+    cut_out(in);
+}
+
+// A moment layer: the depth test keeps the nearest fragment, and so its moments are the last
+// written.
+@fragment
+fn fs_moments(in: ShadowOut) -> @location(0) vec4<f32> {
+    cut_out(in);
+    return encode_moments(layer, in.clip.z);
 }

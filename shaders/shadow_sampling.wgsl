@@ -3,6 +3,10 @@
 
 @group(0) @binding(1) var shadow_maps: texture_depth_2d_array;
 @group(0) @binding(2) var shadow_sampler: sampler_comparison;
+// The moment maps, slot for slot with the depth maps (only layers of lights that use moments
+// hold any), read with bilinear filtering.
+@group(0) @binding(6) var moment_maps: texture_2d_array<f32>;
+@group(0) @binding(7) var moment_sampler: sampler;
 
 // The methods this pipeline samples with, a bit (1 << METHOD_*) each, fixed when the pipeline is
 // built: with one method in use only its code is reached, so no fragment chooses at run time.
@@ -131,24 +135,17 @@ fn shadow_poisson32(c: ShadowCoord, radius: f32) -> f32 {
 }
 
 // One layer as a lookup sees it: its slot in the array, its data, the size of its light (see
-// GpuLight.size), whether its projection is a perspective one (spots and cube faces), and
-// whether PCSS searches it for blockers (else PCSS filters with a fixed kernel).
+// GpuLight.size), and whether PCSS searches it for blockers (else PCSS filters with a fixed
+// kernel).
 struct LayerRef {
     index: u32,
     layer: GpuLayer,
     light_size: f32,
-    perspective: bool,
     pcss_search: bool,
 };
 
-// Distance from the light along the layer's view axis of depth `z`, as `shadow::view_distance`
-// computes it.
 fn view_distance(at: LayerRef, z: f32) -> f32 {
-    let t = at.layer.depth_terms;
-    if (at.perspective) {
-        return t.y / (z + t.x);
-    }
-    return (t.y - z) / t.x;
+    return layer_view_distance(at.layer, z);
 }
 
 // Widest penumbra PCSS draws (and so the widest it searches for blockers), in texels, and
@@ -163,7 +160,7 @@ const PCSS_LEVELS: i32 = 6;
 fn penumbra_texels(at: LayerRef, receiver: f32, blocker: f32) -> f32 {
     let gap = max(receiver - blocker, 0.0);
     let texel = at.layer.texel_base + at.layer.texel_per_metre * receiver;
-    if (at.perspective) {
+    if (at.layer.perspective == 1u) {
         return at.light_size * gap / max(blocker, 1e-4) / max(texel, 1e-9);
     }
     return at.light_size * gap / max(texel, 1e-9);
@@ -175,7 +172,7 @@ fn depth_for_penumbra(at: LayerRef, receiver: f32, w: f32) -> f32 {
     let texel = at.layer.texel_base + at.layer.texel_per_metre * receiver;
     let shift = w * texel / max(at.light_size, 1e-9);
     let t = at.layer.depth_terms;
-    if (at.perspective) {
+    if (at.layer.perspective == 1u) {
         return t.y * (1.0 + shift) / receiver - t.x;
     }
     return t.y - t.x * (receiver - shift);
@@ -220,6 +217,88 @@ fn shadow_pcss(c: ShadowCoord, at: LayerRef) -> f32 {
     return shadow_poisson32(c, radius);
 }
 
+// The moments of the lookup's layer around its point, bilinearly filtered from the blurred map.
+fn filtered_moments(c: ShadowCoord) -> vec4<f32> {
+    return textureSampleLevel(moment_maps, moment_sampler, c.uv, c.layer, 0.0);
+}
+
+// Chebyshev's one-sided inequality: of a distribution with this mean and mean square (its
+// variance held to at least `least`), at most this share lies beyond `d`, so at least the rest
+// of the light gets through. Exact for one flat occluder over a flat receiver.
+fn chebyshev(mean: f32, square: f32, d: f32, least: f32) -> f32 {
+    let variance = max(square - mean * mean, least);
+    let beyond = d - mean;
+    if (beyond <= 0.0) {
+        return 1.0;
+    }
+    return variance / (variance + beyond * beyond);
+}
+
+// Light-bleeding reduction (Lauritzen 2007): where two occluders overlap, the bound stays
+// well above zero in the shadow of the lower one; cutting the lowest `amount` of it away and
+// stretching the rest darkens those regions, at the price of slightly harder edges.
+fn reduce_bleeding(p: f32, amount: f32) -> f32 {
+    return clamp((p - amount) / (1.0 - amount), 0.0, 1.0);
+}
+
+// Variance shadow maps (Donnelly and Lauritzen 2006, "Variance shadow maps").
+fn shadow_vsm(c: ShadowCoord, at: LayerRef) -> f32 {
+    let m = filtered_moments(c);
+    let d = linear_depth(at.layer, c.depth);
+    return reduce_bleeding(chebyshev(m.x, m.y, d, at.layer.moment_bias), at.layer.bleed);
+}
+
+// Exponential variance shadow maps (Lauritzen and McCool 2008, "Layered variance shadow maps";
+// four moments as in Lauritzen's "Summed-area variance shadow maps" notes): Chebyshev's bound on
+// a positive and a negative exponential warp of the depth, the tighter of the two. The warp
+// squeezes the occluders' spread relative to the receiver's distance from them, so much less
+// light bleeds. The least variance grows with the warp's slope at the point.
+fn shadow_evsm(c: ShadowCoord, at: LayerRef) -> f32 {
+    let m = filtered_moments(c);
+    let w = evsm_warp(at.layer, linear_depth(at.layer, c.depth));
+    let slope = 2.0 * at.layer.warp * abs(w) * at.layer.moment_bias;
+    let positive = chebyshev(m.x, m.y, w.x, slope.x * slope.x);
+    let negative = chebyshev(m.z, m.w, w.y, slope.y * slope.y);
+    return reduce_bleeding(min(positive, negative), at.layer.bleed);
+}
+
+// Moment shadow maps (Peters and Klein 2015, "Moment shadow mapping"), the Hamburger
+// reconstruction: of every distribution of depths with these four moments, the one that puts
+// the most of its weight in front of `d` has three points (d and two more, z2 and z3, the roots
+// of a quadratic found through a Cholesky solve of the moments' Hankel matrix); its weight in
+// front of d bounds the shadow. The moments are first mixed with a little of a distribution
+// half at 0 and half at 1 (moments 0.5 each), which keeps the matrix invertible under rounding.
+fn shadow_msm(c: ShadowCoord, at: LayerRef) -> f32 {
+    let b = mix(filtered_moments(c), vec4<f32>(0.5), at.layer.moment_bias);
+    let d = linear_depth(at.layer, c.depth);
+    // Cholesky factor L of [[1, b1, b2], [b1, b2, b3], [b2, b3, b4]].
+    let l22 = sqrt(max(b.y - b.x * b.x, 1e-12));
+    let l32 = (b.z - b.x * b.y) / l22;
+    let l33 = sqrt(max(b.w - b.y * b.y - l32 * l32, 1e-12));
+    // Solve L y = (1, d, d²), then L^T q = y: q are the quadratic's coefficients.
+    let y2 = (d - b.x) / l22;
+    let y3 = (d * d - b.y - l32 * y2) / l33;
+    let q2 = y3 / l33;
+    let q1 = (y2 - l32 * q2) / l22;
+    let q0 = 1.0 - b.x * q1 - b.y * q2;
+    // The roots of q2 z² + q1 z + q0, z2 <= z3.
+    let root = sqrt(max(q1 * q1 - 4.0 * q2 * q0, 0.0));
+    let r = vec2<f32>(-q1 - root, -q1 + root) / (2.0 * q2);
+    let z2 = min(r.x, r.y);
+    let z3 = max(r.x, r.y);
+    var shadow = 0.0;
+    if (d <= z2) {
+        shadow = 0.0;
+    } else if (d <= z3) {
+        shadow = (d * z3 - b.x * (d + z3) + b.y) / ((z3 - z2) * (d - z2));
+    } else {
+        shadow = 1.0 - (z2 * z3 - b.x * (z2 + z3) + b.y) / ((d - z2) * (d - z3));
+    }
+    let lit = 1.0 - clamp(shadow, 0.0, 1.0);
+    // Rounding can leave a degenerate solve: read that as lit rather than as a black speck.
+    return reduce_bleeding(select(1.0, lit, lit == lit), at.layer.bleed);
+}
+
 fn method_used(method: u32) -> bool {
     return (SHADOW_METHODS & (1u << method)) != 0u;
 }
@@ -256,6 +335,15 @@ fn sample_shadow(method: u32, c: ShadowCoord, at: LayerRef) -> f32 {
     }
     if (method_used(METHOD_PCSS) && (only || method == METHOD_PCSS)) {
         return shadow_pcss(c, at);
+    }
+    if (method_used(METHOD_VSM) && (only || method == METHOD_VSM)) {
+        return shadow_vsm(c, at);
+    }
+    if (method_used(METHOD_EVSM) && (only || method == METHOD_EVSM)) {
+        return shadow_evsm(c, at);
+    }
+    if (method_used(METHOD_MSM) && (only || method == METHOD_MSM)) {
+        return shadow_msm(c, at);
     }
     return 1.0;
 }

@@ -61,6 +61,13 @@ pub struct Settings {
     /// PCSS searches for blockers and sizes its filter by their distance (off: a fixed kernel,
     /// the Poisson 32 one, which loses contact hardening).
     pub pcss_blocker_search: bool,
+    /// Radius in texels of the Gaussian blur a moment map gets after it is drawn (0: none).
+    pub moment_blur: u32,
+    /// How much of the bound a variance or moment map gives is cut away as light bleeding (0:
+    /// none; the rest is stretched over 0..1).
+    pub light_bleeding: f32,
+    /// Float bits per moment: each method's own choice (auto), 16 or 32.
+    pub moment_bits: MomentBits,
     /// Ambient light level (0..1) that reaches every surface.
     pub ambient: f32,
     /// Number of animated cubes in the sample scene.
@@ -106,6 +113,9 @@ impl Default for Settings {
             cube_seams: true,
             receiver_plane: true,
             pcss_blocker_search: true,
+            moment_blur: DEFAULT_MOMENT_BLUR,
+            light_bleeding: DEFAULT_LIGHT_BLEEDING,
+            moment_bits: MomentBits::Auto,
             spot_map_limit: crate::shadow::MAX_MAP_HALF_ANGLE,
             ambient: 0.12,
             cubes: 10,
@@ -118,6 +128,26 @@ impl Default for Settings {
         }
     }
 }
+
+/// How many bits of float a moment map stores per moment.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum MomentBits {
+    /// What each method does best with ([`ShadowMethod::moment_bits`]); 16 where the device
+    /// cannot render or filter 32-bit floats (GL).
+    #[default]
+    Auto,
+    /// Half floats: half the memory and bandwidth.
+    Half,
+    /// Full floats (not on GL, which cannot render into them).
+    Full,
+}
+
+/// Default blur radius of moment maps, in texels.
+pub const DEFAULT_MOMENT_BLUR: u32 = 2;
+/// Largest blur radius of moment maps, in texels.
+pub const MAX_MOMENT_BLUR: u32 = 16;
+/// Default light-bleeding reduction.
+pub const DEFAULT_LIGHT_BLEEDING: f32 = 0.2;
 
 /// Which casters a shadow map takes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -157,8 +187,12 @@ named_choices!(
     Gauss5 = "gauss5",
     Poisson16 = "poisson16",
     Poisson32 = "poisson32",
-    Pcss = "pcss"
+    Pcss = "pcss",
+    Vsm = "vsm",
+    Evsm = "evsm",
+    Msm = "msm"
 );
+named_choices!(MomentBits, "a moment-map precision", Auto = "auto", Half = "16", Full = "32");
 named_choices!(CasterCulling, "a culling mode", LightVolume = "light", CameraView = "camera");
 
 /// A setting outside what makes sense, with the reason.
@@ -236,6 +270,12 @@ impl Settings {
         if !(self.cascade_blend.is_finite() && (0.0..=0.5).contains(&self.cascade_blend)) {
             return bad("cascade_blend", self.cascade_blend, "must be a fraction between 0 and 0.5");
         }
+        if self.moment_blur > MAX_MOMENT_BLUR {
+            return bad("moment_blur", self.moment_blur, "must be between 0 and 16 texels");
+        }
+        if !(self.light_bleeding.is_finite() && (0.0..=0.9).contains(&self.light_bleeding)) {
+            return bad("light_bleeding", self.light_bleeding, "must be a fraction between 0 and 0.9");
+        }
         if !unit(self.ambient) {
             return bad("ambient", self.ambient, "must be between 0 and 1");
         }
@@ -290,7 +330,9 @@ mod tests {
     #[test]
     fn nonsense_is_named() {
         type Case = (fn(&mut Settings), &'static str);
-        let cases: [Case; 11] = [
+        let cases: [Case; 13] = [
+            (|s| s.moment_blur = 99, "moment_blur"),
+            (|s| s.light_bleeding = f32::NAN, "light_bleeding"),
             (|s| s.cascades = 5, "cascades"),
             (|s| s.split_lambda = -0.1, "split_lambda"),
             (|s| s.cascade_blend = 0.9, "cascade_blend"),

@@ -172,6 +172,15 @@ pub enum ShadowMethod {
     /// Percentage-closer soft shadows (Fernando 2005): a blocker search, then a Poisson filter
     /// as wide as the penumbra the light's size and the blocker's distance give.
     Pcss = 7,
+    /// Variance shadow maps (Donnelly and Lauritzen 2006): the depth and its square, blurred,
+    /// and Chebyshev's inequality as the visibility.
+    Vsm = 8,
+    /// Exponential variance shadow maps (Lauritzen and McCool 2008): VSM of a positive and a
+    /// negative exponential warp of the depth (four moments), which bleeds far less light.
+    Evsm = 9,
+    /// Moment shadow maps (Peters and Klein 2015): four powers of the depth, blurred, and the
+    /// Hamburger reconstruction of the sharpest shadow they allow.
+    Msm = 10,
 }
 
 impl ShadowMethod {
@@ -186,6 +195,8 @@ impl ShadowMethod {
             // PCSS reaches as far as its penumbra; on a cube face it may read past the face's
             // margin, where the edge texels repeat.
             ShadowMethod::Poisson32 | ShadowMethod::Pcss => 4,
+            // One filtered read of a map blurred beforehand (the blur clamps at the map's edge).
+            ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Msm => 1,
         }
     }
 
@@ -207,12 +218,27 @@ impl ShadowMethod {
             ShadowMethod::Gauss5 => "Gaussian PCF",
             ShadowMethod::Poisson16 | ShadowMethod::Poisson32 => "Poisson PCF",
             ShadowMethod::Pcss => "PCSS",
+            ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Msm => "moment maps",
         }
+    }
+
+    /// Bits per moment a moment method does best with, from `umbra bench`'s 16- against 32-bit
+    /// rows (0 for the others).
+    pub fn moment_bits(self) -> u32 {
+        match self {
+            ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Msm => 32,
+            _ => 0,
+        }
+    }
+
+    /// It reads a prefiltered moment map, not the depth map.
+    pub fn moments(self) -> bool {
+        matches!(self, ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Msm)
     }
 
     /// It compares with depths away from the lookup's own point, so the receiver plane matters.
     pub fn spreads(self) -> bool {
-        !matches!(self, ShadowMethod::Nearest | ShadowMethod::Bilinear)
+        !matches!(self, ShadowMethod::Nearest | ShadowMethod::Bilinear) && !self.moments()
     }
 }
 

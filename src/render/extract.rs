@@ -8,7 +8,7 @@ use super::gpu_types::{Frame, GpuLayer, GpuLight, MAX_LAYERS, Object, kind_id, s
 use crate::components::*;
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{Aabb, intersects_clip_volume, spot_projection};
-use crate::systems::{LightKind, LightLabel, SceneLight, light_list};
+use crate::systems::{LightKind, LightLabel, SceneLight, ShadowShape, light_list};
 use bevy_ecs::prelude::*;
 use bytemuck::Zeroable;
 use glam::{Mat4, Vec3};
@@ -43,6 +43,8 @@ pub struct LayerDraw {
     pub clip_from_world: Mat4,
     /// Version of its contents (see [`ShadowLayer::version`]).
     pub version: u64,
+    /// How its light's shadow is sampled (a moment method needs a moment map too).
+    pub method: ShadowMethod,
     /// Indices into [`FrameData::items`] of the casters whose bounds meet the layer's volume.
     pub casters: Vec<usize>,
 }
@@ -131,7 +133,7 @@ fn gpu_light(light: &SceneLight, first_layer: usize, layer_count: usize) -> GpuL
 /// The shadow-map layers of one light, each with the casters inside its volume (and inside the
 /// camera's view too, when `camera` is given: the camera-view culling shortcut).
 fn layer_draws(
-    light: LightLabel,
+    (light, method): (LightLabel, ShadowMethod),
     map: &ShadowMap,
     first_slot: usize,
     items: &[(DrawItem, Aabb)],
@@ -150,6 +152,7 @@ fn layer_draws(
             slot: (first_slot + k) as u32,
             clip_from_world: l.clip_from_world,
             version: l.version,
+            method,
             casters: (0..items.len()).filter(|&i| keep(l, &items[i])).collect(),
         })
         .collect()
@@ -230,7 +233,7 @@ pub fn extract(world: &mut World) -> FrameData {
             if settings.shadows {
                 methods |= 1 << light.method as u32;
             }
-            draws.extend(layer_draws(light.label, map, layers.len(), &items, cull_to));
+            draws.extend(layer_draws((light.label, light.method), map, layers.len(), &items, cull_to));
             layers.extend(map.layers.iter().map(|l| GpuLayer {
                 clip_from_world: l.clip_from_world,
                 texel_base: l.texel.x,
@@ -238,8 +241,10 @@ pub fn extract(world: &mut World) -> FrameData {
                 far: l.far,
                 blend: l.blend,
                 depth_terms: l.depth.to_array(),
-                _pad0: 0,
-                _pad1: 0,
+                method: light.method as u32,
+                perspective: (light.shape != ShadowShape::Cascades) as u32,
+                bleed: settings.light_bleeding,
+                ..GpuLayer::zeroed()
             }));
         }
     }

@@ -49,8 +49,9 @@ impl Gpu {
             adapters.into_iter().next().ok_or_else(|| RenderError::NoAdapter { backends: format!("{backends:?}") })?;
         let desc = wgpu::DeviceDescriptor {
             label: Some("umbra"),
-            // Timestamps let the benchmark time each pass on the GPU; nothing else needs them.
-            required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
+            // Timestamps let the benchmark time each pass on the GPU; filtering 32-bit floats
+            // allows full-float moment maps. Neither is needed.
+            required_features: adapter.features() & (wgpu::Features::TIMESTAMP_QUERY | super::moments::FULL_FEATURES),
             required_limits: adapter.limits(),
             ..Default::default()
         };

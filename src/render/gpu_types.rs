@@ -133,7 +133,8 @@ gpu_struct! {
 }
 
 gpu_struct! {
-    /// One layer of the shadow-map array (`GpuLayer` in frame.wgsl).
+    /// One layer of the shadow-map array (`GpuLayer` in moments.wgsl): the main pass reads them
+    /// all, the shadow pass the one it draws.
     pub struct GpuLayer {
         /// World to the layer's clip space.
         pub clip_from_world: Mat4,
@@ -148,6 +149,26 @@ gpu_struct! {
         /// How its projection turns distance from the light into depth
         /// ([`crate::shadow::depth_terms`]).
         pub depth_terms: [f32; 2],
+        /// `METHOD_*` of its light.
+        pub method: u32,
+        /// 1 for a perspective projection (spots and cube faces).
+        pub perspective: u32,
+        /// EVSM's positive and negative exponents.
+        pub warp: [f32; 2],
+        /// A moment method's stabiliser (see [`super::moments::moment_bias`]).
+        pub moment_bias: f32,
+        /// Light-bleeding reduction of a moment method.
+        pub bleed: f32,
+    }
+}
+
+gpu_struct! {
+    /// The layer a moment-blur pass reads and how far it reaches (`Blur` in blur.wgsl).
+    pub struct Blur {
+        /// Layer of the moment array.
+        pub layer: u32,
+        /// Texels weighed each side of the centre.
+        pub radius: i32,
         pub _pad0: u32,
         pub _pad1: u32,
     }

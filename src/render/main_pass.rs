@@ -72,6 +72,7 @@ struct FrameResources {
     layout: wgpu::BindGroupLayout,
     buffer: wgpu::Buffer,
     shadow_sampler: wgpu::Sampler,
+    moment_sampler: wgpu::Sampler,
     cookies: wgpu::Buffer,
     lights: wgpu::Buffer,
     layers: wgpu::Buffer,
@@ -127,6 +128,22 @@ impl FrameResources {
                 uniform_entry(3, fragment, cookie_bytes),
                 uniform_entry(4, fragment, MAX_LIGHTS * size_of::<GpuLight>()),
                 uniform_entry(5, fragment, MAX_LAYERS * size_of::<GpuLayer>()),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 6,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 7,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
             ],
         });
         // Linear comparison filtering gives a 2x2 percentage-closer filter in hardware.
@@ -137,10 +154,18 @@ impl FrameResources {
             compare: Some(wgpu::CompareFunction::LessEqual),
             ..Default::default()
         });
+        // Moment maps are filtered like any image: their moments average linearly.
+        let moment_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("moments"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
         FrameResources {
             layout,
             buffer: uniform_buffer(device, "frame", size_of::<Frame>()),
             shadow_sampler,
+            moment_sampler,
             cookies: cookie_buffer(device),
             lights: uniform_buffer(device, "lights", MAX_LIGHTS * size_of::<GpuLight>()),
             layers: uniform_buffer(device, "layers", MAX_LAYERS * size_of::<GpuLayer>()),
@@ -158,6 +183,11 @@ impl FrameResources {
                 wgpu::BindGroupEntry { binding: 3, resource: self.cookies.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 4, resource: self.lights.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 5, resource: self.layers.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::TextureView(&maps.moments.array_view),
+                },
+                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(&self.moment_sampler) },
             ],
         })
     }

@@ -10,6 +10,7 @@ mod gpu;
 pub mod gpu_types;
 mod main_pass;
 mod mesh;
+mod moments;
 mod readback;
 mod renderer;
 mod shaders;

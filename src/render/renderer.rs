@@ -4,6 +4,7 @@ use super::extract::extract;
 use super::gpu_types::Object;
 use super::main_pass::{DEPTH_FORMAT, MainPass};
 use super::mesh::{Drawables, GpuMesh, JointPalette};
+use super::moments;
 use super::shadow_pass::{ShadowPass, ShadowStats};
 use super::texture::MaterialTextures;
 use super::timing::{PassTimer, PassTimes};
@@ -133,8 +134,14 @@ impl Renderer {
         }
         let depth = self.ensure_depth(device, width, height);
         let mut data = extract(world);
+        let full = moments::full_supported(&gpu.adapter, device.features());
+        let format =
+            moments::moment_format(data.methods, settings.moment_bits, full).map_err(RenderError::Unsupported)?;
+        if let Some(format) = format {
+            moments::set_terms(&mut data.layers, format);
+        }
         self.main.prepare(device, &data);
-        if self.shadow.ensure_maps(device, settings.shadow_map_size, data.layers.len()) {
+        if self.shadow.ensure_maps(device, settings.shadow_map_size, data.layers.len(), format) {
             self.main.rebind(device, &self.shadow.maps);
         }
         let objects: Vec<Object> = data.items.iter().map(|i| i.object).collect();
@@ -148,7 +155,7 @@ impl Renderer {
             timer.begin();
         }
         let stats = if settings.shadows {
-            let how = (settings.reuse_shadow_maps, settings.shadow_faces);
+            let how = (settings.reuse_shadow_maps, settings.shadow_faces, settings.moment_blur);
             self.shadow.encode(device, queue, &mut encoder, &data, drawables, how, self.timer.as_mut())
         } else {
             ShadowStats::default()

@@ -21,7 +21,11 @@ macro_rules! shader_file {
 pub const COMMON: ShaderFile = shader_file!("common.wgsl");
 /// Skinning by the joint palette.
 pub const SKINNING: ShaderFile = shader_file!("skinning.wgsl");
-/// The depth-only shadow pass.
+/// The layer struct both passes read and the moments a moment map stores.
+pub const MOMENTS: ShaderFile = shader_file!("moments.wgsl");
+/// The separable blur of moment maps.
+pub const BLUR: ShaderFile = shader_file!("blur.wgsl");
+/// The shadow pass (depth, and moments where a light uses them).
 pub const SHADOW: ShaderFile = shader_file!("shadow.wgsl");
 /// The frame uniform, the lights and the layers (bind group 0 of the main pass).
 pub const FRAME: ShaderFile = shader_file!("frame.wgsl");
@@ -33,9 +37,11 @@ pub const LIGHTS: ShaderFile = shader_file!("lights.wgsl");
 pub const MAIN: ShaderFile = shader_file!("main.wgsl");
 
 /// The shadow pass's files, in dependency order.
-pub const SHADOW_MODULE: &[ShaderFile] = &[COMMON, SKINNING, SHADOW];
+pub const SHADOW_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, SHADOW];
+/// The moment blur's files.
+pub const BLUR_MODULE: &[ShaderFile] = &[BLUR];
 /// The main pass's files, in dependency order.
-pub const MAIN_MODULE: &[ShaderFile] = &[COMMON, SKINNING, FRAME, SAMPLING, LIGHTS, MAIN];
+pub const MAIN_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, LIGHTS, MAIN];
 
 /// A module's text, and the line where each of its parts begins.
 #[derive(Clone, Debug)]
@@ -136,6 +142,11 @@ mod tests {
     }
 
     #[test]
+    fn the_blur_parses_and_validates() {
+        check(&Composed::new(BLUR_MODULE)).unwrap();
+    }
+
+    #[test]
     fn a_shader_error_names_its_file_and_line() {
         let broken = ShaderFile { name: "broken.wgsl", text: "fn ok() {}\n\nfn bad() -> f32 { return oops; }\n" };
         let err = check(&Composed::new(&[COMMON, broken])).unwrap_err();
@@ -164,8 +175,13 @@ mod tests {
             ("GpuLight", gpu_types::GpuLight::FIELDS, size_of::<gpu_types::GpuLight>()),
             ("GpuLayer", gpu_types::GpuLayer::FIELDS, size_of::<gpu_types::GpuLayer>()),
         ];
-        for (name, fields, size) in shared {
-            let (wgsl, span) = wgsl_layout(&module, name);
+        let (blur, _) = check(&Composed::new(BLUR_MODULE)).unwrap();
+        let blur_struct = ("Blur", gpu_types::Blur::FIELDS, size_of::<gpu_types::Blur>());
+        let (shadow, _) = check(&Composed::new(SHADOW_MODULE)).unwrap();
+        let shadow_layer = ("GpuLayer", gpu_types::GpuLayer::FIELDS, size_of::<gpu_types::GpuLayer>());
+        let each = shared.iter().map(|s| (&module, *s)).chain([(&blur, blur_struct), (&shadow, shadow_layer)]);
+        for (module, (name, fields, size)) in each {
+            let (wgsl, span) = wgsl_layout(module, name);
             let rust: Vec<(String, usize)> = fields.iter().map(|(f, o)| (f.to_string(), *o)).collect();
             assert_eq!(rust, wgsl, "{name}: Rust fields and offsets against the WGSL's");
             assert_eq!(size, span, "{name}: size");

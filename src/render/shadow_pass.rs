@@ -1,10 +1,14 @@
-//! The shadow pass: depth only, one layer of a 2D array texture per spot light or sun cascade.
+//! The shadow pass: depth, one layer of a 2D array texture per spot light, sun cascade or cube
+//! face, and for a light that uses a moment method the moments of that depth in the same slot
+//! of a colour array, blurred once drawn.
 //!
-//! A layer's map is kept from frame to frame and drawn again only when the version the world
-//! gives it differs from the one it was drawn at (its light was dirty).
+//! A layer's map is kept from frame to frame and drawn (and blurred) again only when the version
+//! the world gives it differs from the one it was drawn at (its light was dirty).
 
 use super::extract::{DrawItem, FrameData, LayerDraw};
+use super::gpu_types::GpuLayer;
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
+use super::moments::{MomentBlur, MomentFormat, MomentMaps, far_moments};
 use super::shaders::{Composed, SHADOW_MODULE};
 use super::texture::MaterialTextures;
 use super::timing::PassTimer;
@@ -13,7 +17,6 @@ use crate::components::AlphaMode;
 use crate::settings::ShadowFaces;
 use crate::systems::LightLabel;
 use bevy_ecs::prelude::*;
-use glam::Mat4;
 
 /// Depth format of the shadow maps.
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -28,11 +31,16 @@ pub struct ShadowMaps {
     layer_views: Vec<wgpu::TextureView>,
     /// The whole array, for sampling.
     pub array_view: wgpu::TextureView,
+    /// The moment maps, slot for slot (a stand-in when no light uses moments).
+    pub moments: MomentMaps,
 }
 
 /// Pipelines, per-layer matrices and the shadow-map array.
 pub struct ShadowPass {
     pipelines: Pipelines,
+    /// The pipelines that draw moment layers, for half and for full floats.
+    moment_pipelines: [Pipelines; 2],
+    blur: Option<MomentBlur>,
     layer_uniforms: UniformArray,
     /// The current shadow maps.
     pub maps: ShadowMaps,
@@ -56,6 +64,8 @@ pub struct LightPasses {
     pub drawn: u32,
     /// Layers whose map was kept from an earlier frame.
     pub kept: u32,
+    /// Moment layers blurred this frame.
+    pub blurred: u32,
 }
 
 impl ShadowStats {
@@ -69,12 +79,23 @@ impl ShadowStats {
         self.lights.iter().map(|l| l.kept).sum()
     }
 
+    /// Moment layers blurred this frame, all lights together.
+    pub fn blurred(&self) -> u32 {
+        self.lights.iter().map(|l| l.blurred).sum()
+    }
+
     fn count(&mut self, light: LightLabel, drawn: bool) {
         if self.lights.last().is_none_or(|l| l.light != light) {
-            self.lights.push(LightPasses { light, drawn: 0, kept: 0 });
+            self.lights.push(LightPasses { light, drawn: 0, kept: 0, blurred: 0 });
         }
         let entry = self.lights.last_mut().expect("pushed above");
         if drawn { entry.drawn += 1 } else { entry.kept += 1 }
+    }
+
+    fn count_blur(&mut self, light: LightLabel) {
+        if let Some(entry) = self.lights.iter_mut().find(|l| l.light == light) {
+            entry.blurred += 1;
+        }
     }
 }
 
@@ -89,7 +110,7 @@ impl std::fmt::Display for ShadowStats {
 }
 
 impl ShadowPass {
-    /// Builds the depth-only pipelines; `object_layout` is the per-object bind group layout.
+    /// Builds the shadow pipelines; `object_layout` is the per-object bind group layout.
     pub fn new(
         device: &wgpu::Device,
         object_layout: &wgpu::BindGroupLayout,
@@ -97,14 +118,15 @@ impl ShadowPass {
         textures: &MaterialTextures,
         size: u32,
     ) -> Self {
-        let layer_uniforms = UniformArray::new(device, "shadow layers", 64, wgpu::ShaderStages::VERTEX);
+        let stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let layer_uniforms = UniformArray::new(device, "shadow layers", size_of::<GpuLayer>() as u64, stages);
         let module = Composed::new(SHADOW_MODULE).module(device);
-        let recipe = Recipe {
+        let recipe = |fragment, targets: Vec<_>| Recipe {
             label: "shadow",
-            module,
+            module: module.clone(),
             vertex: "vs_shadow",
-            fragment: "fs_shadow",
-            targets: Vec::new(),
+            fragment,
+            targets,
             depth: wgpu::DepthStencilState {
                 format: SHADOW_FORMAT,
                 depth_write_enabled: Some(true),
@@ -116,21 +138,41 @@ impl ShadowPass {
             samples_shadows: false,
         };
         let groups = [&layer_uniforms.layout, object_layout];
-        let pipelines = Pipelines::new(device, recipe, groups, palette, textures);
-        let maps = ShadowMaps::new(device, size, 2);
-        ShadowPass { pipelines, layer_uniforms, maps, drawn: vec![None; 2] }
+        let pipelines = Pipelines::new(device, recipe("fs_shadow", Vec::new()), groups, palette, textures);
+        let moment_pipelines = [MomentFormat::Half, MomentFormat::Full].map(|f| {
+            Pipelines::new(device, recipe("fs_moments", vec![Some(f.texture().into())]), groups, palette, textures)
+        });
+        let maps = ShadowMaps::new(device, size, 2, None);
+        ShadowPass { pipelines, moment_pipelines, blur: None, layer_uniforms, maps, drawn: vec![None; 2] }
     }
 
-    /// Makes sure the maps are `size` texels and hold `layers`; true if they were re-created
-    /// (then every layer must be drawn again).
-    pub fn ensure_maps(&mut self, device: &wgpu::Device, size: u32, layers: usize) -> bool {
+    /// Makes sure the maps are `size` texels, hold `layers` and have moment maps of `moments`;
+    /// true if they were re-created (then every layer must be drawn again).
+    pub fn ensure_maps(
+        &mut self,
+        device: &wgpu::Device,
+        size: u32,
+        layers: usize,
+        moments: Option<MomentFormat>,
+    ) -> bool {
         let layers = array_layers(layers);
-        if self.maps.size == size && self.maps.layers >= layers {
+        if self.maps.size == size && self.maps.layers >= layers && self.maps.moments.format == moments {
             return false;
         }
-        self.maps = ShadowMaps::new(device, size, layers);
+        self.maps = ShadowMaps::new(device, size, layers, moments);
         self.drawn = vec![None; layers as usize];
+        if let Some(format) = moments
+            && self.blur.as_ref().is_none_or(|b| b.format() != format)
+        {
+            self.blur = Some(MomentBlur::new(device, format));
+        }
         true
+    }
+
+    /// The moment format layer `layer` is drawn in, if it is a moment layer and there are
+    /// moment maps.
+    fn moment_format(&self, layer: &LayerDraw) -> Option<MomentFormat> {
+        self.maps.moments.format.filter(|_| layer.method.moments())
     }
 
     /// True when `layer` must be drawn: its slot was never drawn at its version, or nothing is
@@ -140,7 +182,8 @@ impl ShadowPass {
     }
 
     /// Draws the layers that need it (all of them unless `reuse`), each cleared to far and then
-    /// given the casters inside its volume; the others keep their maps. Returns what it did.
+    /// given the casters inside its volume, and blurs the moment layers among them by
+    /// `blur` texels; the others keep their maps. Returns what it did.
     #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &mut self,
@@ -149,7 +192,7 @@ impl ShadowPass {
         encoder: &mut wgpu::CommandEncoder,
         data: &FrameData,
         with: Drawables<'_>,
-        (reuse, faces): (bool, ShadowFaces),
+        (reuse, faces, blur): (bool, ShadowFaces, u32),
         mut timer: Option<&mut PassTimer>,
     ) -> ShadowStats {
         let mut stats = ShadowStats::default();
@@ -163,29 +206,59 @@ impl ShadowPass {
             })
             .filter(|l| (l.slot as usize) < self.maps.layer_views.len())
             .collect();
-        let matrices: Vec<Mat4> = todo.iter().map(|l| l.clip_from_world).collect();
-        self.layer_uniforms.write::<Mat4>(device, queue, &matrices);
+        let uniforms: Vec<GpuLayer> = todo.iter().map(|l| data.layers[l.slot as usize]).collect();
+        self.layer_uniforms.write(device, queue, &uniforms);
         let variant = |i: usize| (i, shadow_variant(&data.items[i], faces));
-        self.pipelines.prepare(device, todo.iter().flat_map(|l| l.casters.iter().map(|&i| variant(i).1)));
+        for layer in &todo {
+            let pipelines = match self.moment_format(layer) {
+                Some(format) => &mut self.moment_pipelines[(format == MomentFormat::Full) as usize],
+                None => &mut self.pipelines,
+            };
+            pipelines.prepare(device, layer.casters.iter().map(|&i| variant(i).1));
+        }
+        let blurred: Vec<&LayerDraw> =
+            todo.iter().copied().filter(|l| blur > 0 && self.moment_format(l).is_some()).collect();
+        let passes = todo.len() + 2 * blurred.len();
         for (slot, layer) in todo.iter().enumerate() {
             let view = &self.maps.layer_views[layer.slot as usize];
+            let moments = self.moment_format(layer).map(|format| {
+                let clear = far_moments(&data.layers[layer.slot as usize]);
+                let view = &self.maps.moments.layer_views[layer.slot as usize];
+                let pipelines = &self.moment_pipelines[(format == MomentFormat::Full) as usize];
+                (view, clear, pipelines)
+            });
+            let color = moments.map(|(view, clear, _)| wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
+            });
+            let pipelines = moments.map_or(&self.pipelines, |(_, _, p)| p);
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow pass"),
-                color_attachments: &[],
+                color_attachments: if color.is_some() { std::slice::from_ref(&color) } else { &[] },
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view,
                     depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: timer.as_deref_mut().and_then(|t| t.shadow_writes(slot, todo.len())),
+                timestamp_writes: timer.as_deref_mut().and_then(|t| t.shadow_writes(slot, passes)),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &self.layer_uniforms.bind_group, &[self.layer_uniforms.offset(slot)]);
-            self.pipelines.draw(&mut pass, with, &data.items, layer.casters.iter().map(|&i| variant(i)));
+            pipelines.draw(&mut pass, with, &data.items, layer.casters.iter().map(|&i| variant(i)));
             drop(pass);
             if let Some(drawn) = self.drawn.get_mut(layer.slot as usize) {
                 *drawn = Some(layer.version);
+            }
+        }
+        if let Some(moment_blur) = self.blur.as_mut().filter(|_| !blurred.is_empty()) {
+            let slots: Vec<u32> = blurred.iter().map(|l| l.slot).collect();
+            let stamps = (timer, todo.len(), passes);
+            moment_blur.encode((device, queue), encoder, (&self.maps.moments, &slots, blur), stamps);
+            for layer in blurred {
+                stats.count_blur(layer.light);
             }
         }
         stats
@@ -214,7 +287,7 @@ fn array_layers(needed: usize) -> u32 {
 }
 
 impl ShadowMaps {
-    fn new(device: &wgpu::Device, size: u32, layers: u32) -> Self {
+    fn new(device: &wgpu::Device, size: u32, layers: u32, moments: Option<MomentFormat>) -> Self {
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("shadow maps"),
             size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: layers },
@@ -241,7 +314,8 @@ impl ShadowMaps {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        ShadowMaps { size, layers, layer_views, array_view }
+        let moments = MomentMaps::new(device, moments, size, layers);
+        ShadowMaps { size, layers, layer_views, array_view, moments }
     }
 }
 

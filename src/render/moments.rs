@@ -1,0 +1,353 @@
+//! Moment shadow maps (VSM, EVSM, MSM): their format and the terms each method reads, the
+//! array they live in beside the depth maps, and the blur that prefilters a layer once it is
+//! drawn.
+//!
+//! The shadow pass draws a moment layer with a colour target (`fs_moments` in shadow.wgsl:
+//! GL cannot read a depth map's raw values, so moments are made where the depth is known), and
+//! [`MomentBlur`] then blurs it along rows into a scratch map and along columns back.
+
+use super::gpu_types::{Blur, GpuLayer};
+use super::shaders::{BLUR_MODULE, Composed};
+use super::timing::PassTimer;
+use super::uniform_array::UniformArray;
+use crate::components::ShadowMethod;
+use crate::settings::MomentBits;
+
+/// How many bits of float each moment gets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MomentFormat {
+    /// `Rgba16Float`.
+    Half,
+    /// `Rgba32Float` (needs a device that renders into and filters it).
+    Full,
+}
+
+impl MomentFormat {
+    /// The texture format.
+    pub fn texture(self) -> wgpu::TextureFormat {
+        match self {
+            MomentFormat::Half => wgpu::TextureFormat::Rgba16Float,
+            MomentFormat::Full => wgpu::TextureFormat::Rgba32Float,
+        }
+    }
+
+    /// Bits per moment.
+    pub fn bits(self) -> u32 {
+        match self {
+            MomentFormat::Half => 16,
+            MomentFormat::Full => 32,
+        }
+    }
+}
+
+/// The features a device needs for 32-bit moment maps: filtering them (rendering into them is
+/// checked on the adapter, see [`full_supported`]).
+pub const FULL_FEATURES: wgpu::Features = wgpu::Features::FLOAT32_FILTERABLE;
+
+/// True when `adapter` can render into 32-bit float moment maps and filter them.
+pub fn full_supported(adapter: &wgpu::Adapter, features: wgpu::Features) -> bool {
+    let flags = adapter.get_texture_format_features(wgpu::TextureFormat::Rgba32Float).allowed_usages;
+    features.contains(FULL_FEATURES) && flags.contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
+}
+
+/// The format the moment maps of `methods` (a bit per [`ShadowMethod`]) take: `None` when no
+/// light uses moments; with [`MomentBits::Auto`] the widest any of them prefers, halved where
+/// the device has no full floats. An explicit 32 the device cannot do is an error.
+pub fn moment_format(methods: u32, bits: MomentBits, full: bool) -> Result<Option<MomentFormat>, &'static str> {
+    let used = ShadowMethod::ALL.iter().filter(|m| m.moments() && methods & (1 << **m as u32) != 0);
+    let widest = used.map(|m| m.moment_bits()).max();
+    let Some(widest) = widest else { return Ok(None) };
+    Ok(Some(match bits {
+        MomentBits::Half => MomentFormat::Half,
+        MomentBits::Full if !full => return Err("32-bit float moment maps (rendering into and filtering Rgba32Float)"),
+        MomentBits::Full => MomentFormat::Full,
+        MomentBits::Auto if widest > 16 && full => MomentFormat::Full,
+        MomentBits::Auto => MomentFormat::Half,
+    }))
+}
+
+/// EVSM's positive and negative exponents for `format`: the largest the format holds, since
+/// a steeper warp bleeds less. The map stores e^(2c) at depth 1, so half floats (largest
+/// 65504) allow c up to ln(65504) / 2 ≈ 5.54; full floats allow 44, and 40 and 5 are the
+/// values commonly used (a steep negative warp loses precision near the light).
+#[must_use]
+pub fn evsm_warp(format: MomentFormat) -> [f32; 2] {
+    match format {
+        MomentFormat::Half => [5.5, 5.5],
+        MomentFormat::Full => [40.0, 5.0],
+    }
+}
+
+/// What keeps `method`'s reconstruction stable in `format` (see `GpuLayer.moment_bias` in
+/// moments.wgsl): a bound on the rounding of the stored moments. Half floats keep 11
+/// significant bits (steps of 2⁻¹¹ ≈ 5·10⁻⁴ just below 1), full floats 24.
+#[must_use]
+pub fn moment_bias(method: ShadowMethod, format: MomentFormat) -> f32 {
+    match (method, format) {
+        // Least variance: about the square of a depth step.
+        (ShadowMethod::Vsm, MomentFormat::Half) => 1e-6,
+        (ShadowMethod::Vsm, MomentFormat::Full) => 1e-9,
+        // Least depth spread, turned into warped units by the warp's slope.
+        (ShadowMethod::Evsm, MomentFormat::Half) => 1e-3,
+        (ShadowMethod::Evsm, MomentFormat::Full) => 1e-4,
+        // The share of the two-point distribution mixed in (Peters and Klein use 3·10⁻⁵ for
+        // full floats).
+        (ShadowMethod::Msm, MomentFormat::Half) => 5e-3,
+        (ShadowMethod::Msm, MomentFormat::Full) => 3e-5,
+        _ => 0.0,
+    }
+}
+
+/// Gives every moment layer of `layers` the terms of `format`.
+pub fn set_terms(layers: &mut [GpuLayer], format: MomentFormat) {
+    for layer in layers {
+        let method = ShadowMethod::ALL.iter().copied().find(|m| *m as u32 == layer.method).unwrap_or_default();
+        if method.moments() {
+            layer.warp = evsm_warp(format);
+            layer.moment_bias = moment_bias(method, format);
+        }
+    }
+}
+
+/// What a moment layer is cleared to: the moments of depth 1 (nothing drawn, fully lit), as
+/// `encode_moments` in moments.wgsl makes them.
+#[must_use]
+pub fn far_moments(layer: &GpuLayer) -> wgpu::Color {
+    let (r, g, b, a) = if layer.method == ShadowMethod::Evsm as u32 {
+        // Depth 1 is 1 after the -1..1 remap.
+        let (p, n) = ((layer.warp[0] as f64).exp(), -(-layer.warp[1] as f64).exp());
+        (p, p * p, n, n * n)
+    } else if layer.method == ShadowMethod::Msm as u32 {
+        (1.0, 1.0, 1.0, 1.0)
+    } else {
+        (1.0, 1.0, 0.0, 0.0)
+    };
+    wgpu::Color { r, g, b, a }
+}
+
+/// The moment maps: an array slot for slot with the depth maps, and a scratch layer for the
+/// blur. Without moment lights it is a 1x1 stand-in the main pass can bind.
+pub struct MomentMaps {
+    /// Its format, `None` for the stand-in.
+    pub format: Option<MomentFormat>,
+    /// One render view per layer.
+    pub layer_views: Vec<wgpu::TextureView>,
+    /// The whole array, for sampling.
+    pub array_view: wgpu::TextureView,
+    scratch_view: wgpu::TextureView,
+}
+
+fn texture(device: &wgpu::Device, format: wgpu::TextureFormat, size: u32, layers: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("moment maps"),
+        size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: layers },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    })
+}
+
+impl MomentMaps {
+    /// `layers` layers of `size`² texels in `format`, or the stand-in when `format` is `None`.
+    pub fn new(device: &wgpu::Device, format: Option<MomentFormat>, size: u32, layers: u32) -> Self {
+        let (size, layers) = if format.is_some() { (size, layers) } else { (1, 2) };
+        let tex_format = format.unwrap_or(MomentFormat::Half).texture();
+        let array = texture(device, tex_format, size, layers);
+        let layer_views = (0..layers)
+            .map(|layer| {
+                array.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some("moment layer"),
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: layer,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        let array_view = array.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("moment array"),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let scratch_view = texture(device, tex_format, size, 1).create_view(&Default::default());
+        MomentMaps { format, layer_views, array_view, scratch_view }
+    }
+}
+
+/// The separable Gaussian blur: one pipeline along rows (layer to scratch), one along columns
+/// (scratch back to the layer), for one format.
+pub struct MomentBlur {
+    format: MomentFormat,
+    rows: wgpu::RenderPipeline,
+    columns: wgpu::RenderPipeline,
+    source_layouts: [wgpu::BindGroupLayout; 2],
+    uniforms: UniformArray,
+}
+
+fn source_layout(device: &wgpu::Device, binding: u32, dimension: wgpu::TextureViewDimension) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("blur source"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: dimension,
+                multisampled: false,
+            },
+            count: None,
+        }],
+    })
+}
+
+impl MomentBlur {
+    /// The blur pipelines for maps of `format`.
+    pub fn new(device: &wgpu::Device, format: MomentFormat) -> Self {
+        let uniforms = UniformArray::new(device, "blur", size_of::<Blur>() as u64, wgpu::ShaderStages::FRAGMENT);
+        let module = Composed::new(BLUR_MODULE).module(device);
+        let source_layouts = [
+            source_layout(device, 0, wgpu::TextureViewDimension::D2Array),
+            source_layout(device, 1, wgpu::TextureViewDimension::D2),
+        ];
+        let pipeline = |entry: &str, source: &wgpu::BindGroupLayout| {
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("blur"),
+                bind_group_layouts: &[Some(&uniforms.layout), Some(source)],
+                immediate_size: 0,
+            });
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_blur"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    targets: &[Some(format.texture().into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let rows = pipeline("fs_blur_rows", &source_layouts[0]);
+        let columns = pipeline("fs_blur_columns", &source_layouts[1]);
+        MomentBlur { format, rows, columns, source_layouts, uniforms }
+    }
+
+    /// The format its pipelines write.
+    pub fn format(&self) -> MomentFormat {
+        self.format
+    }
+
+    /// Blurs `slots` of `maps` by `radius` texels each way, two passes a layer, stamped by
+    /// `timer` as shadow passes `first`, `first + 1`, ... of `total`.
+    pub fn encode(
+        &mut self,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        encoder: &mut wgpu::CommandEncoder,
+        (maps, slots, radius): (&MomentMaps, &[u32], u32),
+        (mut timer, first, total): (Option<&mut PassTimer>, usize, usize),
+    ) {
+        let terms: Vec<Blur> =
+            slots.iter().map(|&layer| Blur { layer, radius: radius as i32, _pad0: 0, _pad1: 0 }).collect();
+        self.uniforms.write(device, queue, &terms);
+        let group = |layout: &wgpu::BindGroupLayout, binding: u32, view: &wgpu::TextureView| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("blur source"),
+                layout,
+                entries: &[wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(view) }],
+            })
+        };
+        let from_array = group(&self.source_layouts[0], 0, &maps.array_view);
+        let from_scratch = group(&self.source_layouts[1], 1, &maps.scratch_view);
+        for (i, &slot) in slots.iter().enumerate() {
+            let Some(target) = maps.layer_views.get(slot as usize) else { continue };
+            let passes = [(&self.rows, &from_array, &maps.scratch_view), (&self.columns, &from_scratch, target)];
+            for (k, (pipeline, source, view)) in passes.into_iter().enumerate() {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("moment blur"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: timer.as_deref_mut().and_then(|t| t.shadow_writes(first + 2 * i + k, total)),
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &self.uniforms.bind_group, &[self.uniforms.offset(i)]);
+                pass.set_bind_group(1, source, &[]);
+                pass.draw(0..3, 0..1);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bytemuck::Zeroable;
+
+    fn bit(m: ShadowMethod) -> u32 {
+        1 << m as u32
+    }
+
+    #[test]
+    fn the_format_follows_the_methods_in_use_and_the_device() {
+        let pcf = bit(ShadowMethod::Pcf3);
+        assert_eq!(moment_format(pcf, MomentBits::Auto, true), Ok(None));
+        assert_eq!(moment_format(pcf | bit(ShadowMethod::Msm), MomentBits::Half, true), Ok(Some(MomentFormat::Half)));
+        assert_eq!(moment_format(bit(ShadowMethod::Msm), MomentBits::Full, true), Ok(Some(MomentFormat::Full)));
+        assert!(moment_format(bit(ShadowMethod::Msm), MomentBits::Full, false).is_err());
+        // Auto never asks for what the device cannot do.
+        for m in ShadowMethod::ALL.iter().filter(|m| m.moments()) {
+            assert_eq!(moment_format(bit(*m), MomentBits::Auto, false), Ok(Some(MomentFormat::Half)));
+            let auto = moment_format(bit(*m), MomentBits::Auto, true).unwrap().unwrap();
+            assert_eq!(auto.bits(), m.moment_bits());
+        }
+    }
+
+    #[test]
+    fn evsm_warps_fit_their_format() {
+        // The square of the positive warp at depth 1 must be a finite number of the format.
+        assert!((2.0 * evsm_warp(MomentFormat::Half)[0]).exp() < 65504.0);
+        assert!((2.0 * evsm_warp(MomentFormat::Full)[0] as f64).exp() < f32::MAX as f64);
+    }
+
+    #[test]
+    fn terms_reach_only_moment_layers() {
+        let mut layers = [GpuLayer::zeroed(); 2];
+        layers[0].method = ShadowMethod::Evsm as u32;
+        layers[1].method = ShadowMethod::Pcss as u32;
+        set_terms(&mut layers, MomentFormat::Full);
+        assert_eq!(layers[0].warp, evsm_warp(MomentFormat::Full));
+        assert!(layers[0].moment_bias > 0.0);
+        assert_eq!((layers[1].warp, layers[1].moment_bias), ([0.0; 2], 0.0));
+    }
+
+    #[test]
+    fn empty_layers_clear_to_the_moments_of_the_far_plane() {
+        let mut layer = GpuLayer::zeroed();
+        layer.method = ShadowMethod::Vsm as u32;
+        assert_eq!(far_moments(&layer), wgpu::Color { r: 1.0, g: 1.0, b: 0.0, a: 0.0 });
+        layer.method = ShadowMethod::Evsm as u32;
+        layer.warp = [2.0, 3.0];
+        let c = far_moments(&layer);
+        assert!((c.r - 2f64.exp()).abs() < 1e-9 && (c.g - 4f64.exp()).abs() < 1e-9);
+        assert!((c.b + (-3f64).exp()).abs() < 1e-9 && (c.a - (-6f64).exp()).abs() < 1e-9);
+    }
+}
