@@ -78,8 +78,9 @@ struct World {
     clock: f64,
 }
 
-fn build(reuse: bool) -> World {
-    let settings = Settings { shadow_map_size: 512, cascades: 3, reuse_shadow_maps: reuse, ..Settings::default() };
+fn build(reuse: bool, method: ShadowMethod) -> World {
+    let settings =
+        Settings { shadow_map_size: 512, cascades: 3, reuse_shadow_maps: reuse, method, ..Settings::default() };
     let mut app = App::empty(settings).unwrap();
     let (ground, block) = {
         let mut meshes = app.world.resource_mut::<MeshLibrary>();
@@ -176,16 +177,18 @@ fn apply(w: &mut World, frame: usize, stretch: Stretch, rng: &mut Rng) {
     }
 }
 
-/// Plays the script and returns every frame with the shadow passes it took.
-fn play(reuse: bool) -> Vec<(Image, ShadowStats, Stretch)> {
+/// Plays the first `frames` of the script with every light sampled by `method` and returns each
+/// frame with the shadow passes it took.
+fn play(reuse: bool, method: ShadowMethod, frames: usize) -> Vec<(Image, ShadowStats, Stretch)> {
     let gpu = gpu();
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
-    let mut w = build(reuse);
+    let mut w = build(reuse, method);
     let mut rng = Rng(0xc0ffee);
     let stretches = script(&mut rng);
     let mut motion = Rng(0xbeef);
     stretches
         .into_iter()
+        .take(frames)
         .enumerate()
         .map(|(frame, stretch)| {
             apply(&mut w, frame, stretch, &mut motion);
@@ -199,8 +202,8 @@ fn play(reuse: bool) -> Vec<(Image, ShadowStats, Stretch)> {
 
 #[test]
 fn drawing_only_dirty_shadow_maps_gives_the_same_frames_and_skips_every_layer_when_still() {
-    let every = play(false);
-    let cached = play(true);
+    let every = play(false, ShadowMethod::default(), FRAMES);
+    let cached = play(true, ShadowMethod::default(), FRAMES);
     let (mut drawn, mut still_frames) = (0, 0);
     for (i, ((a, full, stretch), (b, stats, _))) in every.iter().zip(&cached).enumerate() {
         // 3 cascades, 2 spots and a point light's 6 faces, and 6 more while the visitor is there.
@@ -225,4 +228,25 @@ fn drawing_only_dirty_shadow_maps_gives_the_same_frames_and_skips_every_layer_wh
     assert_eq!((visitor.drawn, visitor.kept), (6, 0), "new, so every face is drawn");
     // The frames are not all alike: something really moved.
     assert!(every.windows(2).filter(|w| w[0].0 != w[1].0).count() > FRAMES / 3);
+}
+
+#[test]
+fn a_kept_moment_map_is_not_blurred_again_and_looks_the_same() {
+    // The first stretches: still frames, then motion of one kind or another.
+    let frames = 120;
+    let every = play(false, ShadowMethod::Evsm, frames);
+    let cached = play(true, ShadowMethod::Evsm, frames);
+    let mut still = 0;
+    for (i, ((a, full, stretch), (b, stats, _))) in every.iter().zip(&cached).enumerate() {
+        assert!(a == b, "frame {i} ({stretch:?}) differs between redrawing everything and the cache");
+        // Every light uses moments: each layer drawn is blurred, and only those.
+        assert_eq!(full.blurred(), full.drawn(), "frame {i}: without the cache every layer is blurred");
+        assert_eq!(stats.blurred(), stats.drawn(), "frame {i}: the cache blurs what it draws");
+        if *stretch == Stretch::Still && i > 0 {
+            still += 1;
+            assert_eq!(stats.blurred(), 0, "frame {i}: nothing moved, so nothing is blurred");
+        }
+    }
+    assert!(still >= 9, "only {still} still frames");
+    assert!(cached.iter().any(|(_, s, _)| s.blurred() > 0 && s.kept() > 0), "no frame both blurs and keeps");
 }

@@ -1,5 +1,5 @@
-//! The filters and PCSS against the ray-traced truth: every method's shadow where the truth puts
-//! it, and PCSS's penumbra as wide as a 10 cm light makes it: narrow where a caster is close to the
+//! The filters, PCSS and the moment maps against the ray-traced truth: every method's shadow
+//! where the truth puts it, and PCSS's penumbra as wide as a 10 cm light makes it: narrow where a caster is close to the
 //! ground, wide where it is high (contact hardening).
 
 mod common;
@@ -93,8 +93,12 @@ fn measure(method: ShadowMethod) -> Seen {
 
 #[test]
 fn every_method_puts_the_plates_shadows_where_the_truth_does() {
+    let mut bilinear_mae = None;
     for &method in ShadowMethod::ALL {
         let seen = measure(method);
+        if method == ShadowMethod::Bilinear {
+            bilinear_mae = Some(seen.tally.mae_soft());
+        }
         assert!(seen.tally.pixels > 30_000, "{method:?}: {} ground pixels", seen.tally.pixels);
         // Edges are the only place a method can be wrong here: a few hundred pixels of 65,000.
         assert!(seen.tally.misclassified() < 0.01, "{method:?}: {:.4} misclassified", seen.tally.misclassified());
@@ -103,8 +107,15 @@ fn every_method_puts_the_plates_shadows_where_the_truth_does() {
         let partial = seen.partial_low + seen.partial_high;
         match method {
             ShadowMethod::Nearest => assert_eq!(partial, 0, "nearest draws partly lit pixels"),
-            m if m.spreads() => assert!(seen.partial_high > 50, "{m:?}: {} partly lit pixels", seen.partial_high),
+            m if m.spreads() || m.moments() => {
+                assert!(seen.partial_high > 50, "{m:?}: {} partly lit pixels", seen.partial_high)
+            }
             _ => {}
+        }
+        // A blurred moment map is a filter too: nearer the soft truth than the hard comparison.
+        if method.moments() {
+            let hard = bilinear_mae.expect("bilinear comes first");
+            assert!(seen.tally.mae_soft() < hard, "{method:?}: {:.4} against bilinear {hard:.4}", seen.tally.mae_soft());
         }
     }
 }

@@ -140,3 +140,8 @@ fn a_wide_filter_leaves_a_lit_slope_lit_but_darkens_it_without_the_receiver_plan
 fn pcss_penumbrae_harden_towards_a_poles_foot_but_not_with_a_fixed_kernel() {
     holds_and_breaks("contact-hardening", Settings { pcss_blocker_search: false, ..Settings::default() });
 }
+
+#[test]
+fn a_variance_map_keeps_light_from_leaking_between_stacked_casters_but_not_without_bleeding_reduction() {
+    holds_and_breaks("light-bleeding", Settings { light_bleeding: 0.0, ..Settings::default() });
+}

@@ -85,6 +85,8 @@ pub enum CaseScene {
     SoftAcne,
     /// A tall pole under a 10 cm spot, sampled by PCSS.
     ContactHardening,
+    /// Two stacked plates under the sun, sampled by VSM.
+    LightBleeding,
 }
 
 /// The truth of a frame: one column per light in the frame's order (sun, then spots), one entry

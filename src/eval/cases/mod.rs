@@ -58,7 +58,7 @@ pub struct Case {
 }
 
 /// Every case, in the order the issues list them.
-pub const CASES: [Case; 12] = [
+pub const CASES: [Case; 13] = [
     Case {
         name: "acne", measures: "false-shadow share of an open plane, sun at 2°..89°", threshold: 0.001, run: acne
     },
@@ -127,6 +127,12 @@ pub const CASES: [Case; 12] = [
         measures: "share of a 2.5 m pole's penumbra under a 10 cm spot drawn where the soft truth has none, or missed (PCSS)",
         threshold: 0.2,
         run: soft::contact_hardening,
+    },
+    Case {
+        name: "light-bleeding",
+        measures: "share of the ground in two stacked plates' shadow, across the high one's edge, showing light (VSM)",
+        threshold: 0.01,
+        run: soft::light_bleeding,
     },
 ];
 

@@ -1,8 +1,9 @@
 //! The failure cases of soft and filtered shadows: a wide filter darkening the lit slope it samples
-//! (soft acne), and a penumbra that stays one width however far its caster is (no contact
-//! hardening).
+//! (soft acne), a penumbra that stays one width however far its caster is (no contact
+//! hardening), and light leaking through two stacked casters from a variance map (light
+//! bleeding).
 
-use super::scenes::{ground, pole_scene, set_sun, sun_direction};
+use super::scenes::{add_box, ground, pole_scene, set_sun, sun_direction};
 use super::{Score, measure_at, on_ground};
 use crate::components::ShadowMethod;
 use crate::eval::measure::{CaseScene, MeasureError, Measurer, SubjectId};
@@ -13,6 +14,7 @@ use glam::Vec3;
 
 const SOFT_ACNE: SubjectId = SubjectId::Case(CaseScene::SoftAcne);
 const CONTACT_HARDENING: SubjectId = SubjectId::Case(CaseScene::ContactHardening);
+const LIGHT_BLEEDING: SubjectId = SubjectId::Case(CaseScene::LightBleeding);
 
 /// Darkening is scored in thousandths: `hits / of` is the mean.
 const DARKENING_STEPS: f64 = 1000.0;
@@ -67,6 +69,41 @@ pub fn contact_hardening(m: &mut Measurer<'_>, settings: &Settings) -> Result<Sc
             let (want, got) = (partial(t.soft), partial(r));
             score.of += (want || got) as u64;
             score.hits += (want != got) as u64;
+        }
+    }
+    Ok(score)
+}
+
+/// Visibility above which a pixel the truth has in shadow shows leaked light.
+const LEAK: f32 = 0.05;
+
+/// Two plates, one 1.5 m and one 0.5 m up, throw their shadows onto the same strip of ground
+/// under a sun 45° up; the high one covers only half of it, so in the map its edge lies over the
+/// low plate. A variance map blurred across that edge holds a mix of the two plates' depths whose
+/// variance is large next to the ground's distance behind them, and Chebyshev's bound lets up to
+/// a quarter of the light through where the truth has shadow. The score is the share of the
+/// shadowed ground across that edge (VSM) showing any light.
+pub fn light_bleeding(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    let settings = Settings { method: ShadowMethod::Vsm, ..settings.clone() };
+    let view = (Vec3::new(0.0, 3.0, 0.6), Vec3::new(0.0, 0.0, 0.5));
+    m.subject(LIGHT_BLEEDING, &settings, |s| {
+        let mut app = ground(s, 40.0, false, Vec3::new(0.0, -1.0, 1.0).normalize(), view)?;
+        add_box(&mut app, Vec3::new(-0.75, 1.5, -1.0), Vec3::new(0.75, 0.01, 0.25));
+        add_box(&mut app, Vec3::new(0.0, 0.5, 0.0), Vec3::new(1.0, 0.01, 0.25));
+        Ok(app)
+    })?;
+    let measured = measure_at(m, LIGHT_BLEEDING, "stacked", |_| {})?;
+    let across_edge = |i: usize| {
+        let p = measured.frame.position[i];
+        on_ground(&measured)(i) && p.x.abs() < 0.15 && (0.32..0.68).contains(&p.z)
+    };
+    let mut score = Score::default();
+    for (i, t) in measured.truth[0].iter().enumerate() {
+        if let (Some(t), Some(r), true) = (t, rendered(&measured.frame, 0, i), across_edge(i))
+            && !t.lit
+        {
+            score.of += 1;
+            score.hits += (r > LEAK) as u64;
         }
     }
     Ok(score)
