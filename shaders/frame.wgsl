@@ -29,6 +29,11 @@ struct Frame {
     depth_bias_metres: f32,
     // 1 when PCSS searches for blockers (else it filters with a fixed kernel).
     pcss_search: u32,
+    // Bands of toon shading (0: Phong; see toon in main.wgsl).
+    toon_bands: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 };
 
 // One light; `kind` is LIGHT_SUN, LIGHT_SPOT or LIGHT_POINT.

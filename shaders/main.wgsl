@@ -67,6 +67,19 @@ fn phong(n: vec3<f32>, l: vec3<f32>, v: vec3<f32>, r: Response) -> vec3<f32> {
     return r.albedo * n_dot_l + vec3<f32>(spec) * step(0.0, dot(n, l));
 }
 
+// Toon shading (cel shading, as in seed 003): the light's diffuse strength at the point (its
+// angle, falloff and cookie together) falls into frame.toon_bands bands, a shadow takes the
+// surface one band down, and the highlight is all or nothing. A shadow counts where its
+// visibility is below one half, so filtered and soft edges are cut at one line as the bands are,
+// and nothing between bands moves with the camera.
+fn toon(n: vec3<f32>, l: vec3<f32>, v: vec3<f32>, r: Response, strength: f32, visibility: f32) -> vec3<f32> {
+    let bands = f32(frame.toon_bands);
+    let lit = step(0.5, visibility);
+    let band = max(ceil(clamp(max(dot(n, l), 0.0) * strength, 0.0, 1.0) * bands) - frame.shadow_strength * (1.0 - lit), 0.0);
+    let highlight = step(0.5, r.specular * pow(max(dot(reflect(-l, n), v), 0.0), r.shininess)) * lit;
+    return r.albedo * (band / bands) + vec3<f32>(highlight);
+}
+
 // What lighting found at a fragment: its colour, and the shadow visibility (0 shadowed .. 1
 // lit) the tests of the measured lights gave (frame.first_measured and the three after it); -1
 // where a light does not reach the fragment (facing away, outside the cone or range) and no test
@@ -87,7 +100,11 @@ fn shade(world: vec3<f32>, n: vec3<f32>, f: Footprint, r: Response, test: bool) 
             if (i >= frame.first_measured && k < MEASURED_PER_PASS) {
                 out.visibility[k] = s.visibility;
             }
-            out.color += lights[i].color * phong(n, s.l, v, r) * (s.reach * strengthen(s.visibility) * s.cookie);
+            if (frame.toon_bands > 0u) {
+                out.color += lights[i].color * toon(n, s.l, v, r, s.reach * s.cookie, s.visibility);
+            } else {
+                out.color += lights[i].color * phong(n, s.l, v, r) * (s.reach * strengthen(s.visibility) * s.cookie);
+            }
         }
     }
     if (frame.cascade_debug == 1u) {

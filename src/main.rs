@@ -7,7 +7,7 @@ use std::time::Instant;
 use umbra::components::ShadowMethod;
 use umbra::components::{ModelInstance, Transform};
 use umbra::render::{Gpu, render_headless, render_png};
-use umbra::settings::{CasterCulling, ShadowFaces};
+use umbra::settings::{CasterCulling, MomentBits, ShadowFaces};
 use umbra::shadow::FitMode;
 use umbra::{App, Settings};
 
@@ -73,9 +73,21 @@ struct SceneArgs {
     #[arg(long)]
     cascade_debug: bool,
     /// How shadow maps are sampled, for every light without a method of its own: nearest,
-    /// bilinear, pcf3, pcf5, gauss5, poisson16, poisson32 or pcss.
+    /// bilinear, pcf3, pcf5, gauss5, poisson16, poisson32, pcss, vsm, evsm or msm.
     #[arg(long, alias = "filter", value_name = "METHOD")]
     method: Option<ShadowMethod>,
+    /// Blur radius of moment maps (vsm, evsm, msm) in texels, 0..16 (0: none).
+    #[arg(long, value_name = "TEXELS")]
+    moment_blur: Option<u32>,
+    /// Light-bleeding reduction of moment maps, 0..0.9: the share of their bound cut away.
+    #[arg(long, value_name = "0..0.9")]
+    light_bleeding: Option<f32>,
+    /// Float bits per moment: auto (each method's own choice), 16 or 32.
+    #[arg(long, value_name = "BITS")]
+    moment_bits: Option<MomentBits>,
+    /// Toon shading with this many bands, 2..16 (key T in play).
+    #[arg(long, value_name = "BANDS")]
+    toon: Option<u32>,
     /// Which casters shadow maps take: light (all in the light's volume) or camera (only those
     /// the camera sees, a shortcut that loses off-screen casters).
     #[arg(long, value_name = "MODE")]
@@ -247,6 +259,10 @@ impl SceneArgs {
             fit_mode: self.fit.unwrap_or(d.fit_mode),
             cascade_debug: self.cascade_debug,
             method: self.method.unwrap_or(d.method),
+            moment_blur: self.moment_blur.unwrap_or(d.moment_blur),
+            light_bleeding: self.light_bleeding.unwrap_or(d.light_bleeding),
+            moment_bits: self.moment_bits.unwrap_or(d.moment_bits),
+            toon_bands: self.toon.unwrap_or(d.toon_bands),
             // The file's first, so the command line's win.
             light_methods: file_methods.into_iter().chain(self.light_method.iter().cloned()).collect(),
             caster_culling: self.culling.unwrap_or(d.caster_culling),

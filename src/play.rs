@@ -96,7 +96,7 @@ fn run(event_loop: EventLoop<()>, app: App, frames: Option<u32>) -> Result<(), P
 }
 
 /// Changes the setting a key stands for (F: fit mode, C: cascade tints, 1-4: cascades, P:
-/// filter, R: receiver plane, K: caster culling); false for any other key.
+/// filter, R: receiver plane, K: caster culling, T: toon shading); false for any other key.
 pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
     match code {
         KeyCode::KeyF => settings.fit_mode = settings.fit_mode.next(),
@@ -104,6 +104,9 @@ pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
         KeyCode::KeyP => settings.method = settings.method.next(),
         KeyCode::KeyR => settings.receiver_plane = !settings.receiver_plane,
         KeyCode::KeyK => settings.caster_culling = settings.caster_culling.next(),
+        KeyCode::KeyT => {
+            settings.toon_bands = if settings.toon_bands == 0 { crate::settings::DEFAULT_TOON_BANDS } else { 0 }
+        }
         KeyCode::Digit1 => settings.cascades = 1,
         KeyCode::Digit2 => settings.cascades = 2,
         KeyCode::Digit3 => settings.cascades = 3,
@@ -121,8 +124,9 @@ fn settings_line(settings: &Settings) -> String {
         crate::settings::CasterCulling::LightVolume => "",
         crate::settings::CasterCulling::CameraView => ", culling to the camera view",
     };
+    let toon = if settings.toon_bands > 0 { format!(", toon {}", settings.toon_bands) } else { String::new() };
     format!(
-        "{} cascades, {} fit, {} filter{flat}{culling}{tints}",
+        "{} cascades, {} fit, {} filter{flat}{culling}{tints}{toon}",
         settings.cascades,
         settings.fit_mode.name(),
         settings.method.name()
@@ -332,6 +336,8 @@ mod tests {
         assert_eq!(s.caster_culling, CasterCulling::CameraView);
         assert_eq!(settings_line(&s), "2 cascades, unsnapped fit, pcf3 filter, culling to the camera view, tinted");
         assert!(change_setting(KeyCode::KeyR, &mut s) && !s.receiver_plane);
+        assert!(change_setting(KeyCode::KeyT, &mut s) && s.toon_bands == crate::settings::DEFAULT_TOON_BANDS);
+        assert!(change_setting(KeyCode::KeyT, &mut s) && s.toon_bands == 0);
         assert!(settings_line(&s).contains("pcf3 filter without receiver plane"));
         let before = s.clone();
         assert!(!change_setting(KeyCode::KeyW, &mut s));

@@ -68,6 +68,9 @@ pub struct Settings {
     pub light_bleeding: f32,
     /// Float bits per moment: each method's own choice (auto), 16 or 32.
     pub moment_bits: MomentBits,
+    /// Toon shading: each light's diffuse strength falls into this many bands, and a shadow
+    /// takes a surface one band down (0: Phong shading).
+    pub toon_bands: u32,
     /// Ambient light level (0..1) that reaches every surface.
     pub ambient: f32,
     /// Number of animated cubes in the sample scene.
@@ -116,6 +119,7 @@ impl Default for Settings {
             moment_blur: DEFAULT_MOMENT_BLUR,
             light_bleeding: DEFAULT_LIGHT_BLEEDING,
             moment_bits: MomentBits::Auto,
+            toon_bands: 0,
             spot_map_limit: crate::shadow::MAX_MAP_HALF_ANGLE,
             ambient: 0.12,
             cubes: 10,
@@ -146,6 +150,10 @@ pub enum MomentBits {
 pub const DEFAULT_MOMENT_BLUR: u32 = 2;
 /// Largest blur radius of moment maps, in texels.
 pub const MAX_MOMENT_BLUR: u32 = 16;
+/// Bands of toon shading when it is turned on without a number (key T).
+pub const DEFAULT_TOON_BANDS: u32 = 4;
+/// Most bands of toon shading.
+pub const MAX_TOON_BANDS: u32 = 16;
 /// Default light-bleeding reduction.
 pub const DEFAULT_LIGHT_BLEEDING: f32 = 0.2;
 
@@ -276,6 +284,9 @@ impl Settings {
         if !(self.light_bleeding.is_finite() && (0.0..=0.9).contains(&self.light_bleeding)) {
             return bad("light_bleeding", self.light_bleeding, "must be a fraction between 0 and 0.9");
         }
+        if self.toon_bands == 1 || self.toon_bands > MAX_TOON_BANDS {
+            return bad("toon_bands", self.toon_bands, "must be 0 (Phong) or between 2 and 16 bands");
+        }
         if !unit(self.ambient) {
             return bad("ambient", self.ambient, "must be between 0 and 1");
         }
@@ -330,7 +341,8 @@ mod tests {
     #[test]
     fn nonsense_is_named() {
         type Case = (fn(&mut Settings), &'static str);
-        let cases: [Case; 13] = [
+        let cases: [Case; 14] = [
+            (|s| s.toon_bands = 1, "toon_bands"),
             (|s| s.moment_blur = 99, "moment_blur"),
             (|s| s.light_bleeding = f32::NAN, "light_bleeding"),
             (|s| s.cascades = 5, "cascades"),

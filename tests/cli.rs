@@ -45,7 +45,10 @@ fn without_a_display_play_renders_umbra_png() {
 #[test]
 fn bad_arguments_are_named_and_fail() {
     let dir = scratch("bad");
-    let cases: [(&[&str], &str); 14] = [
+    let cases: [(&[&str], &str); 17] = [
+        (&["render", "--moment-bits", "24"], "not a moment-map precision"),
+        (&["render", "--moment-blur", "99"], "moment_blur"),
+        (&["render", "--light-bleeding", "1"], "light_bleeding"),
         (&["bench", "--shadow-map-size", "512"], "apply to `bench --cache` only"),
         (&["bench", "--sun-radius", "45"], "not an angle"),
         (&["render", "--width", "-5"], "not a size"),

@@ -250,3 +250,32 @@ fn a_kept_moment_map_is_not_blurred_again_and_looks_the_same() {
     assert!(still >= 9, "only {still} still frames");
     assert!(cached.iter().any(|(_, s, _)| s.blurred() > 0 && s.kept() > 0), "no frame both blurs and keeps");
 }
+
+#[test]
+fn a_new_moment_method_or_blur_redraws_the_maps_it_changes() {
+    let gpu = gpu();
+    let frame = |w: &mut World, renderer: &mut Renderer| {
+        w.app.set_time(0.0);
+        render_headless(&gpu, renderer, &mut w.app, SIZE, SIZE).expect("no wgpu error")
+    };
+    // What each setting looks like drawn from nothing.
+    let fresh = |method, blur| {
+        let mut w = build(true, method);
+        w.app.world.resource_mut::<Settings>().moment_blur = blur;
+        frame(&mut w, &mut Renderer::new(&gpu, HEADLESS_FORMAT).unwrap())
+    };
+    let mut w = build(true, ShadowMethod::Vsm);
+    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
+    frame(&mut w, &mut renderer);
+    // Nothing moves between the frames: no layer is dirty, yet what the maps hold changed.
+    for (method, blur) in [(ShadowMethod::Msm, 2), (ShadowMethod::Msm, 5), (ShadowMethod::Evsm, 5)] {
+        {
+            let mut settings = w.app.world.resource_mut::<Settings>();
+            (settings.method, settings.moment_blur) = (method, blur);
+        }
+        let image = frame(&mut w, &mut renderer);
+        assert!(image == fresh(method, blur), "{method:?} with blur {blur} differs from a fresh start");
+        let stats = w.app.world.resource::<ShadowStats>();
+        assert_eq!(stats.kept(), 0, "{method:?} with blur {blur}: every layer holds old moments ({stats})");
+    }
+}

@@ -223,10 +223,13 @@ impl ShadowMethod {
     }
 
     /// Bits per moment a moment method does best with, from `umbra bench`'s 16- against 32-bit
-    /// rows (0 for the others).
+    /// rows on the sample scene (misclassified %, 32 against 16): VSM 0.058 against 0.069, EVSM
+    /// 0.055 against 0.054 (so half floats, half the memory), MSM 0.053 against 1.61 (plain
+    /// powers of the depth in half floats lose the fourth moment). 0 for the other methods.
     pub fn moment_bits(self) -> u32 {
         match self {
-            ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Msm => 32,
+            ShadowMethod::Vsm | ShadowMethod::Msm => 32,
+            ShadowMethod::Evsm => 16,
             _ => 0,
         }
     }

@@ -8,7 +8,7 @@ use super::metrics::{LightReport, report};
 use crate::App;
 use crate::components::ShadowMethod;
 use crate::render::Gpu;
-use crate::settings::{Settings, ShadowFaces};
+use crate::settings::{MomentBits, Settings, ShadowFaces};
 use crate::shadow::FitMode;
 use bevy_ecs::prelude::With;
 use glam::Vec3;
@@ -30,6 +30,10 @@ pub struct Config {
     pub faces: ShadowFaces,
     /// Filters compare with the receiver's plane.
     pub receiver_plane: bool,
+    /// Blur radius of moment maps, in texels.
+    pub blur: u32,
+    /// Bits per moment of moment maps.
+    pub moment_bits: MomentBits,
     /// Instead of the above: the Bevy-like baseline ([`bevy_like`]).
     pub bevy_like: bool,
 }
@@ -73,6 +77,8 @@ impl Config {
             bias: d.depth_bias,
             faces: d.shadow_faces,
             receiver_plane: d.receiver_plane,
+            blur: d.moment_blur,
+            moment_bits: d.moment_bits,
             bevy_like: false,
         }
     }
@@ -92,8 +98,19 @@ impl Config {
             normal_bias: self.bias,
             shadow_faces: self.faces,
             receiver_plane: self.receiver_plane,
+            moment_blur: self.blur,
+            moment_bits: self.moment_bits,
             ..base.clone()
         }
+    }
+
+    /// How its moment maps are made (blur radius, bits), for moment methods only.
+    fn moment_label(&self) -> String {
+        if !self.method.moments() {
+            return String::new();
+        }
+        let bits = if self.moment_bits == MomentBits::Auto { String::new() } else { format!(" {}-bit", self.moment_bits.name()) };
+        format!(" blur{}{bits}", self.blur)
     }
 
     /// Its family for the charts and the summary: the method's, or the baseline's own.
@@ -123,7 +140,7 @@ impl Config {
         if !self.receiver_plane {
             out += " flat";
         }
-        out
+        out + &self.moment_label()
     }
 
     /// A short name: `2048 x4 stable bilinear b1`, with `back` when only back faces are drawn and
@@ -135,12 +152,13 @@ impl Config {
         let faces = if self.faces == ShadowFaces::Back { " back" } else { "" };
         let flat = if self.receiver_plane { "" } else { " flat" };
         format!(
-            "{} x{} {} {} b{}{faces}{flat}",
+            "{} x{} {} {} b{}{faces}{flat}{}",
             self.map_size,
             self.cascades,
             self.fit.name(),
             self.method.name(),
-            self.bias
+            self.bias,
+            self.moment_label()
         )
     }
 }
@@ -167,8 +185,19 @@ pub fn configs(quick: bool) -> Vec<Config> {
         for fit in [FitMode::Unsnapped, FitMode::Tight] {
             push(Config { map_size, fit, ..d });
         }
-        for &method in ShadowMethod::ALL {
+        // Moment maps (13 layers of 16 bytes a texel, blurred) only at the default size: at
+        // 4096² on the software rasterizer one frame takes seconds.
+        for &method in ShadowMethod::ALL.iter().filter(|m| !m.moments() || map_size == d.map_size) {
             push(Config { map_size, method, ..d });
+        }
+    }
+    // Moment maps: half floats against full, and a narrower and a wider blur.
+    if !quick {
+        for &method in ShadowMethod::ALL.iter().filter(|m| m.moments()) {
+            push(Config { method, moment_bits: MomentBits::Half, ..d });
+        }
+        for blur in [1, 4] {
+            push(Config { method: ShadowMethod::Msm, blur, ..d });
         }
     }
     // What the receiver plane does for the grid filters: the same without it.

@@ -269,6 +269,7 @@ pub fn extract(world: &mut World) -> FrameData {
         receiver_plane: settings.receiver_plane as u32,
         depth_bias_metres: settings.depth_bias_metres,
         pcss_search: settings.pcss_blocker_search as u32,
+        toon_bands: settings.toon_bands,
         ..Frame::zeroed()
     };
     let items = items.into_iter().map(|(item, _)| item).collect();

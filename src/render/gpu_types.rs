@@ -86,6 +86,11 @@ gpu_struct! {
         pub depth_bias_metres: f32,
         /// 1 when PCSS searches for blockers (else it filters with a fixed kernel).
         pub pcss_search: u32,
+        /// Bands of toon shading (0: Phong).
+        pub toon_bands: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 }
 

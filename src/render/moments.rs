@@ -32,6 +32,7 @@ impl MomentFormat {
     }
 
     /// Bits per moment.
+    #[cfg(test)]
     pub fn bits(self) -> u32 {
         match self {
             MomentFormat::Half => 16,

@@ -13,7 +13,7 @@ use super::shaders::{Composed, SHADOW_MODULE};
 use super::texture::MaterialTextures;
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
-use crate::components::AlphaMode;
+use crate::components::{AlphaMode, ShadowMethod};
 use crate::settings::ShadowFaces;
 use crate::systems::LightLabel;
 use bevy_ecs::prelude::*;
@@ -44,8 +44,18 @@ pub struct ShadowPass {
     layer_uniforms: UniformArray,
     /// The current shadow maps.
     pub maps: ShadowMaps,
-    /// The version each layer of `maps` was last drawn at.
-    drawn: Vec<Option<u64>>,
+    /// What each layer of `maps` was last drawn as.
+    drawn: Vec<Option<Drawn>>,
+}
+
+/// What a layer's maps hold: the version of its light's layer they were drawn at and, for a
+/// moment layer, the method whose moments it stores and the blur it got. A light's method or the
+/// blur can change with no layer dirty (they do not move a shadow); a moment map drawn for
+/// another of them must be drawn again all the same.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Drawn {
+    version: u64,
+    moments: Option<(ShadowMethod, u32)>,
 }
 
 /// Shadow passes of one frame: per light, how many layers were drawn and how many kept.
@@ -175,10 +185,14 @@ impl ShadowPass {
         self.maps.moments.format.filter(|_| layer.method.moments())
     }
 
-    /// True when `layer` must be drawn: its slot was never drawn at its version, or nothing is
-    /// reused.
-    fn needs_drawing(&self, layer: &LayerDraw, reuse: bool) -> bool {
-        !reuse || self.drawn.get(layer.slot as usize).copied().flatten() != Some(layer.version)
+    /// What `layer` is drawn as with moment maps blurred by `blur` texels.
+    fn drawn_as(&self, layer: &LayerDraw, blur: u32) -> Drawn {
+        Drawn { version: layer.version, moments: self.moment_format(layer).map(|_| (layer.method, blur)) }
+    }
+
+    /// True when `layer` must be drawn: its slot holds something else, or nothing is reused.
+    fn needs_drawing(&self, layer: &LayerDraw, reuse: bool, blur: u32) -> bool {
+        !reuse || self.drawn.get(layer.slot as usize).copied().flatten() != Some(self.drawn_as(layer, blur))
     }
 
     /// Draws the layers that need it (all of them unless `reuse`), each cleared to far and then
@@ -200,7 +214,7 @@ impl ShadowPass {
             .draws
             .iter()
             .filter(|l| {
-                let draw = self.needs_drawing(l, reuse);
+                let draw = self.needs_drawing(l, reuse, blur);
                 stats.count(l.light, draw);
                 draw
             })
@@ -249,8 +263,9 @@ impl ShadowPass {
             pass.set_bind_group(0, &self.layer_uniforms.bind_group, &[self.layer_uniforms.offset(slot)]);
             pipelines.draw(&mut pass, with, &data.items, layer.casters.iter().map(|&i| variant(i)));
             drop(pass);
+            let done = self.drawn_as(layer, blur);
             if let Some(drawn) = self.drawn.get_mut(layer.slot as usize) {
-                *drawn = Some(layer.version);
+                *drawn = Some(done);
             }
         }
         if let Some(moment_blur) = self.blur.as_mut().filter(|_| !blurred.is_empty()) {
