@@ -71,6 +71,11 @@ impl Gpu {
         format!("{} ({:?}, {:?} backend)", info.name, info.device_type, info.backend)
     }
 
+    /// True when moment maps can be 32-bit floats here (GL cannot render into them).
+    pub fn full_float_moments(&self) -> bool {
+        super::moments::full_supported(&self.adapter, self.device.features())
+    }
+
     /// Fails with every wgpu error raised since the last check (and forgets them).
     pub fn check_errors(&self) -> Result<(), RenderError> {
         let mut errors = self.errors.lock().unwrap_or_else(|p| p.into_inner());

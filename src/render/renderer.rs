@@ -134,9 +134,8 @@ impl Renderer {
         }
         let depth = self.ensure_depth(device, width, height);
         let mut data = extract(world);
-        let full = moments::full_supported(&gpu.adapter, device.features());
-        let format =
-            moments::moment_format(data.methods, settings.moment_bits, full).map_err(RenderError::Unsupported)?;
+        let format = moments::moment_format(data.methods, settings.moment_bits, gpu.full_float_moments())
+            .map_err(RenderError::Unsupported)?;
         if let Some(format) = format {
             moments::set_terms(&mut data.layers, format);
         }
