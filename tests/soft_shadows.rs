@@ -118,7 +118,11 @@ fn every_method_puts_the_plates_shadows_where_the_truth_does() {
         // four plain powers of the depth lose too much: 0.0092 against bilinear's 0.0058 here.)
         if method.moments() && (full_floats || method.moment_bits() == 16) {
             let hard = bilinear_mae.expect("bilinear comes first");
-            assert!(seen.tally.mae_soft() < hard, "{method:?}: {:.4} against bilinear {hard:.4}", seen.tally.mae_soft());
+            assert!(
+                seen.tally.mae_soft() < hard,
+                "{method:?}: {:.4} against bilinear {hard:.4}",
+                seen.tally.mae_soft()
+            );
         }
     }
 }

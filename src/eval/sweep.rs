@@ -109,7 +109,11 @@ impl Config {
         if !self.method.moments() {
             return String::new();
         }
-        let bits = if self.moment_bits == MomentBits::Auto { String::new() } else { format!(" {}-bit", self.moment_bits.name()) };
+        let bits = if self.moment_bits == MomentBits::Auto {
+            String::new()
+        } else {
+            format!(" {}-bit", self.moment_bits.name())
+        };
         format!(" blur{}{bits}", self.blur)
     }
 

@@ -8,6 +8,7 @@
 
 use super::gpu_types::{Blur, GpuLayer};
 use super::shaders::{BLUR_MODULE, Composed};
+use super::texture::{LayeredTarget, render_target};
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
 use crate::components::ShadowMethod;
@@ -138,42 +139,15 @@ pub struct MomentMaps {
     scratch_view: wgpu::TextureView,
 }
 
-fn texture(device: &wgpu::Device, format: wgpu::TextureFormat, size: u32, layers: u32) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("moment maps"),
-        size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: layers },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
-    })
-}
-
 impl MomentMaps {
     /// `layers` layers of `size`² texels in `format`, or the stand-in when `format` is `None`.
     pub fn new(device: &wgpu::Device, format: Option<MomentFormat>, size: u32, layers: u32) -> Self {
         let (size, layers) = if format.is_some() { (size, layers) } else { (1, 2) };
         let tex_format = format.unwrap_or(MomentFormat::Half).texture();
-        let array = texture(device, tex_format, size, layers);
-        let layer_views = (0..layers)
-            .map(|layer| {
-                array.create_view(&wgpu::TextureViewDescriptor {
-                    label: Some("moment layer"),
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_array_layer: layer,
-                    array_layer_count: Some(1),
-                    ..Default::default()
-                })
-            })
-            .collect();
-        let array_view = array.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("moment array"),
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
-        let scratch_view = texture(device, tex_format, size, 1).create_view(&Default::default());
+        let LayeredTarget { layer_views, array_view } =
+            LayeredTarget::new(device, "moment maps", tex_format, size, layers);
+        let scratch_view =
+            render_target(device, "moment scratch", tex_format, size, 1).create_view(&Default::default());
         MomentMaps { format, layer_views, array_view, scratch_view }
     }
 }
@@ -282,7 +256,10 @@ impl MomentBlur {
                         view,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                            store: wgpu::StoreOp::Store,
+                        },
                     })],
                     depth_stencil_attachment: None,
                     timestamp_writes: timer.as_deref_mut().and_then(|t| t.shadow_writes(first + 2 * i + k, total)),

@@ -10,7 +10,7 @@ use super::gpu_types::GpuLayer;
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
 use super::moments::{MomentBlur, MomentFormat, MomentMaps, far_moments};
 use super::shaders::{Composed, SHADOW_MODULE};
-use super::texture::MaterialTextures;
+use super::texture::{LayeredTarget, MaterialTextures};
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
 use crate::components::{AlphaMode, ShadowMethod};
@@ -303,32 +303,8 @@ fn array_layers(needed: usize) -> u32 {
 
 impl ShadowMaps {
     fn new(device: &wgpu::Device, size: u32, layers: u32, moments: Option<MomentFormat>) -> Self {
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("shadow maps"),
-            size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: layers },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: SHADOW_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
-        let layer_views = (0..layers)
-            .map(|layer| {
-                texture.create_view(&wgpu::TextureViewDescriptor {
-                    label: Some("shadow layer"),
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_array_layer: layer,
-                    array_layer_count: Some(1),
-                    ..Default::default()
-                })
-            })
-            .collect();
-        let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("shadow array"),
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
+        let LayeredTarget { layer_views, array_view } =
+            LayeredTarget::new(device, "shadow maps", SHADOW_FORMAT, size, layers);
         let moments = MomentMaps::new(device, moments, size, layers);
         ShadowMaps { size, layers, layer_views, array_view, moments }
     }

@@ -158,3 +158,56 @@ fn sampler(device: &wgpu::Device, s: Sampling) -> wgpu::Sampler {
         ..Default::default()
     })
 }
+
+/// A texture array both drawn into (one view per layer) and sampled (one view of all of them):
+/// the shadow maps and the moment maps.
+pub struct LayeredTarget {
+    /// One render view per layer.
+    pub layer_views: Vec<wgpu::TextureView>,
+    /// The whole array, for sampling.
+    pub array_view: wgpu::TextureView,
+}
+
+/// A texture of `size`² texels and `layers` layers in `format`, drawn into and sampled.
+pub fn render_target(
+    device: &wgpu::Device,
+    label: &str,
+    format: wgpu::TextureFormat,
+    size: u32,
+    layers: u32,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: layers },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    })
+}
+
+impl LayeredTarget {
+    /// `layers` layers of `size`² texels in `format`.
+    pub fn new(device: &wgpu::Device, label: &str, format: wgpu::TextureFormat, size: u32, layers: u32) -> Self {
+        let texture = render_target(device, label, format, size, layers);
+        let layer_views = (0..layers)
+            .map(|layer| {
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some(label),
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: layer,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some(label),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        LayeredTarget { layer_views, array_view }
+    }
+}
