@@ -62,7 +62,9 @@ struct GpuLight {
     shape: u32,
     // Size for soft shadows: tan of a sun's angular radius, or a spot or point light's radius.
     size: f32,
-    _pad1: u32,
+    // Multiplicative depth offset: the share of the distance to the light the receiver is
+    // pulled towards it before the test (see scaled_depth in shadow_sampling.wgsl).
+    bias_scale: f32,
     _pad2: u32,
     // The cookie's projection (spots with a cookie only).
     cookie_from_world: mat4x4<f32>,

@@ -1,6 +1,7 @@
-// A shadow-map layer as both passes see it, and what a moment map stores: the shadow pass
-// writes `encode_moments` of each texel's nearest depth, the main pass filters those moments
-// and reconstructs a visibility from them (shadow_sampling.wgsl).
+// A shadow-map layer as both passes see it, and what a colour map stores: the shadow pass
+// writes `encode_moments` of each texel's nearest surface, the main pass filters moments and
+// reconstructs a visibility from them, or compares with a depth kept in colour
+// (shadow_sampling.wgsl).
 
 // One layer of the shadow-map array: its projection, the world size of its texels, and how its
 // moment map (if its light uses one) is made and read. Checked against the Rust struct of the
@@ -27,6 +28,9 @@ struct GpuLayer {
     moment_bias: f32,
     // Light-bleeding reduction: the share of the bound cut away.
     bleed: f32,
+    // Where its light is (spots and points), from which R16F radial measures distance.
+    origin: vec3<f32>,
+    _pad0: u32,
 };
 
 // Distance from the light along the layer's view axis of map depth `z`, as
@@ -55,11 +59,43 @@ fn evsm_warp(layer: GpuLayer, d: f32) -> vec2<f32> {
     return vec2<f32>(exp(layer.warp.x * x), -exp(-layer.warp.y * x));
 }
 
-// What a moment map stores for map depth `z`: VSM the depth and its square, EVSM each warp and
-// its square, MSM the depth's first four powers. (render/moments.rs clears maps to these values
-// at depth 1.)
-fn encode_moments(layer: GpuLayer, z: f32) -> vec4<f32> {
+// How far world point `p` (map depth `z`, already scaled by a multiplicative offset of
+// `scale`) is from the light as R16F radial keeps it: from the light itself in a perspective
+// layer (seed 004's radial distance), along the light from the layer's near plane in a cascade
+// (a sun has no position, and the plane can lie anywhere behind the casters).
+fn light_distance(layer: GpuLayer, z: f32, p: vec3<f32>, scale: f32) -> f32 {
+    if (layer.perspective == 1u) {
+        return distance(p, layer.origin) * (1.0 - max(scale, 0.0));
+    }
+    return layer_view_distance(layer, z) - layer_view_distance(layer, 0.0);
+}
+
+// Non-negative `x` rounded to the nearest half float (11 significant bits, ties to even), as
+// an R16Float target stores it; at most the largest half float. (pack2x16float would do it, but
+// needs a capability not every backend has.) The spacing of half floats at x is 2^(e - 10) for
+// x's exponent e, read from its bits, and 2^-24 below the smallest normal half float (2^-14).
+fn round_to_half(x: f32) -> f32 {
+    if (!(x > 0.0)) {
+        return 0.0;
+    }
+    let exponent = i32((bitcast<u32>(x) >> 23u) & 0xffu) - 127;
+    let step = exp2(f32(max(exponent, -14) - 10));
+    return min(round(x / step) * step, 65504.0);
+}
+
+// What a colour map stores for the surface at world point `p`, map depth `z`: VSM the depth and
+// its square, EVSM each warp and its square, MSM the depth's first four powers; R32F the linear
+// depth (seed 001) and R16F radial the distance from the light rounded to a half float (seed
+// 004; rounded here, so a wider map shared with another method keeps the format's precision).
+// (render/moments.rs clears maps to these values at depth 1.)
+fn encode_moments(layer: GpuLayer, z: f32, p: vec3<f32>) -> vec4<f32> {
     let d = linear_depth(layer, z);
+    if (layer.method == METHOD_R32F) {
+        return vec4<f32>(d, 0.0, 0.0, 0.0);
+    }
+    if (layer.method == METHOD_R16F_RADIAL) {
+        return vec4<f32>(round_to_half(light_distance(layer, z, p, 0.0)), 0.0, 0.0, 0.0);
+    }
     if (layer.method == METHOD_EVSM) {
         let w = evsm_warp(layer, d);
         return vec4<f32>(w.x, w.x * w.x, w.y, w.y * w.y);

@@ -9,17 +9,23 @@ struct ShadowOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) uv: vec2<f32>,
     @location(1) color: vec4<f32>,
+    // Where the surface is (R16F radial measures its distance from the light).
+    @location(2) world: vec3<f32>,
 };
+
+fn shadow_out(world: vec4<f32>, v: VertexIn) -> ShadowOut {
+    return ShadowOut(layer.clip_from_world * world, v.uv, v.color, world.xyz);
+}
 
 @vertex
 fn vs_shadow(v: VertexIn) -> ShadowOut {
-    return ShadowOut(layer.clip_from_world * object.world_from_local * vec4<f32>(v.position, 1.0), v.uv, v.color);
+    return shadow_out(object.world_from_local * vec4<f32>(v.position, 1.0), v);
 }
 
 // The same for a skinned mesh: the shadow follows the pose.
 @vertex
 fn vs_shadow_skinned(v: VertexIn, s: SkinIn) -> ShadowOut {
-    return ShadowOut(layer.clip_from_world * object.world_from_local * skin_matrix(s) * vec4<f32>(v.position, 1.0), v.uv, v.color);
+    return shadow_out(object.world_from_local * skin_matrix(s) * vec4<f32>(v.position, 1.0), v);
 }
 
 fn cut_out(in: ShadowOut) {
@@ -33,10 +39,10 @@ fn fs_shadow(in: ShadowOut) {
     cut_out(in);
 }
 
-// A moment layer: the depth test keeps the nearest fragment, and so its moments are the last
-// written.
+// A layer with a colour map (moments, or depth in colour): the depth test keeps the nearest
+// fragment, and so what it stores is the last written.
 @fragment
 fn fs_moments(in: ShadowOut) -> @location(0) vec4<f32> {
     cut_out(in);
-    return encode_moments(layer, in.clip.z);
+    return encode_moments(layer, in.clip.z, in.world);
 }

@@ -38,6 +38,8 @@ struct ShadowCoord {
     depth: f32,
     plane: vec2<f32>,
     pixel: vec2<f32>,
+    // The receiver's distance from the light as R16F radial compares it (see light_distance).
+    distance: f32,
 };
 
 // A 2x2 comparison at `at` with the receiver's depth there: on its plane, not at the centre.
@@ -142,6 +144,8 @@ struct LayerRef {
     layer: GpuLayer,
     light_size: f32,
     pcss_search: bool,
+    // The light's multiplicative depth offset (see scaled_depth).
+    bias_scale: f32,
 };
 
 fn view_distance(at: LayerRef, z: f32) -> f32 {
@@ -299,6 +303,33 @@ fn shadow_msm(c: ShadowCoord, at: LayerRef) -> f32 {
     return reduce_bleeding(select(1.0, lit, lit == lit), at.layer.bleed);
 }
 
+// Depth kept in a colour target (seeds 001 and 004): the values of the 2x2 texels around the
+// point, each compared by hand with the receiver's `value` (lit where it is no farther) and
+// weighted bilinearly, as the hardware's comparison filter weighs a depth map's texels.
+fn compare_stored(c: ShadowCoord, value: f32) -> f32 {
+    let size = vec2<i32>(textureDimensions(moment_maps));
+    let at = c.uv * vec2<f32>(size) - 0.5;
+    let base = floor(at);
+    let f = at - base;
+    var lit = vec4<f32>(0.0);
+    for (var k = 0; k < 4; k += 1) {
+        let texel = clamp(vec2<i32>(base) + vec2<i32>(k % 2, k / 2), vec2<i32>(0), size - 1);
+        lit[k] = select(0.0, 1.0, value <= textureLoad(moment_maps, texel, c.layer, 0).r);
+    }
+    return mix(mix(lit.x, lit.y, f.x), mix(lit.z, lit.w, f.x), f.y);
+}
+
+// Linear depth in an R32Float target, as seed 001 kept it (with its multiplicative offset, a
+// light's bias_scale, applied to the receiver's depth before the lookup).
+fn shadow_r32f(c: ShadowCoord, at: LayerRef) -> f32 {
+    return compare_stored(c, linear_depth(at.layer, c.depth));
+}
+
+// The distance from the light in an R16Float target, as seed 004 kept it.
+fn shadow_r16f_radial(c: ShadowCoord) -> f32 {
+    return compare_stored(c, c.distance);
+}
+
 fn method_used(method: u32) -> bool {
     return (SHADOW_METHODS & (1u << method)) != 0u;
 }
@@ -344,6 +375,12 @@ fn sample_shadow(method: u32, c: ShadowCoord, at: LayerRef) -> f32 {
     }
     if (method_used(METHOD_MSM) && (only || method == METHOD_MSM)) {
         return shadow_msm(c, at);
+    }
+    if (method_used(METHOD_R32F) && (only || method == METHOD_R32F)) {
+        return shadow_r32f(c, at);
+    }
+    if (method_used(METHOD_R16F_RADIAL) && (only || method == METHOD_R16F_RADIAL)) {
+        return shadow_r16f_radial(c);
     }
     return 1.0;
 }
@@ -395,6 +432,23 @@ fn receiver_plane(dx: vec3<f32>, dy: vec3<f32>, depth_per_metre: f32, texel: f32
     return plane * min(1.0, steepest / max(len, 1e-30));
 }
 
+// The multiplicative depth offset of the source articles (seed 001 compares the stored depth
+// with the receiver's times 0.95): map depth `z` of a point whose distance from the light, along
+// the layer's axis, is `1 - scale` of the receiver's (layer_view_distance turned round); in a
+// cascade, whose depth is linear and whose sun has no position, distance from the near plane.
+// The bias grows with distance, as the rounding of a depth format does.
+fn scaled_depth(layer: GpuLayer, z: f32, scale: f32) -> f32 {
+    if (scale <= 0.0) {
+        return z;
+    }
+    if (layer.perspective == 0u) {
+        return z * (1.0 - scale);
+    }
+    let d = layer_view_distance(layer, z) * (1.0 - scale);
+    let t = layer.depth_terms;
+    return t.y / max(d, 1e-6) - t.x;
+}
+
 // Visibility of the (already biased) world point `biased` in layer `at`: 1 lit, 0 shadowed.
 // Points outside the map are lit. With `plane_on`, a spreading filter compares with the
 // receiver's plane; `l` is the unit direction towards the light and `texel` the texel's world
@@ -410,7 +464,9 @@ fn shadow_lookup(at: LayerRef, biased: vec3<f32>, method: u32, f: Footprint, pla
     if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0) {
         return 1.0;
     }
-    var c = ShadowCoord(uv, at.index, ndc.z, vec2<f32>(0.0), f.pixel);
+    let depth = scaled_depth(at.layer, ndc.z, at.bias_scale);
+    let distance = light_distance(at.layer, depth, biased, at.bias_scale);
+    var c = ShadowCoord(uv, at.index, depth, vec2<f32>(0.0), f.pixel, distance);
     if (plane_on && method_spreads(method)) {
         let dx = ndc_change(clip_from_world, clip, f.dp_dx);
         let dy = ndc_change(clip_from_world, clip, f.dp_dy);

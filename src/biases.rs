@@ -4,6 +4,7 @@
 //! [`crate::systems::light_list`] names them ("sun", "spot 1", "point 1").
 
 use crate::components::{ShadowBias, ShadowMethod};
+use crate::settings::MAX_BIAS_SCALE;
 use crate::systems::light_list;
 use bevy_ecs::prelude::*;
 use serde_json::{Value, json};
@@ -32,7 +33,15 @@ fn bias_from(v: &Value, at: &str) -> Result<ShadowBias, String> {
             Err(format!("{at}: `{name}` = {x} must be between 0 and 100 texels"))
         }
     };
-    Ok(ShadowBias { constant: field("constant")?, slope: field("slope")?, normal: field("normal")? })
+    // The multiplicative offset is a share of the distance, not texels, and older files lack it.
+    let scale = match v.get("scale") {
+        None => 0.0,
+        Some(x) => match x.as_f64() {
+            Some(x) if (0.0..=MAX_BIAS_SCALE as f64).contains(&x) => x as f32,
+            _ => return Err(format!("{at}: `scale` = {x} must be a share between 0 and {MAX_BIAS_SCALE}")),
+        },
+    };
+    Ok(ShadowBias { constant: field("constant")?, slope: field("slope")?, normal: field("normal")?, scale })
 }
 
 impl LightBiases {
@@ -60,10 +69,10 @@ impl LightBiases {
         let lights: serde_json::Map<String, Value> = self
             .0
             .iter()
-            .map(|(name, b)| (name.clone(), json!({ "constant": b.constant, "slope": b.slope, "normal": b.normal })))
+            .map(|(name, b)| (name.clone(), json!({ "constant": b.constant, "slope": b.slope, "normal": b.normal, "scale": b.scale })))
             .collect();
         let doc = json!({
-            "about": "shadow biases in shadow-map texels per light, written by `umbra tune`",
+            "about": "shadow biases per light, written by `umbra tune`: constant, slope and normal in shadow-map texels, scale a share of the distance to the light",
             "lights": lights,
         });
         serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
@@ -137,8 +146,8 @@ mod tests {
     #[test]
     fn biases_survive_a_round_trip_and_bad_files_are_named() {
         let b = LightBiases(vec![
-            ("point 1".into(), ShadowBias { constant: 1.0, slope: 0.0, normal: 0.25 }),
-            ("sun".into(), ShadowBias { constant: 0.5, slope: 2.0, normal: 1.0 }),
+            ("point 1".into(), ShadowBias { constant: 1.0, slope: 0.0, normal: 0.25, scale: 0.0 }),
+            ("sun".into(), ShadowBias { constant: 0.5, slope: 2.0, normal: 1.0, scale: 0.02 }),
         ]);
         assert_eq!(LightBiases::from_json(&b.to_json()), Ok(b));
         assert!(LightBiases::from_json("{").unwrap_err().contains("not JSON"));
@@ -146,6 +155,8 @@ mod tests {
         assert!(LightBiases::from_json(negative).unwrap_err().contains("sun: `constant` = -1"));
         let missing = r#"{"lights": {"spot 1": {"constant": 1, "slope": 1}}}"#;
         assert!(LightBiases::from_json(missing).unwrap_err().contains("spot 1: `normal` must be a number"));
+        let scale = r#"{"lights": {"sun": {"constant": 0, "slope": 0, "normal": 0, "scale": 2}}}"#;
+        assert!(LightBiases::from_json(scale).unwrap_err().contains("sun: `scale` = 2 must be a share"));
         assert!(LightBiases::from_json(r#"{"lights": [1]}"#).unwrap_err().contains("must be an object"));
         let old = r#"{"sun": {"constant": 1, "slope": 1, "normal": 1}}"#;
         assert!(LightBiases::from_json(old).unwrap_err().contains("unknown key `sun`"));

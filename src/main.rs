@@ -7,7 +7,7 @@ use std::time::Instant;
 use umbra::components::ShadowMethod;
 use umbra::components::{ModelInstance, Transform};
 use umbra::render::{Gpu, render_headless, render_png};
-use umbra::settings::{CasterCulling, MomentBits, ShadowFaces};
+use umbra::settings::{CasterCulling, MomentBits, ShadowDepth, ShadowFaces};
 use umbra::shadow::FitMode;
 use umbra::{App, Settings};
 
@@ -54,6 +54,10 @@ struct SceneArgs {
     /// Normal-offset bias in texels.
     #[arg(long, value_name = "TEXELS", allow_negative_numbers = true)]
     normal_bias: Option<f32>,
+    /// Multiplicative depth offset: the share of the distance to the light a receiver is pulled
+    /// towards it before the test, 0..0.5 (the source article's `depth × 0.95` is 0.05).
+    #[arg(long, value_name = "SHARE", allow_negative_numbers = true)]
+    bias_scale: Option<f32>,
     /// Number of animated cubes.
     #[arg(long)]
     cubes: Option<u32>,
@@ -73,7 +77,7 @@ struct SceneArgs {
     #[arg(long)]
     cascade_debug: bool,
     /// How shadow maps are sampled, for every light without a method of its own: nearest,
-    /// bilinear, pcf3, pcf5, gauss5, poisson16, poisson32, pcss, vsm, evsm or msm.
+    /// bilinear, pcf3, pcf5, gauss5, poisson16, poisson32, pcss, vsm, evsm, msm, r32f (depth in an R32F colour target) or r16f-radial (distance from the light in R16F).
     #[arg(long, alias = "filter", value_name = "METHOD")]
     method: Option<ShadowMethod>,
     /// Blur radius of moment maps (vsm, evsm, msm) in texels, 0..16 (0: none).
@@ -85,6 +89,9 @@ struct SceneArgs {
     /// Float bits per moment: auto (each method's own choice), 16 or 32.
     #[arg(long, value_name = "BITS")]
     moment_bits: Option<MomentBits>,
+    /// Format of the depth maps: d32 (32-bit float) or d16 (16-bit fixed point, half the memory).
+    #[arg(long, value_name = "FORMAT")]
+    shadow_depth: Option<ShadowDepth>,
     /// Toon shading with this many bands, 2..16 (key T in play).
     #[arg(long, value_name = "BANDS")]
     toon: Option<u32>,
@@ -252,6 +259,7 @@ impl SceneArgs {
             depth_bias: self.depth_bias.unwrap_or(d.depth_bias),
             slope_bias: self.slope_bias.unwrap_or(d.slope_bias),
             normal_bias: self.normal_bias.unwrap_or(d.normal_bias),
+            bias_scale: self.bias_scale.unwrap_or(d.bias_scale),
             cubes: self.cubes.unwrap_or(d.cubes),
             cascades: self.cascades.unwrap_or(d.cascades),
             split_lambda: self.split_lambda.unwrap_or(d.split_lambda),
@@ -262,6 +270,7 @@ impl SceneArgs {
             moment_blur: self.moment_blur.unwrap_or(d.moment_blur),
             light_bleeding: self.light_bleeding.unwrap_or(d.light_bleeding),
             moment_bits: self.moment_bits.unwrap_or(d.moment_bits),
+            shadow_depth: self.shadow_depth.unwrap_or(d.shadow_depth),
             toon_bands: self.toon.unwrap_or(d.toon_bands),
             // The file's first, so the command line's win.
             light_methods: file_methods.into_iter().chain(self.light_method.iter().cloned()).collect(),
@@ -462,20 +471,21 @@ fn tune(args: &TuneArgs) -> Result<()> {
     };
     println!("tuned on the first half of the views; held out: the other half, which the search never saw");
     println!(
-        "| light | tuned on: before | after | held out: before | after | bias found: constant, slope, normal (texels) |"
+        "| light | tuned on: before | after | held out: before | after | bias found: constant, slope, normal (texels); scale |"
     );
     println!("| --- | --- | --- | --- | --- | --- |");
     for l in &lights {
         let (held_before, held_after) =
             l.held_out.as_ref().map_or(("-".into(), "-".into()), |(b, a)| (shown(b), shown(a)));
         println!(
-            "| {} | {} | {} | {held_before} | {held_after} | {}, {}, {} |",
+            "| {} | {} | {} | {held_before} | {held_after} | {}, {}, {}; {} |",
             l.light,
             shown(&l.before),
             shown(&l.after),
             l.bias.constant,
             l.bias.slope,
-            l.bias.normal
+            l.bias.normal,
+            l.bias.scale
         );
     }
     biases.save(&args.out)?;

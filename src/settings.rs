@@ -19,6 +19,9 @@ pub struct Settings {
     pub slope_bias: f32,
     /// Offset along the surface normal, in texels.
     pub normal_bias: f32,
+    /// Multiplicative depth offset: the share of the receiver's distance from the light it is
+    /// pulled towards it (see [`crate::components::ShadowBias::scale`]).
+    pub bias_scale: f32,
     /// A constant depth bias in metres along the light, on top of every light's bias (the way
     /// engines such as Bevy give it; 0 in umbra, whose biases are all in texels).
     pub depth_bias_metres: f32,
@@ -68,6 +71,8 @@ pub struct Settings {
     pub light_bleeding: f32,
     /// Float bits per moment: each method's own choice (auto), 16 or 32.
     pub moment_bits: MomentBits,
+    /// The depth maps' format.
+    pub shadow_depth: ShadowDepth,
     /// Toon shading: each light's diffuse strength falls into this many bands, and a shadow
     /// takes a surface one band down (0: Phong shading).
     pub toon_bands: u32,
@@ -100,6 +105,7 @@ impl Default for Settings {
             depth_bias: 0.5,
             slope_bias: 0.5,
             normal_bias: 0.5,
+            bias_scale: 0.0,
             depth_bias_metres: 0.0,
             shadow_distance: 60.0,
             cascades: 4,
@@ -119,6 +125,7 @@ impl Default for Settings {
             moment_blur: DEFAULT_MOMENT_BLUR,
             light_bleeding: DEFAULT_LIGHT_BLEEDING,
             moment_bits: MomentBits::Auto,
+            shadow_depth: ShadowDepth::Float32,
             toon_bands: 0,
             spot_map_limit: crate::shadow::MAX_MAP_HALF_ANGLE,
             ambient: 0.12,
@@ -146,6 +153,27 @@ pub enum MomentBits {
     Full,
 }
 
+/// The format of the depth maps the shadow pass draws.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ShadowDepth {
+    /// `Depth32Float`: 24 significant bits wherever the depth lies.
+    #[default]
+    Float32,
+    /// `Depth16Unorm`: 65536 even steps of perspective depth, which crowds them next to the
+    /// light; half the memory.
+    Unorm16,
+}
+
+impl ShadowDepth {
+    /// The texture format.
+    pub fn texture(self) -> wgpu::TextureFormat {
+        match self {
+            ShadowDepth::Float32 => wgpu::TextureFormat::Depth32Float,
+            ShadowDepth::Unorm16 => wgpu::TextureFormat::Depth16Unorm,
+        }
+    }
+}
+
 /// Default blur radius of moment maps, in texels.
 pub const DEFAULT_MOMENT_BLUR: u32 = 2;
 /// Largest blur radius of moment maps, in texels.
@@ -154,6 +182,8 @@ pub const MAX_MOMENT_BLUR: u32 = 16;
 pub const DEFAULT_TOON_BANDS: u32 = 4;
 /// Most bands of toon shading.
 pub const MAX_TOON_BANDS: u32 = 16;
+/// Largest multiplicative depth offset (half the distance to the light).
+pub const MAX_BIAS_SCALE: f32 = 0.5;
 /// Default light-bleeding reduction.
 pub const DEFAULT_LIGHT_BLEEDING: f32 = 0.2;
 
@@ -198,8 +228,11 @@ named_choices!(
     Pcss = "pcss",
     Vsm = "vsm",
     Evsm = "evsm",
-    Msm = "msm"
+    Msm = "msm",
+    DepthR32f = "r32f",
+    RadialR16f = "r16f-radial"
 );
+named_choices!(ShadowDepth, "a depth-map format", Float32 = "d32", Unorm16 = "d16");
 named_choices!(MomentBits, "a moment-map precision", Auto = "auto", Half = "16", Full = "32");
 named_choices!(CasterCulling, "a culling mode", LightVolume = "light", CameraView = "camera");
 
@@ -235,7 +268,12 @@ pub const MAX_SHADOW_MAP_SIZE: u32 = 8192;
 impl Settings {
     /// The bias every light gets from these settings.
     pub fn shadow_bias(&self) -> crate::components::ShadowBias {
-        crate::components::ShadowBias { constant: self.depth_bias, slope: self.slope_bias, normal: self.normal_bias }
+        crate::components::ShadowBias {
+            constant: self.depth_bias,
+            slope: self.slope_bias,
+            normal: self.normal_bias,
+            scale: self.bias_scale,
+        }
     }
 
     /// Checks every setting; the first bad one is named in the error.
@@ -257,6 +295,9 @@ impl Settings {
             if !non_negative(v) || v > 100.0 {
                 return bad(name, v, "must be between 0 and 100 texels");
             }
+        }
+        if !(non_negative(self.bias_scale) && self.bias_scale <= MAX_BIAS_SCALE) {
+            return bad("bias_scale", self.bias_scale, "must be a share between 0 and 0.5 of the distance to the light");
         }
         if !(non_negative(self.depth_bias_metres) && self.depth_bias_metres <= 10.0) {
             return bad("depth_bias_metres", self.depth_bias_metres, "must be between 0 and 10 m");
@@ -341,7 +382,8 @@ mod tests {
     #[test]
     fn nonsense_is_named() {
         type Case = (fn(&mut Settings), &'static str);
-        let cases: [Case; 14] = [
+        let cases: [Case; 15] = [
+            (|s| s.bias_scale = 0.9, "bias_scale"),
             (|s| s.toon_bands = 1, "toon_bands"),
             (|s| s.moment_blur = 99, "moment_blur"),
             (|s| s.light_bleeding = f32::NAN, "light_bleeding"),

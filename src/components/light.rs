@@ -137,6 +137,12 @@ pub struct ShadowBias {
     pub slope: f32,
     /// Along the surface normal.
     pub normal: f32,
+    /// Multiplicative offset (seed 001's depth offset): the share of the receiver's distance
+    /// from the light (along the layer's axis; for a sun's cascade, from its near plane) it is
+    /// pulled towards the light before the test, so the bias grows with distance as a depth
+    /// format's rounding does. 0.05 is the source's `depth × 0.95`; not in texels, and 0 by
+    /// default.
+    pub scale: f32,
 }
 
 impl Default for ShadowBias {
@@ -144,7 +150,7 @@ impl Default for ShadowBias {
     /// with the fewest wrong pixels on the sample scene that still keeps every failure case in
     /// bounds (no bias at all brings back acne).
     fn default() -> Self {
-        ShadowBias { constant: 0.5, slope: 0.5, normal: 0.5 }
+        ShadowBias { constant: 0.5, slope: 0.5, normal: 0.5, scale: 0.0 }
     }
 }
 
@@ -181,6 +187,16 @@ pub enum ShadowMethod {
     /// Moment shadow maps (Peters and Klein 2015): four powers of the depth, blurred, and the
     /// Hamburger reconstruction of the sharpest shadow they allow.
     Msm = 10,
+    /// Depth in an `R32Float` colour target (seed 001): the shadow pass's fragment stage writes
+    /// each texel's linear depth (0 at the layer's near plane, 1 at its far one), and the lookup
+    /// compares the 2x2 texels around its point by hand, weighted as the hardware's bilinear
+    /// comparison weighs them.
+    DepthR32f = 11,
+    /// The distance from the light in metres in an `R16Float` colour target (seed 004): radial
+    /// for spots and cube faces, along the light for a sun's cascades; compared as
+    /// [`ShadowMethod::DepthR32f`] compares. Half floats keep 11 significant bits, so a step
+    /// grows with the distance (8 mm at 10 m).
+    RadialR16f = 12,
 }
 
 impl ShadowMethod {
@@ -197,6 +213,7 @@ impl ShadowMethod {
             ShadowMethod::Poisson32 | ShadowMethod::Pcss => 4,
             // One filtered read of a map blurred beforehand (the blur clamps at the map's edge).
             ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Msm => 1,
+            ShadowMethod::DepthR32f | ShadowMethod::RadialR16f => 1,
         }
     }
 
@@ -219,6 +236,7 @@ impl ShadowMethod {
             ShadowMethod::Poisson16 | ShadowMethod::Poisson32 => "Poisson PCF",
             ShadowMethod::Pcss => "PCSS",
             ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Msm => "moment maps",
+            ShadowMethod::DepthR32f | ShadowMethod::RadialR16f => "depth in colour",
         }
     }
 
@@ -239,9 +257,24 @@ impl ShadowMethod {
         matches!(self, ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Msm)
     }
 
+    /// Bits of float a depth-in-colour method stores its one value in (0 for the others).
+    pub fn colour_depth_bits(self) -> u32 {
+        match self {
+            ShadowMethod::DepthR32f => 32,
+            ShadowMethod::RadialR16f => 16,
+            _ => 0,
+        }
+    }
+
+    /// It reads a colour map the shadow pass writes beside the depth map (moments, or depth in
+    /// colour), not the depth map itself.
+    pub fn colour_map(self) -> bool {
+        self.moments() || self.colour_depth_bits() > 0
+    }
+
     /// It compares with depths away from the lookup's own point, so the receiver plane matters.
     pub fn spreads(self) -> bool {
-        !matches!(self, ShadowMethod::Nearest | ShadowMethod::Bilinear) && !self.moments()
+        !matches!(self, ShadowMethod::Nearest | ShadowMethod::Bilinear) && !self.colour_map()
     }
 }
 

@@ -40,13 +40,14 @@ pub struct Point {
 }
 
 /// The families in legend order, each with its colour (the marker goes by the position).
-const FAMILIES: [(&str, RGBColor); 7] = [
+const FAMILIES: [(&str, RGBColor); 8] = [
     ("hard", RGBColor(110, 110, 110)),
     ("grid PCF", RGBColor(0, 140, 200)),
     ("Gaussian PCF", RGBColor(0, 160, 80)),
     ("Poisson PCF", RGBColor(200, 120, 0)),
     ("PCSS", RGBColor(170, 0, 170)),
     ("moment maps", RGBColor(200, 30, 30)),
+    ("depth in colour", RGBColor(120, 80, 20)),
     ("Bevy-like", RGBColor(0, 0, 0)),
 ];
 
@@ -59,13 +60,14 @@ enum Shape {
     Cross,
 }
 
-const MARKERS: [(Shape, i32, bool); 7] = [
+const MARKERS: [(Shape, i32, bool); 8] = [
     (Shape::Circle, 4, true),
     (Shape::Triangle, 6, true),
     (Shape::Cross, 5, false),
     (Shape::Circle, 5, false),
     (Shape::Triangle, 7, false),
     (Shape::Cross, 7, false),
+    (Shape::Triangle, 5, true),
     (Shape::Circle, 6, true),
 ];
 

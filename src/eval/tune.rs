@@ -1,7 +1,7 @@
-//! `umbra tune`: for each light, the constant, slope and normal bias that give the fewest wrong
-//! pixels (false shadow + false lit) over the scene's views (the sample's four, or a scene file's
-//! camera): a coarse grid of all three together, then coordinate descent from the best of it
-//! over finer values.
+//! `umbra tune`: for each light, the constant, slope and normal bias and the multiplicative
+//! offset that give the fewest wrong pixels (false shadow + false lit) over the scene's views
+//! (the sample's four, or a scene file's camera): a coarse grid of the three texel biases
+//! together, then coordinate descent from the best of it over finer values of all four.
 //!
 //! Lights do not change each other's shadows, so every candidate is tried on all lights in one
 //! render and each light keeps what suits it. Every light of any kind is tuned, with the method
@@ -23,10 +23,13 @@ use crate::settings::Settings;
 /// Bias values tried for each parameter, in texels.
 pub const CANDIDATES: [f32; 9] = [0.0, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0];
 
+/// Multiplicative offsets tried (shares of the distance to the light).
+pub const SCALE_CANDIDATES: [f32; 7] = [0.0, 0.001, 0.002, 0.005, 0.01, 0.02, 0.05];
+
 /// Values of the coarse grid, tried for all three parameters together.
 pub const COARSE: [f32; 4] = [0.0, 0.5, 1.0, 2.0];
 
-/// Rounds of coordinate descent over the three parameters.
+/// Rounds of coordinate descent over the four parameters.
 const ROUNDS: usize = 2;
 
 /// What tuning did for one light.
@@ -73,8 +76,13 @@ fn wrong(t: &Tally) -> u64 {
     t.false_shadow + t.false_lit
 }
 
+/// The values tried for parameter `param` (constant, slope, normal, scale).
+fn candidates(param: usize) -> &'static [f32] {
+    if param == 3 { &SCALE_CANDIDATES } else { &CANDIDATES }
+}
+
 fn set(b: &mut ShadowBias, param: usize, v: f32) {
-    *[&mut b.constant, &mut b.slope, &mut b.normal][param] = v;
+    *[&mut b.constant, &mut b.slope, &mut b.normal, &mut b.scale][param] = v;
 }
 
 /// Renders every light with `candidate(its bias)`; each light whose error goes down (or stays,
@@ -91,7 +99,8 @@ fn try_candidate(
         *b = candidate(b);
     }
     let errs = errors(m, views, &trial)?;
-    let sum = |b: &ShadowBias| b.constant + b.slope + b.normal;
+    // A share of 0.01 of the distance counts as much as a texel.
+    let sum = |b: &ShadowBias| b.constant + b.slope + b.normal + 100.0 * b.scale;
     for (column, ((_, b), (_, t))) in current.0.iter_mut().zip(&trial.0).enumerate() {
         let (Some(&e), Some(kept)) = (errs.get(column), best.get_mut(column)) else { continue };
         if wrong(&e) < wrong(kept) || (wrong(&e) == wrong(kept) && sum(t) < sum(b)) {
@@ -125,10 +134,10 @@ pub fn tune(
         .flat_map(|&c| {
             COARSE
                 .iter()
-                .flat_map(move |&s| COARSE.iter().map(move |&n| ShadowBias { constant: c, slope: s, normal: n }))
+                .flat_map(move |&s| COARSE.iter().map(move |&n| ShadowBias { constant: c, slope: s, normal: n, scale: 0.0 }))
         })
         .collect();
-    let steps = grid.len() + ROUNDS * 3 * CANDIDATES.len();
+    let steps = grid.len() + ROUNDS * (0..4).map(|p| candidates(p).len()).sum::<usize>();
     let mut done = 0;
     for b in &grid {
         progress(done, steps);
@@ -136,8 +145,8 @@ pub fn tune(
         try_candidate((&mut m, views), &mut current, &mut best, |_| *b)?;
     }
     for _ in 0..ROUNDS {
-        for param in 0..3 {
-            for v in CANDIDATES {
+        for param in 0..4 {
+            for &v in candidates(param) {
                 progress(done, steps);
                 done += 1;
                 try_candidate((&mut m, views), &mut current, &mut best, |b| {

@@ -111,6 +111,7 @@ fn gpu_light(light: &SceneLight, first_layer: usize, layer_count: usize) -> GpuL
         bias_constant: light.bias.constant,
         bias_slope: light.bias.slope,
         bias_normal: light.bias.normal,
+        bias_scale: light.bias.scale,
         method: light.method as u32,
         shape: shape_id(light.shape),
         size: light_size(&light.kind),
@@ -231,7 +232,8 @@ pub fn extract(world: &mut World) -> FrameData {
         let map = world.get::<ShadowMap>(light.entity).unwrap_or(&no_map);
         // A light whose layers do not all fit in the array is lit without a shadow.
         let count = if layers.len() + map.layers.len() <= MAX_LAYERS { map.layers.len() } else { 0 };
-        lights.push(gpu_light(light, layers.len(), count));
+        let gpu = gpu_light(light, layers.len(), count);
+        lights.push(gpu);
         labels.push(light.label);
         if count > 0 {
             // With shadows off the pipeline holds no sampling code at all: on a software
@@ -250,6 +252,7 @@ pub fn extract(world: &mut World) -> FrameData {
                 method: light.method as u32,
                 perspective: (light.shape != ShadowShape::Cascades) as u32,
                 bleed: settings.light_bleeding,
+                origin: gpu.position,
                 ..GpuLayer::zeroed()
             }));
         }

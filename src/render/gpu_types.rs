@@ -130,7 +130,9 @@ gpu_struct! {
         /// Its size for soft shadows: tan of a sun's angular radius, or a spot or point light's
         /// radius in metres.
         pub size: f32,
-        pub _pad1: u32,
+        /// Multiplicative depth offset: the share of the distance to the light the receiver is
+        /// pulled towards it.
+        pub bias_scale: f32,
         pub _pad2: u32,
         /// World to the cookie's clip space (spots with a cookie).
         pub cookie_from_world: Mat4,
@@ -164,6 +166,9 @@ gpu_struct! {
         pub moment_bias: f32,
         /// Light-bleeding reduction of a moment method.
         pub bleed: f32,
+        /// Where its light is (spots and points), from which R16F radial measures distance.
+        pub origin: [f32; 3],
+        pub _pad0: u32,
     }
 }
 
@@ -235,7 +240,7 @@ pub fn prelude() -> String {
     constant("SHAPE_SINGLE", SHAPE_SINGLE as u64);
     constant("SHAPE_CUBE", SHAPE_CUBE as u64);
     for method in ShadowMethod::ALL {
-        constant(&format!("METHOD_{}", method.name().to_uppercase()), *method as u64);
+        constant(&format!("METHOD_{}", method.name().to_uppercase().replace('-', "_")), *method as u64);
     }
     let spreading = ShadowMethod::ALL.iter().filter(|m| m.spreads()).fold(0u64, |mask, &m| mask | 1 << m as u64);
     constant("SPREADING_METHODS", spreading);

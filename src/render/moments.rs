@@ -1,10 +1,12 @@
-//! Moment shadow maps (VSM, EVSM, MSM): their format and the terms each method reads, the
-//! array they live in beside the depth maps, and the blur that prefilters a layer once it is
-//! drawn.
+//! The colour maps beside the depth maps: moment shadow maps (VSM, EVSM, MSM) and depth in
+//! colour targets (R32F, R16F radial). Their format and the terms each method reads, the array
+//! they live in, slot for slot with the depth maps, and the blur that prefilters a moment layer
+//! once it is drawn.
 //!
-//! The shadow pass draws a moment layer with a colour target (`fs_moments` in shadow.wgsl:
-//! GL cannot read a depth map's raw values, so moments are made where the depth is known), and
-//! [`MomentBlur`] then blurs it along rows into a scratch map and along columns back.
+//! The shadow pass draws such a layer with a colour target (`fs_moments` in shadow.wgsl: GL
+//! cannot read a depth map's raw values, so what a method stores is made where the depth is
+//! known), and [`MomentBlur`] then blurs a moment layer along rows into a scratch map and along
+//! columns back.
 
 use super::gpu_types::{Blur, GpuLayer};
 use super::shaders::{BLUR_MODULE, Composed};
@@ -14,31 +16,42 @@ use super::uniform_array::UniformArray;
 use crate::components::ShadowMethod;
 use crate::settings::MomentBits;
 
-/// How many bits of float each moment gets.
+/// The colour maps' format: four channels for moments, one for depth in colour, in 16- or
+/// 32-bit floats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MomentFormat {
+pub enum ColourFormat {
     /// `Rgba16Float`.
-    Half,
+    Half = 0,
     /// `Rgba32Float` (needs a device that renders into and filters it).
-    Full,
+    Full = 1,
+    /// `R16Float`: one half float.
+    R16 = 2,
+    /// `R32Float` (needs what `Full` needs).
+    R32 = 3,
 }
 
-impl MomentFormat {
+impl ColourFormat {
     /// The texture format.
     pub fn texture(self) -> wgpu::TextureFormat {
         match self {
-            MomentFormat::Half => wgpu::TextureFormat::Rgba16Float,
-            MomentFormat::Full => wgpu::TextureFormat::Rgba32Float,
+            ColourFormat::Half => wgpu::TextureFormat::Rgba16Float,
+            ColourFormat::Full => wgpu::TextureFormat::Rgba32Float,
+            ColourFormat::R16 => wgpu::TextureFormat::R16Float,
+            ColourFormat::R32 => wgpu::TextureFormat::R32Float,
         }
     }
 
-    /// Bits per moment.
-    #[cfg(test)]
+    /// Bits per channel.
     pub fn bits(self) -> u32 {
         match self {
-            MomentFormat::Half => 16,
-            MomentFormat::Full => 32,
+            ColourFormat::Half | ColourFormat::R16 => 16,
+            ColourFormat::Full | ColourFormat::R32 => 32,
         }
+    }
+
+    /// It holds four moments (else one depth).
+    pub fn moments(self) -> bool {
+        matches!(self, ColourFormat::Half | ColourFormat::Full)
     }
 }
 
@@ -52,19 +65,29 @@ pub fn full_supported(adapter: &wgpu::Adapter, features: wgpu::Features) -> bool
     features.contains(FULL_FEATURES) && flags.contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
 }
 
-/// The format the moment maps of `methods` (a bit per [`ShadowMethod`]) take: `None` when no
-/// light uses moments; with [`MomentBits::Auto`] the widest any of them prefers, halved where
-/// the device has no full floats. An explicit 32 the device cannot do is an error.
-pub fn moment_format(methods: u32, bits: MomentBits, full: bool) -> Result<Option<MomentFormat>, &'static str> {
-    let used = ShadowMethod::ALL.iter().filter(|m| m.moments() && methods & (1 << **m as u32) != 0);
-    let widest = used.map(|m| m.moment_bits()).max();
-    let Some(widest) = widest else { return Ok(None) };
+/// The format the colour maps of `methods` (a bit per [`ShadowMethod`]) take: `None` when no
+/// light uses one. Moments take four channels: with [`MomentBits::Auto`] as wide as any moment
+/// method prefers, halved where the device has no full floats. Depth in colour takes one
+/// channel, as wide as its method needs (R16F radial rounds its value to a half float itself, so
+/// a wider map shared with others keeps its precision). An explicit 32, or R32F, on a device
+/// without full floats is an error.
+pub fn colour_format(methods: u32, bits: MomentBits, full: bool) -> Result<Option<ColourFormat>, &'static str> {
+    let used: Vec<ShadowMethod> =
+        ShadowMethod::ALL.iter().copied().filter(|m| m.colour_map() && methods & (1 << *m as u32) != 0).collect();
+    let depth32 = used.iter().any(|m| m.colour_depth_bits() > 16);
+    if depth32 && !full {
+        return Err("32-bit float colour targets (rendering into and filtering R32Float), which r32f writes depth into");
+    }
+    let Some(widest) = used.iter().filter(|m| m.moments()).map(|m| m.moment_bits()).max() else {
+        return Ok((!used.is_empty()).then_some(if depth32 { ColourFormat::R32 } else { ColourFormat::R16 }));
+    };
     Ok(Some(match bits {
-        MomentBits::Half => MomentFormat::Half,
+        _ if depth32 => ColourFormat::Full,
+        MomentBits::Half => ColourFormat::Half,
         MomentBits::Full if !full => return Err("32-bit float moment maps (rendering into and filtering Rgba32Float)"),
-        MomentBits::Full => MomentFormat::Full,
-        MomentBits::Auto if widest > 16 && full => MomentFormat::Full,
-        MomentBits::Auto => MomentFormat::Half,
+        MomentBits::Full => ColourFormat::Full,
+        MomentBits::Auto if widest > 16 && full => ColourFormat::Full,
+        MomentBits::Auto => ColourFormat::Half,
     }))
 }
 
@@ -73,35 +96,32 @@ pub fn moment_format(methods: u32, bits: MomentBits, full: bool) -> Result<Optio
 /// 65504) allow c up to ln(65504) / 2 ≈ 5.54; full floats allow 44, and 40 and 5 are the
 /// values commonly used (a steep negative warp loses precision near the light).
 #[must_use]
-pub fn evsm_warp(format: MomentFormat) -> [f32; 2] {
-    match format {
-        MomentFormat::Half => [5.5, 5.5],
-        MomentFormat::Full => [40.0, 5.0],
-    }
+pub fn evsm_warp(format: ColourFormat) -> [f32; 2] {
+    if format.bits() > 16 { [40.0, 5.0] } else { [5.5, 5.5] }
 }
 
 /// What keeps `method`'s reconstruction stable in `format` (see `GpuLayer.moment_bias` in
 /// moments.wgsl): a bound on the rounding of the stored moments. Half floats keep 11
 /// significant bits (steps of 2⁻¹¹ ≈ 5·10⁻⁴ just below 1), full floats 24.
 #[must_use]
-pub fn moment_bias(method: ShadowMethod, format: MomentFormat) -> f32 {
+pub fn moment_bias(method: ShadowMethod, format: ColourFormat) -> f32 {
     match (method, format) {
         // Least variance: about the square of a depth step.
-        (ShadowMethod::Vsm, MomentFormat::Half) => 1e-6,
-        (ShadowMethod::Vsm, MomentFormat::Full) => 1e-9,
+        (ShadowMethod::Vsm, ColourFormat::Half | ColourFormat::R16) => 1e-6,
+        (ShadowMethod::Vsm, ColourFormat::Full) => 1e-9,
         // Least depth spread, turned into warped units by the warp's slope.
-        (ShadowMethod::Evsm, MomentFormat::Half) => 1e-3,
-        (ShadowMethod::Evsm, MomentFormat::Full) => 1e-4,
+        (ShadowMethod::Evsm, ColourFormat::Half) => 1e-3,
+        (ShadowMethod::Evsm, ColourFormat::Full) => 1e-4,
         // The share of the two-point distribution mixed in (Peters and Klein use 3·10⁻⁵ for
         // full floats).
-        (ShadowMethod::Msm, MomentFormat::Half) => 5e-3,
-        (ShadowMethod::Msm, MomentFormat::Full) => 3e-5,
+        (ShadowMethod::Msm, ColourFormat::Half) => 5e-3,
+        (ShadowMethod::Msm, ColourFormat::Full) => 3e-5,
         _ => 0.0,
     }
 }
 
 /// Gives every moment layer of `layers` the terms of `format`.
-pub fn set_terms(layers: &mut [GpuLayer], format: MomentFormat) {
+pub fn set_terms(layers: &mut [GpuLayer], format: ColourFormat) {
     for layer in layers {
         let method = ShadowMethod::ALL.iter().copied().find(|m| *m as u32 == layer.method).unwrap_or_default();
         if method.moments() {
@@ -111,11 +131,18 @@ pub fn set_terms(layers: &mut [GpuLayer], format: MomentFormat) {
     }
 }
 
-/// What a moment layer is cleared to: the moments of depth 1 (nothing drawn, fully lit), as
-/// `encode_moments` in moments.wgsl makes them.
+/// Farthest distance a half float holds (R16F radial's clear value).
+pub const HALF_MAX: f64 = 65504.0;
+
+/// What a colour layer is cleared to: the moments of depth 1 (nothing drawn, fully lit), as
+/// `encode_moments` in moments.wgsl makes them; for depth in colour the farthest value.
 #[must_use]
 pub fn far_moments(layer: &GpuLayer) -> wgpu::Color {
-    let (r, g, b, a) = if layer.method == ShadowMethod::Evsm as u32 {
+    let (r, g, b, a) = if layer.method == ShadowMethod::RadialR16f as u32 {
+        (HALF_MAX, 0.0, 0.0, 0.0)
+    } else if layer.method == ShadowMethod::DepthR32f as u32 {
+        (1.0, 0.0, 0.0, 0.0)
+    } else if layer.method == ShadowMethod::Evsm as u32 {
         // Depth 1 is 1 after the -1..1 remap.
         let (p, n) = ((layer.warp[0] as f64).exp(), -(-layer.warp[1] as f64).exp());
         (p, p * p, n, n * n)
@@ -129,9 +156,9 @@ pub fn far_moments(layer: &GpuLayer) -> wgpu::Color {
 
 /// The moment maps: an array slot for slot with the depth maps, and a scratch layer for the
 /// blur. Without moment lights it is a 1x1 stand-in the main pass can bind.
-pub struct MomentMaps {
+pub struct ColourMaps {
     /// Its format, `None` for the stand-in.
-    pub format: Option<MomentFormat>,
+    pub format: Option<ColourFormat>,
     /// One render view per layer.
     pub layer_views: Vec<wgpu::TextureView>,
     /// The whole array, for sampling.
@@ -139,23 +166,23 @@ pub struct MomentMaps {
     scratch_view: wgpu::TextureView,
 }
 
-impl MomentMaps {
+impl ColourMaps {
     /// `layers` layers of `size`² texels in `format`, or the stand-in when `format` is `None`.
-    pub fn new(device: &wgpu::Device, format: Option<MomentFormat>, size: u32, layers: u32) -> Self {
+    pub fn new(device: &wgpu::Device, format: Option<ColourFormat>, size: u32, layers: u32) -> Self {
         let (size, layers) = if format.is_some() { (size, layers) } else { (1, 2) };
-        let tex_format = format.unwrap_or(MomentFormat::Half).texture();
+        let tex_format = format.unwrap_or(ColourFormat::Half).texture();
         let LayeredTarget { layer_views, array_view } =
             LayeredTarget::new(device, "moment maps", tex_format, size, layers);
         let scratch_view =
             render_target(device, "moment scratch", tex_format, size, 1).create_view(&Default::default());
-        MomentMaps { format, layer_views, array_view, scratch_view }
+        ColourMaps { format, layer_views, array_view, scratch_view }
     }
 }
 
 /// The separable Gaussian blur: one pipeline along rows (layer to scratch), one along columns
 /// (scratch back to the layer), for one format.
 pub struct MomentBlur {
-    format: MomentFormat,
+    format: ColourFormat,
     rows: wgpu::RenderPipeline,
     columns: wgpu::RenderPipeline,
     source_layouts: [wgpu::BindGroupLayout; 2],
@@ -180,7 +207,7 @@ fn source_layout(device: &wgpu::Device, binding: u32, dimension: wgpu::TextureVi
 
 impl MomentBlur {
     /// The blur pipelines for maps of `format`.
-    pub fn new(device: &wgpu::Device, format: MomentFormat) -> Self {
+    pub fn new(device: &wgpu::Device, format: ColourFormat) -> Self {
         let uniforms = UniformArray::new(device, "blur", size_of::<Blur>() as u64, wgpu::ShaderStages::FRAGMENT);
         let module = Composed::new(BLUR_MODULE).module(device);
         let source_layouts = [
@@ -221,7 +248,7 @@ impl MomentBlur {
     }
 
     /// The format its pipelines write.
-    pub fn format(&self) -> MomentFormat {
+    pub fn format(&self) -> ColourFormat {
         self.format
     }
 
@@ -231,7 +258,7 @@ impl MomentBlur {
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         encoder: &mut wgpu::CommandEncoder,
-        (maps, slots, radius): (&MomentMaps, &[u32], u32),
+        (maps, slots, radius): (&ColourMaps, &[u32], u32),
         (mut timer, first, total): (Option<&mut PassTimer>, usize, usize),
     ) {
         let terms: Vec<Blur> =
@@ -287,23 +314,31 @@ mod tests {
     #[test]
     fn the_format_follows_the_methods_in_use_and_the_device() {
         let pcf = bit(ShadowMethod::Pcf3);
-        assert_eq!(moment_format(pcf, MomentBits::Auto, true), Ok(None));
-        assert_eq!(moment_format(pcf | bit(ShadowMethod::Msm), MomentBits::Half, true), Ok(Some(MomentFormat::Half)));
-        assert_eq!(moment_format(bit(ShadowMethod::Msm), MomentBits::Full, true), Ok(Some(MomentFormat::Full)));
-        assert!(moment_format(bit(ShadowMethod::Msm), MomentBits::Full, false).is_err());
+        assert_eq!(colour_format(pcf, MomentBits::Auto, true), Ok(None));
+        assert_eq!(colour_format(pcf | bit(ShadowMethod::Msm), MomentBits::Half, true), Ok(Some(ColourFormat::Half)));
+        assert_eq!(colour_format(bit(ShadowMethod::Msm), MomentBits::Full, true), Ok(Some(ColourFormat::Full)));
+        assert!(colour_format(bit(ShadowMethod::Msm), MomentBits::Full, false).is_err());
         // Auto never asks for what the device cannot do.
         for m in ShadowMethod::ALL.iter().filter(|m| m.moments()) {
-            assert_eq!(moment_format(bit(*m), MomentBits::Auto, false), Ok(Some(MomentFormat::Half)));
-            let auto = moment_format(bit(*m), MomentBits::Auto, true).unwrap().unwrap();
+            assert_eq!(colour_format(bit(*m), MomentBits::Auto, false), Ok(Some(ColourFormat::Half)));
+            let auto = colour_format(bit(*m), MomentBits::Auto, true).unwrap().unwrap();
             assert_eq!(auto.bits(), m.moment_bits());
         }
+        // Depth in colour: one channel as wide as the method, four when sharing with moments.
+        let (r16, r32) = (bit(ShadowMethod::RadialR16f), bit(ShadowMethod::DepthR32f));
+        assert_eq!(colour_format(r16, MomentBits::Auto, false), Ok(Some(ColourFormat::R16)));
+        assert_eq!(colour_format(r16 | r32, MomentBits::Auto, true), Ok(Some(ColourFormat::R32)));
+        assert!(colour_format(r32, MomentBits::Auto, false).is_err());
+        let shared = colour_format(r32 | bit(ShadowMethod::Evsm), MomentBits::Half, true);
+        assert_eq!(shared, Ok(Some(ColourFormat::Full)));
+        assert_eq!(colour_format(r16 | bit(ShadowMethod::Vsm), MomentBits::Auto, false), Ok(Some(ColourFormat::Half)));
     }
 
     #[test]
     fn evsm_warps_fit_their_format() {
         // The square of the positive warp at depth 1 must be a finite number of the format.
-        assert!((2.0 * evsm_warp(MomentFormat::Half)[0]).exp() < 65504.0);
-        assert!((2.0 * evsm_warp(MomentFormat::Full)[0] as f64).exp() < f32::MAX as f64);
+        assert!((2.0 * evsm_warp(ColourFormat::Half)[0]).exp() < 65504.0);
+        assert!((2.0 * evsm_warp(ColourFormat::Full)[0] as f64).exp() < f32::MAX as f64);
     }
 
     #[test]
@@ -311,8 +346,8 @@ mod tests {
         let mut layers = [GpuLayer::zeroed(); 2];
         layers[0].method = ShadowMethod::Evsm as u32;
         layers[1].method = ShadowMethod::Pcss as u32;
-        set_terms(&mut layers, MomentFormat::Full);
-        assert_eq!(layers[0].warp, evsm_warp(MomentFormat::Full));
+        set_terms(&mut layers, ColourFormat::Full);
+        assert_eq!(layers[0].warp, evsm_warp(ColourFormat::Full));
         assert!(layers[0].moment_bias > 0.0);
         assert_eq!((layers[1].warp, layers[1].moment_bias), ([0.0; 2], 0.0));
     }

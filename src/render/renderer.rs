@@ -134,13 +134,14 @@ impl Renderer {
         }
         let depth = self.ensure_depth(device, width, height);
         let mut data = extract(world);
-        let format = moments::moment_format(data.methods, settings.moment_bits, gpu.full_float_moments())
+        let format = moments::colour_format(data.methods, settings.moment_bits, gpu.full_float_moments())
             .map_err(RenderError::Unsupported)?;
         if let Some(format) = format {
             moments::set_terms(&mut data.layers, format);
         }
         self.main.prepare(device, &data);
-        if self.shadow.ensure_maps(device, settings.shadow_map_size, data.layers.len(), format) {
+        let size = (settings.shadow_map_size, data.layers.len());
+        if self.shadow.ensure_maps(device, size, format, settings.shadow_depth) {
             self.main.rebind(device, &self.shadow.maps);
         }
         let objects: Vec<Object> = data.items.iter().map(|i| i.object).collect();

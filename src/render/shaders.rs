@@ -109,7 +109,14 @@ mod tests {
         })?;
         let info = Validator::new(ValidationFlags::all(), Capabilities::default()).validate(&module).map_err(|e| {
             let span = e.spans().next().map_or(naga::Span::UNDEFINED, |(s, _)| *s);
-            format!("{}: {}", at(span), e.as_inner())
+            // The error and each of its causes: "function is invalid: expression 12 is ...".
+            let mut text = e.as_inner().to_string();
+            let mut cause = std::error::Error::source(e.as_inner());
+            while let Some(c) = cause {
+                text += &format!(": {c}");
+                cause = c.source();
+            }
+            format!("{}: {text}", at(span))
         })?;
         Ok((module, info))
     }

@@ -1,6 +1,6 @@
 //! The shadow pass: depth, one layer of a 2D array texture per spot light, sun cascade or cube
-//! face, and for a light that uses a moment method the moments of that depth in the same slot
-//! of a colour array, blurred once drawn.
+//! face, and for a light whose method reads a colour map (moments, blurred once drawn, or depth
+//! in colour) that map in the same slot of a colour array.
 //!
 //! A layer's map is kept from frame to frame and drawn (and blurred) again only when the version
 //! the world gives it differs from the one it was drawn at (its light was dirty).
@@ -8,18 +8,15 @@
 use super::extract::{DrawItem, FrameData, LayerDraw};
 use super::gpu_types::GpuLayer;
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
-use super::moments::{MomentBlur, MomentFormat, MomentMaps, far_moments};
+use super::moments::{MomentBlur, ColourFormat, ColourMaps, far_moments};
 use super::shaders::{Composed, SHADOW_MODULE};
 use super::texture::{LayeredTarget, MaterialTextures};
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
 use crate::components::{AlphaMode, ShadowMethod};
-use crate::settings::ShadowFaces;
+use crate::settings::{ShadowDepth, ShadowFaces};
 use crate::systems::LightLabel;
 use bevy_ecs::prelude::*;
-
-/// Depth format of the shadow maps.
-pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The shadow-map array and the views the two passes use.
 pub struct ShadowMaps {
@@ -27,19 +24,27 @@ pub struct ShadowMaps {
     pub size: u32,
     /// Number of layers (see [`array_layers`]).
     pub layers: u32,
+    /// Their depth format.
+    pub depth: ShadowDepth,
     /// One render view per layer.
     layer_views: Vec<wgpu::TextureView>,
     /// The whole array, for sampling.
     pub array_view: wgpu::TextureView,
-    /// The moment maps, slot for slot (a stand-in when no light uses moments).
-    pub moments: MomentMaps,
+    /// The colour maps, slot for slot (a stand-in when no light uses one).
+    pub moments: ColourMaps,
+}
+
+/// The pipelines that draw into depth maps of one format: depth alone, and depth with a colour
+/// map of each [`ColourFormat`] (indexed by it).
+struct PipelineSet {
+    depth: Pipelines,
+    colour: [Pipelines; 4],
 }
 
 /// Pipelines, per-layer matrices and the shadow-map array.
 pub struct ShadowPass {
-    pipelines: Pipelines,
-    /// The pipelines that draw moment layers, for half and for full floats.
-    moment_pipelines: [Pipelines; 2],
+    /// The pipelines for each [`ShadowDepth`] (indexed by it).
+    sets: [PipelineSet; 2],
     blur: Option<MomentBlur>,
     layer_uniforms: UniformArray,
     /// The current shadow maps.
@@ -131,14 +136,14 @@ impl ShadowPass {
         let stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let layer_uniforms = UniformArray::new(device, "shadow layers", size_of::<GpuLayer>() as u64, stages);
         let module = Composed::new(SHADOW_MODULE).module(device);
-        let recipe = |fragment, targets: Vec<_>| Recipe {
+        let recipe = |fragment, targets: Vec<_>, depth: ShadowDepth| Recipe {
             label: "shadow",
             module: module.clone(),
             vertex: "vs_shadow",
             fragment,
             targets,
             depth: wgpu::DepthStencilState {
-                format: SHADOW_FORMAT,
+                format: depth.texture(),
                 depth_write_enabled: Some(true),
                 depth_compare: Some(wgpu::CompareFunction::LessEqual),
                 stencil: Default::default(),
@@ -148,30 +153,36 @@ impl ShadowPass {
             samples_shadows: false,
         };
         let groups = [&layer_uniforms.layout, object_layout];
-        let pipelines = Pipelines::new(device, recipe("fs_shadow", Vec::new()), groups, palette, textures);
-        let moment_pipelines = [MomentFormat::Half, MomentFormat::Full].map(|f| {
-            Pipelines::new(device, recipe("fs_moments", vec![Some(f.texture().into())]), groups, palette, textures)
-        });
-        let maps = ShadowMaps::new(device, size, 2, None);
-        ShadowPass { pipelines, moment_pipelines, blur: None, layer_uniforms, maps, drawn: vec![None; 2] }
+        let set = |depth: ShadowDepth| {
+            let pipelines = |fragment, targets| {
+                Pipelines::new(device, recipe(fragment, targets, depth), groups, palette, textures)
+            };
+            let colour = [ColourFormat::Half, ColourFormat::Full, ColourFormat::R16, ColourFormat::R32]
+                .map(|f| pipelines("fs_moments", vec![Some(f.texture().into())]));
+            PipelineSet { depth: pipelines("fs_shadow", Vec::new()), colour }
+        };
+        let sets = [set(ShadowDepth::Float32), set(ShadowDepth::Unorm16)];
+        let maps = ShadowMaps::new(device, size, 2, None, ShadowDepth::default());
+        ShadowPass { sets, blur: None, layer_uniforms, maps, drawn: vec![None; 2] }
     }
 
-    /// Makes sure the maps are `size` texels, hold `layers` and have moment maps of `moments`;
-    /// true if they were re-created (then every layer must be drawn again).
+    /// Makes sure the maps are `size` texels of `depth`, hold `layers` and have colour maps of
+    /// `colour`; true if they were re-created (then every layer must be drawn again).
     pub fn ensure_maps(
         &mut self,
         device: &wgpu::Device,
-        size: u32,
-        layers: usize,
-        moments: Option<MomentFormat>,
+        (size, layers): (u32, usize),
+        colour: Option<ColourFormat>,
+        depth: ShadowDepth,
     ) -> bool {
         let layers = array_layers(layers);
-        if self.maps.size == size && self.maps.layers >= layers && self.maps.moments.format == moments {
+        let m = &self.maps;
+        if m.size == size && m.layers >= layers && m.moments.format == colour && m.depth == depth {
             return false;
         }
-        self.maps = ShadowMaps::new(device, size, layers, moments);
+        self.maps = ShadowMaps::new(device, size, layers, colour, depth);
         self.drawn = vec![None; layers as usize];
-        if let Some(format) = moments
+        if let Some(format) = colour.filter(|f| f.moments())
             && self.blur.as_ref().is_none_or(|b| b.format() != format)
         {
             self.blur = Some(MomentBlur::new(device, format));
@@ -179,15 +190,22 @@ impl ShadowPass {
         true
     }
 
-    /// The moment format layer `layer` is drawn in, if it is a moment layer and there are
-    /// moment maps.
-    fn moment_format(&self, layer: &LayerDraw) -> Option<MomentFormat> {
-        self.maps.moments.format.filter(|_| layer.method.moments())
+    /// The colour format layer `layer` is drawn in, if its method reads a colour map and there
+    /// are colour maps.
+    fn colour_format(&self, layer: &LayerDraw) -> Option<ColourFormat> {
+        self.maps.moments.format.filter(|_| layer.method.colour_map())
+    }
+
+    /// The pipelines that draw `layer`.
+    fn pipelines(&self, layer: &LayerDraw) -> &Pipelines {
+        let set = &self.sets[self.maps.depth as usize];
+        self.colour_format(layer).map_or(&set.depth, |f| &set.colour[f as usize])
     }
 
     /// What `layer` is drawn as with moment maps blurred by `blur` texels.
     fn drawn_as(&self, layer: &LayerDraw, blur: u32) -> Drawn {
-        Drawn { version: layer.version, moments: self.moment_format(layer).map(|_| (layer.method, blur)) }
+        let blur = if layer.method.moments() { blur } else { 0 };
+        Drawn { version: layer.version, moments: self.colour_format(layer).map(|_| (layer.method, blur)) }
     }
 
     /// True when `layer` must be drawn: its slot holds something else, or nothing is reused.
@@ -224,30 +242,30 @@ impl ShadowPass {
         self.layer_uniforms.write(device, queue, &uniforms);
         let variant = |i: usize| (i, shadow_variant(&data.items[i], faces));
         for layer in &todo {
-            let pipelines = match self.moment_format(layer) {
-                Some(format) => &mut self.moment_pipelines[(format == MomentFormat::Full) as usize],
-                None => &mut self.pipelines,
+            let set = &mut self.sets[self.maps.depth as usize];
+            let pipelines = match self.maps.moments.format.filter(|_| layer.method.colour_map()) {
+                Some(format) => &mut set.colour[format as usize],
+                None => &mut set.depth,
             };
             pipelines.prepare(device, layer.casters.iter().map(|&i| variant(i).1));
         }
-        let blurred: Vec<&LayerDraw> =
-            todo.iter().copied().filter(|l| blur > 0 && self.moment_format(l).is_some()).collect();
+        let blurred: Vec<&LayerDraw> = todo
+            .iter()
+            .copied()
+            .filter(|l| blur > 0 && l.method.moments() && self.colour_format(l).is_some())
+            .collect();
         let passes = todo.len() + 2 * blurred.len();
         for (slot, layer) in todo.iter().enumerate() {
             let view = &self.maps.layer_views[layer.slot as usize];
-            let moments = self.moment_format(layer).map(|format| {
-                let clear = far_moments(&data.layers[layer.slot as usize]);
-                let view = &self.maps.moments.layer_views[layer.slot as usize];
-                let pipelines = &self.moment_pipelines[(format == MomentFormat::Full) as usize];
-                (view, clear, pipelines)
-            });
-            let color = moments.map(|(view, clear, _)| wgpu::RenderPassColorAttachment {
-                view,
+            let color = self.colour_format(layer).map(|_| wgpu::RenderPassColorAttachment {
+                view: &self.maps.moments.layer_views[layer.slot as usize],
                 depth_slice: None,
                 resolve_target: None,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(far_moments(&data.layers[layer.slot as usize])),
+                    store: wgpu::StoreOp::Store,
+                },
             });
-            let pipelines = moments.map_or(&self.pipelines, |(_, _, p)| p);
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow pass"),
                 color_attachments: if color.is_some() { std::slice::from_ref(&color) } else { &[] },
@@ -261,7 +279,7 @@ impl ShadowPass {
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &self.layer_uniforms.bind_group, &[self.layer_uniforms.offset(slot)]);
-            pipelines.draw(&mut pass, with, &data.items, layer.casters.iter().map(|&i| variant(i)));
+            self.pipelines(layer).draw(&mut pass, with, &data.items, layer.casters.iter().map(|&i| variant(i)));
             drop(pass);
             let done = self.drawn_as(layer, blur);
             if let Some(drawn) = self.drawn.get_mut(layer.slot as usize) {
@@ -302,11 +320,11 @@ fn array_layers(needed: usize) -> u32 {
 }
 
 impl ShadowMaps {
-    fn new(device: &wgpu::Device, size: u32, layers: u32, moments: Option<MomentFormat>) -> Self {
+    fn new(device: &wgpu::Device, size: u32, layers: u32, colour: Option<ColourFormat>, depth: ShadowDepth) -> Self {
         let LayeredTarget { layer_views, array_view } =
-            LayeredTarget::new(device, "shadow maps", SHADOW_FORMAT, size, layers);
-        let moments = MomentMaps::new(device, moments, size, layers);
-        ShadowMaps { size, layers, layer_views, array_view, moments }
+            LayeredTarget::new(device, "shadow maps", depth.texture(), size, layers);
+        let moments = ColourMaps::new(device, colour, size, layers);
+        ShadowMaps { size, layers, depth, layer_views, array_view, moments }
     }
 }
 
