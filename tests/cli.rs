@@ -45,7 +45,9 @@ fn without_a_display_play_renders_umbra_png() {
 #[test]
 fn bad_arguments_are_named_and_fail() {
     let dir = scratch("bad");
-    let cases: [(&[&str], &str); 17] = [
+    let cases: [(&[&str], &str); 19] = [
+        (&["render", "--bias-scale", "0.9"], "bias_scale"),
+        (&["render", "--shadow-depth", "d8"], "not a depth-map format"),
         (&["render", "--moment-bits", "24"], "not a moment-map precision"),
         (&["render", "--moment-blur", "99"], "moment_blur"),
         (&["render", "--light-bleeding", "1"], "light_bleeding"),

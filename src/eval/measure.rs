@@ -87,6 +87,8 @@ pub enum CaseScene {
     ContactHardening,
     /// Two stacked plates under the sun, sampled by VSM.
     LightBleeding,
+    /// Walls at 1 m to 32 m from a spot.
+    Precision,
 }
 
 /// The truth of a frame: one column per light in the frame's order (sun, then spots), one entry

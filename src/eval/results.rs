@@ -35,7 +35,7 @@ fn pct(x: f64) -> String {
 /// The table: one row per configuration, errors in percent.
 pub fn csv(rows: &[Row]) -> String {
     let mut out = String::from(
-        "configuration,map_size,cascades,fit,filter,bias,faces,cost_ms,shadow_ms,lookup_ms,min_shadow_ms,max_shadow_ms,\
+        "configuration,map_size,cascades,fit,filter,bias,faces,depth,bias_scale,texel_bytes,cost_ms,shadow_ms,lookup_ms,min_shadow_ms,max_shadow_ms,\
          misclassified_pct,false_shadow_pct,false_lit_pct,mae_hard,mae_soft,edge_misclassified_pct",
     );
     let mut start = 0.0;
@@ -52,7 +52,7 @@ pub fn csv(rows: &[Row]) -> String {
         let s = c.settings(&Settings::default());
         let _ = write!(
             out,
-            "{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.5},{:.5},{}",
+            "{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.5},{:.5},{}",
             c.label(),
             s.shadow_map_size,
             s.cascades,
@@ -60,6 +60,9 @@ pub fn csv(rows: &[Row]) -> String {
             s.method.name(),
             s.depth_bias,
             s.shadow_faces.name(),
+            s.shadow_depth.name(),
+            s.bias_scale,
+            c.texel_bytes(),
             r.cost.total_ms(),
             r.cost.shadow_ms,
             r.cost.lookup_ms,
@@ -190,6 +193,41 @@ fn by_method(rows: &[Row]) -> String {
     out
 }
 
+/// How depth is kept: the default, the 16-bit depth map, depth in colour targets and the
+/// multiplicative offset, with each one's memory, cost and error, and the precision case.
+fn by_format(rows: &[Row]) -> String {
+    let d = Config::default_settings();
+    let precision = CASES.iter().position(|c| c.name == "precision");
+    let about_depth = |c: &Config| {
+        let method = if c.method.colour_depth_bits() > 0 { d.method } else { c.method };
+        let changes_depth = *c == d || c.depth != d.depth || c.bias_scale != d.bias_scale || method != c.method;
+        let rest = Config { depth: d.depth, bias_scale: d.bias_scale, bias: d.bias, method, ..*c };
+        !c.bevy_like && changes_depth && rest == d
+    };
+    let mut out = String::from(
+        "
+How depth is kept: bytes a texel takes (depth map and colour map together), memory of one          layer, cost and error on the sample scene, and the precision case (worst wall):
+
+         | configuration | bytes per texel | MiB per layer | shadow cost ms | misclassified % | precision % |
+         | --- | --- | --- | --- | --- | --- |
+",
+    );
+    for r in rows.iter().filter(|r| about_depth(&r.config)) {
+        let texels = (r.config.map_size as f64).powi(2);
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:.1} | {:.2} | {} | {} |",
+            r.config.label(),
+            r.config.texel_bytes(),
+            r.config.texel_bytes() as f64 * texels / (1024.0 * 1024.0),
+            r.cost.total_ms(),
+            pct(r.scene_all().all.misclassified()),
+            precision.and_then(|k| r.cases.get(k)).map_or("-".into(), |s| pct(s.value()))
+        );
+    }
+    out
+}
+
 /// Umbra's default against the Bevy-like baseline, measured in the same run.
 fn against_bevy(rows: &[Row]) -> String {
     let default = Config::default_settings();
@@ -273,6 +311,7 @@ pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
         }
     }
     out += &by_method(rows);
+    out += &by_format(rows);
     out += "\n| case | what it counts | threshold % | default % | best % (configuration) |\n| --- | --- | --- | --- | --- |\n";
     for (k, case) in CASES.iter().enumerate() {
         let at_default = rows.iter().find(|r| r.config == default).map_or(f64::NAN, |r| r.cases[k].value());

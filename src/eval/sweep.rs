@@ -8,7 +8,7 @@ use super::metrics::{LightReport, report};
 use crate::App;
 use crate::components::ShadowMethod;
 use crate::render::Gpu;
-use crate::settings::{MomentBits, Settings, ShadowFaces};
+use crate::settings::{MomentBits, Settings, ShadowDepth, ShadowFaces};
 use crate::shadow::FitMode;
 use bevy_ecs::prelude::With;
 use glam::Vec3;
@@ -34,6 +34,10 @@ pub struct Config {
     pub blur: u32,
     /// Bits per moment of moment maps.
     pub moment_bits: MomentBits,
+    /// Format of the depth maps.
+    pub depth: ShadowDepth,
+    /// Multiplicative depth offset (share of the distance to the light).
+    pub bias_scale: f32,
     /// Instead of the above: the Bevy-like baseline ([`bevy_like`]).
     pub bevy_like: bool,
 }
@@ -79,6 +83,8 @@ impl Config {
             receiver_plane: d.receiver_plane,
             blur: d.moment_blur,
             moment_bits: d.moment_bits,
+            depth: d.shadow_depth,
+            bias_scale: d.bias_scale,
             bevy_like: false,
         }
     }
@@ -100,8 +106,44 @@ impl Config {
             receiver_plane: self.receiver_plane,
             moment_blur: self.blur,
             moment_bits: self.moment_bits,
+            shadow_depth: self.depth,
+            bias_scale: self.bias_scale,
             ..base.clone()
         }
+    }
+
+    /// Bytes a texel of one layer takes: the depth map's, and the colour map's where its method
+    /// reads one (moments at the bits they get where full floats exist).
+    pub fn texel_bytes(&self) -> u32 {
+        let depth = match self.depth {
+            ShadowDepth::Float32 => 4,
+            ShadowDepth::Unorm16 => 2,
+        };
+        let colour_bits = match (self.method.moments(), self.moment_bits) {
+            (false, _) => self.method.colour_depth_bits(),
+            (true, MomentBits::Auto) => 4 * self.method.moment_bits(),
+            (true, MomentBits::Half) => 4 * 16,
+            (true, MomentBits::Full) => 4 * 32,
+        };
+        depth + colour_bits / 8
+    }
+
+    /// What it changes of the depth comparison: the depth format, the multiplicative offset.
+    fn depth_label(&self) -> String {
+        let d = Config::default_settings();
+        let mut out = String::new();
+        if self.depth != d.depth {
+            out += &format!(" {}", self.depth.name());
+        }
+        if self.bias_scale != d.bias_scale {
+            out += &format!(" s{}", self.bias_scale);
+        }
+        out
+    }
+
+    /// The device can draw it: R32F and explicit 32-bit moments need full floats.
+    pub fn supported(&self, full_floats: bool) -> bool {
+        full_floats || !(self.method.colour_depth_bits() > 16 || self.method.moments() && self.moment_bits == MomentBits::Full)
     }
 
     /// How its moment maps are made (blur radius, bits), for moment methods only.
@@ -144,7 +186,7 @@ impl Config {
         if !self.receiver_plane {
             out += " flat";
         }
-        out + &self.moment_label()
+        out + &self.depth_label() + &self.moment_label()
     }
 
     /// A short name: `2048 x4 stable bilinear b1`, with `back` when only back faces are drawn and
@@ -156,12 +198,13 @@ impl Config {
         let faces = if self.faces == ShadowFaces::Back { " back" } else { "" };
         let flat = if self.receiver_plane { "" } else { " flat" };
         format!(
-            "{} x{} {} {} b{}{faces}{flat}{}",
+            "{} x{} {} {} b{}{faces}{flat}{}{}",
             self.map_size,
             self.cascades,
             self.fit.name(),
             self.method.name(),
             self.bias,
+            self.depth_label(),
             self.moment_label()
         )
     }
@@ -203,6 +246,15 @@ pub fn configs(quick: bool) -> Vec<Config> {
         }
         for blur in [1, 4] {
             push(Config { method: ShadowMethod::Msm, blur, ..d });
+        }
+    }
+    // Depth formats: 16-bit fixed point, and the source articles' multiplicative offset on its
+    // own (seed 001's `depth × 0.95`, with R32F as it kept depth, and with the depth map).
+    push(Config { depth: ShadowDepth::Unorm16, ..d });
+    if !quick {
+        push(Config { method: ShadowMethod::DepthR32f, bias: 0.0, bias_scale: 0.05, ..d });
+        for bias_scale in [0.01, 0.05] {
+            push(Config { bias: 0.0, bias_scale, ..d });
         }
     }
     // What the receiver plane does for the grid filters: the same without it.
@@ -359,7 +411,8 @@ pub fn run(
 ) -> Result<Vec<Row>, MeasureError> {
     let base = &options.base;
     base.validate()?;
-    let configs = configs(options.quick);
+    let full_floats = gpu.full_float_moments();
+    let configs: Vec<Config> = configs(options.quick).into_iter().filter(|c| c.supported(full_floats)).collect();
     let rounds = (options.frames as usize + 2) * options.views.len();
     let steps = rounds + configs.len();
     let costs = time_all(gpu, base, &configs, options, |round| progress(round, steps, "timing every configuration"))?;
@@ -423,5 +476,20 @@ mod tests {
         assert_eq!(Config::default_settings().label(), "2048 x4 stable bilinear b0.5");
         let c = Config { method: ShadowMethod::Pcf3, bias: 2.0, ..Config::default_settings() };
         assert_eq!(c.short_label(), "2048 x4 pcf3 b2");
+        let c = Config { depth: ShadowDepth::Unorm16, bias_scale: 0.05, ..Config::default_settings() };
+        assert_eq!(c.label(), "2048 x4 stable bilinear b0.5 d16 s0.05");
+    }
+
+    #[test]
+    fn a_texel_costs_its_depth_and_its_colour_map() {
+        let d = Config::default_settings();
+        assert_eq!(d.texel_bytes(), 4);
+        assert_eq!(Config { depth: ShadowDepth::Unorm16, ..d }.texel_bytes(), 2);
+        assert_eq!(Config { method: ShadowMethod::RadialR16f, ..d }.texel_bytes(), 6);
+        assert_eq!(Config { method: ShadowMethod::DepthR32f, ..d }.texel_bytes(), 8);
+        assert_eq!(Config { method: ShadowMethod::Vsm, ..d }.texel_bytes(), 20);
+        assert_eq!(Config { method: ShadowMethod::Evsm, ..d }.texel_bytes(), 12);
+        assert!(!Config { method: ShadowMethod::DepthR32f, ..d }.supported(false));
+        assert!(Config { method: ShadowMethod::Vsm, ..d }.supported(false));
     }
 }

@@ -4,6 +4,7 @@
 //! threshold at the default settings and show it crossing when the defence is taken away; the
 //! benchmark charts each against the cost of every configuration.
 
+pub mod precision;
 pub mod scenes;
 mod soft;
 
@@ -58,7 +59,7 @@ pub struct Case {
 }
 
 /// Every case, in the order the issues list them.
-pub const CASES: [Case; 13] = [
+pub const CASES: [Case; 14] = [
     Case {
         name: "acne", measures: "false-shadow share of an open plane, sun at 2°..89°", threshold: 0.001, run: acne
     },
@@ -133,6 +134,12 @@ pub const CASES: [Case; 13] = [
         measures: "share of the ground in two stacked plates' shadow, across the high one's edge, showing light (VSM)",
         threshold: 0.01,
         run: soft::light_bleeding,
+    },
+    Case {
+        name: "precision",
+        measures: "false-shadow share of the worst of six walls square to a spot at 1 m to 32 m (depth rounding)",
+        threshold: 0.005,
+        run: precision::precision,
     },
 ];
 

@@ -107,8 +107,12 @@ pub fn pole_scene(settings: &Settings) -> Result<App, AppError> {
 
 /// Adds a box with half extents `half` at `center`, casting and receiving.
 pub fn add_box(app: &mut App, center: Vec3, half: Vec3) {
+    add_block(app, Transform::from_translation(center).with_scale(half * 2.0));
+}
+
+/// Adds a unit box placed, turned and sized by `t`, casting and receiving.
+pub fn add_block(app: &mut App, t: Transform) {
     let mesh = app.world.resource_mut::<MeshLibrary>().add(cube(Vec3::splat(0.5)));
-    let t = Transform::from_xyz(center.x, center.y, center.z).with_scale(half * 2.0);
     app.world.spawn((mesh, t, grey(), ShadowCaster, ShadowReceiver));
 }
 
