@@ -109,7 +109,7 @@ mod tests {
     fn the_walls_fit_the_cone_and_do_not_overlap() {
         let last = wall_direction(WALL_DISTANCES.len() - 1);
         assert!(last.x.atan2(-last.z) + WALL_HALF_ANGLE < OUTER);
-        assert!(2.0 * WALL_HALF_ANGLE < WALL_SPACING);
+        const { assert!(2.0 * WALL_HALF_ANGLE < WALL_SPACING) };
     }
 
     #[test]
