@@ -69,7 +69,12 @@ impl LightBiases {
         let lights: serde_json::Map<String, Value> = self
             .0
             .iter()
-            .map(|(name, b)| (name.clone(), json!({ "constant": b.constant, "slope": b.slope, "normal": b.normal, "scale": b.scale })))
+            .map(|(name, b)| {
+                (
+                    name.clone(),
+                    json!({ "constant": b.constant, "slope": b.slope, "normal": b.normal, "scale": b.scale }),
+                )
+            })
             .collect();
         let doc = json!({
             "about": "shadow biases per light, written by `umbra tune`: constant, slope and normal in shadow-map texels, scale a share of the distance to the light",

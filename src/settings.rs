@@ -230,7 +230,8 @@ named_choices!(
     Evsm = "evsm",
     Msm = "msm",
     DepthR32f = "r32f",
-    RadialR16f = "r16f-radial"
+    RadialR16f = "r16f-radial",
+    Planar = "planar"
 );
 named_choices!(ShadowDepth, "a depth-map format", Float32 = "d32", Unorm16 = "d16");
 named_choices!(MomentBits, "a moment-map precision", Auto = "auto", Half = "16", Full = "32");
@@ -297,7 +298,11 @@ impl Settings {
             }
         }
         if !(non_negative(self.bias_scale) && self.bias_scale <= MAX_BIAS_SCALE) {
-            return bad("bias_scale", self.bias_scale, "must be a share between 0 and 0.5 of the distance to the light");
+            return bad(
+                "bias_scale",
+                self.bias_scale,
+                "must be a share between 0 and 0.5 of the distance to the light",
+            );
         }
         if !(non_negative(self.depth_bias_metres) && self.depth_bias_metres <= 10.0) {
             return bad("depth_bias_metres", self.depth_bias_metres, "must be between 0 and 10 m");

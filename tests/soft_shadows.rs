@@ -96,6 +96,9 @@ fn every_method_puts_the_plates_shadows_where_the_truth_does() {
     let mut bilinear_mae = None;
     let full_floats = gpu().full_float_moments();
     for &method in ShadowMethod::ALL {
+        if method.colour_depth_bits() > 16 && !full_floats {
+            continue; // R32F needs 32-bit float colour targets (GL has none)
+        }
         let seen = measure(method);
         if method == ShadowMethod::Bilinear {
             bilinear_mae = Some(seen.tally.mae_soft());

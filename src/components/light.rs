@@ -197,6 +197,10 @@ pub enum ShadowMethod {
     /// [`ShadowMethod::DepthR32f`] compares. Half floats keep 11 significant bits, so a step
     /// grows with the distance (8 mm at 10 m).
     RadialR16f = 12,
+    /// Planar projected shadows (seed 004): no shadow map; every caster is flattened onto the
+    /// ground along the light's rays and drawn over it, once per pixel through the stencil
+    /// buffer. Exact on the ground; every other surface gets no shadow from the light.
+    Planar = 13,
 }
 
 impl ShadowMethod {
@@ -214,6 +218,7 @@ impl ShadowMethod {
             // One filtered read of a map blurred beforehand (the blur clamps at the map's edge).
             ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Msm => 1,
             ShadowMethod::DepthR32f | ShadowMethod::RadialR16f => 1,
+            ShadowMethod::Planar => 0,
         }
     }
 
@@ -237,6 +242,7 @@ impl ShadowMethod {
             ShadowMethod::Pcss => "PCSS",
             ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Msm => "moment maps",
             ShadowMethod::DepthR32f | ShadowMethod::RadialR16f => "depth in colour",
+            ShadowMethod::Planar => "planar",
         }
     }
 
@@ -274,7 +280,7 @@ impl ShadowMethod {
 
     /// It compares with depths away from the lookup's own point, so the receiver plane matters.
     pub fn spreads(self) -> bool {
-        !matches!(self, ShadowMethod::Nearest | ShadowMethod::Bilinear) && !self.colour_map()
+        !matches!(self, ShadowMethod::Nearest | ShadowMethod::Bilinear | ShadowMethod::Planar) && !self.colour_map()
     }
 }
 

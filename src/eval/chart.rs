@@ -40,7 +40,7 @@ pub struct Point {
 }
 
 /// The families in legend order, each with its colour (the marker goes by the position).
-const FAMILIES: [(&str, RGBColor); 8] = [
+const FAMILIES: [(&str, RGBColor); 9] = [
     ("hard", RGBColor(110, 110, 110)),
     ("grid PCF", RGBColor(0, 140, 200)),
     ("Gaussian PCF", RGBColor(0, 160, 80)),
@@ -48,6 +48,7 @@ const FAMILIES: [(&str, RGBColor); 8] = [
     ("PCSS", RGBColor(170, 0, 170)),
     ("moment maps", RGBColor(200, 30, 30)),
     ("depth in colour", RGBColor(120, 80, 20)),
+    ("planar", RGBColor(0, 150, 150)),
     ("Bevy-like", RGBColor(0, 0, 0)),
 ];
 
@@ -60,7 +61,7 @@ enum Shape {
     Cross,
 }
 
-const MARKERS: [(Shape, i32, bool); 8] = [
+const MARKERS: [(Shape, i32, bool); 9] = [
     (Shape::Circle, 4, true),
     (Shape::Triangle, 6, true),
     (Shape::Cross, 5, false),
@@ -68,6 +69,7 @@ const MARKERS: [(Shape, i32, bool); 8] = [
     (Shape::Triangle, 7, false),
     (Shape::Cross, 7, false),
     (Shape::Triangle, 5, true),
+    (Shape::Cross, 6, false),
     (Shape::Circle, 6, true),
 ];
 

@@ -143,7 +143,8 @@ impl Config {
 
     /// The device can draw it: R32F and explicit 32-bit moments need full floats.
     pub fn supported(&self, full_floats: bool) -> bool {
-        full_floats || !(self.method.colour_depth_bits() > 16 || self.method.moments() && self.moment_bits == MomentBits::Full)
+        full_floats
+            || !(self.method.colour_depth_bits() > 16 || self.method.moments() && self.moment_bits == MomentBits::Full)
     }
 
     /// How its moment maps are made (blur radius, bits), for moment methods only.

@@ -132,9 +132,9 @@ pub fn tune(
     let grid: Vec<ShadowBias> = COARSE
         .iter()
         .flat_map(|&c| {
-            COARSE
-                .iter()
-                .flat_map(move |&s| COARSE.iter().map(move |&n| ShadowBias { constant: c, slope: s, normal: n, scale: 0.0 }))
+            COARSE.iter().flat_map(move |&s| {
+                COARSE.iter().map(move |&n| ShadowBias { constant: c, slope: s, normal: n, scale: 0.0 })
+            })
         })
         .collect();
     let steps = grid.len() + ROUNDS * (0..4).map(|p| candidates(p).len()).sum::<usize>();

@@ -4,7 +4,8 @@
 //! [`light_list`] becomes one [`GpuLight`], and its layers take the next slots of the shadow-map
 //! array: slots are the renderer's business, not the world's.
 
-use super::gpu_types::{Frame, GpuLayer, GpuLight, MAX_LAYERS, Object, kind_id, shape_id};
+use super::gpu_types::{Frame, GpuLayer, GpuLight, GpuPlanar, MAX_LAYERS, Object, kind_id, shape_id};
+use super::planar::planar_draws;
 use crate::components::*;
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{Aabb, intersects_clip_volume, spot_projection};
@@ -73,6 +74,17 @@ pub struct FrameData {
     pub draw_order: Vec<usize>,
     /// The shadow methods the lights use, a bit (1 << method) each.
     pub methods: u32,
+    /// The planar shadows to draw over the ground, one per light that has them.
+    pub planar: Vec<PlanarDraw>,
+}
+
+/// One light's planar shadow: its uniform and the casters flattened onto the ground.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlanarDraw {
+    /// What the shaders read.
+    pub uniform: GpuPlanar,
+    /// Indices into [`FrameData::items`] of the casters above the ground.
+    pub casters: Vec<usize>,
 }
 
 /// Shortest distance over which the sun's shadow fades to nothing at the shadow distance, as a
@@ -230,8 +242,10 @@ pub fn extract(world: &mut World) -> FrameData {
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), 0);
     for light in &scene_lights {
         let map = world.get::<ShadowMap>(light.entity).unwrap_or(&no_map);
-        // A light whose layers do not all fit in the array is lit without a shadow.
-        let count = if layers.len() + map.layers.len() <= MAX_LAYERS { map.layers.len() } else { 0 };
+        // A light whose layers do not all fit in the array is lit without a shadow, and a planar
+        // light has none (its shadow is drawn over the ground instead).
+        let fits = layers.len() + map.layers.len() <= MAX_LAYERS && light.method != ShadowMethod::Planar;
+        let count = if fits { map.layers.len() } else { 0 };
         let gpu = gpu_light(light, layers.len(), count);
         lights.push(gpu);
         labels.push(light.label);
@@ -275,8 +289,9 @@ pub fn extract(world: &mut World) -> FrameData {
         toon_bands: settings.toon_bands,
         ..Frame::zeroed()
     };
+    let planar = if settings.shadows { planar_draws(&scene_lights, &items) } else { Vec::new() };
     let items = items.into_iter().map(|(item, _)| item).collect();
-    FrameData { frame, lights, labels, layers, items, draws, clip_from_world, joints, draw_order, methods }
+    FrameData { frame, lights, labels, layers, items, draws, clip_from_world, joints, draw_order, methods, planar }
 }
 
 /// The main pass's order: opaque and masked objects front to back, then blended ones back to

@@ -51,7 +51,10 @@ impl Gpu {
             label: Some("umbra"),
             // Timestamps let the benchmark time each pass on the GPU; filtering 32-bit floats
             // allows full-float moment maps. Neither is needed.
-            required_features: adapter.features() & (wgpu::Features::TIMESTAMP_QUERY | super::moments::FULL_FEATURES),
+            required_features: adapter.features()
+                & (wgpu::Features::TIMESTAMP_QUERY
+                    | super::moments::FULL_FEATURES
+                    | super::main_pass::DEPTH_STENCIL_FEATURES),
             required_limits: adapter.limits(),
             ..Default::default()
         };

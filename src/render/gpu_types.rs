@@ -173,6 +173,27 @@ gpu_struct! {
 }
 
 gpu_struct! {
+    /// One light's planar shadow: how casters are flattened onto the ground and what the ground
+    /// loses where they land (`GpuPlanar` in planar.wgsl).
+    pub struct GpuPlanar {
+        /// World to the flattened point on the plane, homogeneous
+        /// ([`crate::shadow::flat_from_world`]).
+        pub flat_from_world: Mat4,
+        /// The plane: unit normal and offset (`normal · p + d = 0`).
+        pub plane: Vec4,
+        /// The ground's albedo (rgb) and highlight strength (a).
+        pub ground: Vec4,
+        /// Which light (index into the light array).
+        pub light: u32,
+        /// The ground's Phong exponent.
+        pub shininess: f32,
+        /// How far above the plane flattened casters are drawn.
+        pub lift: f32,
+        pub _pad0: u32,
+    }
+}
+
+gpu_struct! {
     /// The layer a moment-blur pass reads and how far it reaches (`Blur` in blur.wgsl).
     pub struct Blur {
         /// Layer of the moment array.

@@ -1,9 +1,11 @@
-//! The main pass: Phong lighting from the camera, each light's share scaled by its shadow test.
+//! The main pass: Phong lighting from the camera, each light's share scaled by its shadow test,
+//! then the planar shadows drawn over the ground ([`super::planar`]).
 
 use super::extract::{DrawItem, FrameData};
 use super::gpu_types::{Frame, GpuLayer, GpuLight, MAX_LAYERS};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
-use super::shaders::{Composed, MAIN_MODULE};
+use super::planar::{PlanarPass, PlanarTargets};
+use super::shaders::{Composed, MAIN_MODULE, PLANAR_MODULE};
 use super::shadow_pass::ShadowMaps;
 use super::texture::MaterialTextures;
 use super::timing::PassTimer;
@@ -11,8 +13,18 @@ use crate::assets::{COOKIE_SIZE, cookie_image};
 use crate::components::{AlphaMode, Cookie};
 use crate::systems::MAX_LIGHTS;
 
-/// Depth format of the camera's depth buffer.
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The feature that gives the camera's depth buffer 32-bit float depth beside its stencil.
+pub const DEPTH_STENCIL_FEATURES: wgpu::Features = wgpu::Features::DEPTH32FLOAT_STENCIL8;
+
+/// Format of the camera's depth buffer: depth with a stencil (planar shadows count with it),
+/// 32-bit float depth where the device has it.
+pub fn depth_format(features: wgpu::Features) -> wgpu::TextureFormat {
+    if features.contains(DEPTH_STENCIL_FEATURES) {
+        wgpu::TextureFormat::Depth32FloatStencil8
+    } else {
+        wgpu::TextureFormat::Depth24PlusStencil8
+    }
+}
 /// Sky colour behind the scene (linear).
 const SKY: wgpu::Color = wgpu::Color { r: 0.38, g: 0.55, b: 0.78, a: 1.0 };
 
@@ -27,6 +39,9 @@ pub struct MainPass {
     object_layout: wgpu::BindGroupLayout,
     frame: FrameResources,
     bind_group: wgpu::BindGroup,
+    planar: PlanarPass,
+    /// Format of the camera's depth-stencil buffer.
+    pub depth_format: wgpu::TextureFormat,
 }
 
 /// Where one main pass draws: its colour targets with their clear colours, the depth buffer,
@@ -57,9 +72,9 @@ fn main_variant(item: &DrawItem, methods: u32, measuring: bool) -> Variant {
 /// floats carried as their bits, since GL cannot render to float targets of that size.
 pub const DEBUG_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 
-fn depth_test() -> wgpu::DepthStencilState {
+fn depth_test(format: wgpu::TextureFormat) -> wgpu::DepthStencilState {
     wgpu::DepthStencilState {
-        format: DEPTH_FORMAT,
+        format,
         depth_write_enabled: Some(true),
         depth_compare: Some(wgpu::CompareFunction::Less),
         stencil: Default::default(),
@@ -101,50 +116,56 @@ fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buff
     })
 }
 
+/// Bind group 0 of the main pass: the frame, the shadow maps and their samplers, the cookies,
+/// the lights and the layers, the colour maps and their sampler.
+fn layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    let fragment = wgpu::ShaderStages::FRAGMENT;
+    let cookie_bytes = Cookie::ALL.len() * (COOKIE_SIZE * COOKIE_SIZE) as usize;
+    vec![
+        uniform_entry(0, wgpu::ShaderStages::VERTEX_FRAGMENT, size_of::<Frame>()),
+        wgpu::BindGroupLayoutEntry {
+            binding: 1,
+            visibility: fragment,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Depth,
+                view_dimension: wgpu::TextureViewDimension::D2Array,
+                multisampled: false,
+            },
+            count: None,
+        },
+        wgpu::BindGroupLayoutEntry {
+            binding: 2,
+            visibility: fragment,
+            ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+            count: None,
+        },
+        uniform_entry(3, fragment, cookie_bytes),
+        uniform_entry(4, fragment, MAX_LIGHTS * size_of::<GpuLight>()),
+        uniform_entry(5, fragment, MAX_LAYERS * size_of::<GpuLayer>()),
+        wgpu::BindGroupLayoutEntry {
+            binding: 6,
+            visibility: fragment,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                view_dimension: wgpu::TextureViewDimension::D2Array,
+                multisampled: false,
+            },
+            count: None,
+        },
+        wgpu::BindGroupLayoutEntry {
+            binding: 7,
+            visibility: fragment,
+            ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+            count: None,
+        },
+    ]
+}
+
 impl FrameResources {
     fn new(device: &wgpu::Device) -> Self {
-        let fragment = wgpu::ShaderStages::FRAGMENT;
-        let cookie_bytes = Cookie::ALL.len() * (COOKIE_SIZE * COOKIE_SIZE) as usize;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("frame"),
-            entries: &[
-                uniform_entry(0, wgpu::ShaderStages::VERTEX_FRAGMENT, size_of::<Frame>()),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: fragment,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: fragment,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                    count: None,
-                },
-                uniform_entry(3, fragment, cookie_bytes),
-                uniform_entry(4, fragment, MAX_LIGHTS * size_of::<GpuLight>()),
-                uniform_entry(5, fragment, MAX_LAYERS * size_of::<GpuLayer>()),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 6,
-                    visibility: fragment,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 7,
-                    visibility: fragment,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-            ],
+            entries: &layout_entries(),
         });
         // Linear comparison filtering gives a 2x2 percentage-closer filter in hardware.
         let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
@@ -172,23 +193,26 @@ impl FrameResources {
         }
     }
 
+    /// What bind group 0 binds, for `maps`.
+    fn entries<'a>(&'a self, maps: &'a ShadowMaps) -> Vec<wgpu::BindGroupEntry<'a>> {
+        vec![
+            wgpu::BindGroupEntry { binding: 0, resource: self.buffer.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&maps.array_view) },
+            wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
+            wgpu::BindGroupEntry { binding: 3, resource: self.cookies.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 4, resource: self.lights.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 5, resource: self.layers.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(&maps.moments.array_view) },
+            wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(&self.moment_sampler) },
+        ]
+    }
+
     fn bind(&self, device: &wgpu::Device, maps: &ShadowMaps) -> wgpu::BindGroup {
+        let entries = self.entries(maps);
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("frame"),
             layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: self.buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&maps.array_view) },
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
-                wgpu::BindGroupEntry { binding: 3, resource: self.cookies.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 4, resource: self.lights.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 5, resource: self.layers.as_entire_binding() },
-                wgpu::BindGroupEntry {
-                    binding: 6,
-                    resource: wgpu::BindingResource::TextureView(&maps.moments.array_view),
-                },
-                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(&self.moment_sampler) },
-            ],
+            entries: &entries,
         })
     }
 
@@ -216,19 +240,25 @@ impl MainPass {
     ) -> Self {
         let frame = FrameResources::new(device);
         let module = Composed::new(MAIN_MODULE).module(device);
+        let depth_format = depth_format(device.features());
         let recipe = Recipe {
             label: "main",
             module: module.clone(),
             vertex: "vs_main",
             fragment: "fs_main",
             targets: vec![Some(format.into())],
-            depth: depth_test(),
+            depth: depth_test(depth_format),
             samples_shadows: true,
         };
         let pipelines = Pipelines::new(device, recipe, [&frame.layout, object_layout], palette, textures);
         let bind_group = frame.bind(device, maps);
+        let planar_module = Composed::new(PLANAR_MODULE).module(device);
+        let targets = PlanarTargets { color: format, measure: DEBUG_FORMAT, depth: depth_format };
+        let groups = (&layout_entries()[..], object_layout);
+        let mut planar = PlanarPass::new(device, &planar_module, groups, (palette, textures), targets);
+        planar.bind(device, &frame.entries(maps));
         let object_layout = object_layout.clone();
-        MainPass { pipelines, debug: None, probe: None, module, object_layout, frame, bind_group }
+        MainPass { pipelines, debug: None, probe: None, module, object_layout, frame, bind_group, planar, depth_format }
     }
 
     /// Builds the measuring pipelines if they are not built yet.
@@ -242,24 +272,27 @@ impl MainPass {
             vertex: "vs_main",
             fragment: "fs_debug",
             targets: vec![Some(DEBUG_FORMAT.into()); 3],
-            depth: depth_test(),
+            depth: depth_test(self.depth_format),
             samples_shadows: true,
         };
         let groups = [&self.frame.layout, &self.object_layout];
         self.debug = Some(Pipelines::new(device, recipe, groups, palette, textures));
     }
 
-    /// Builds the pipelines the objects of `data` need (measuring ones too, once those exist).
-    pub fn prepare(&mut self, device: &wgpu::Device, data: &FrameData) {
+    /// Builds the pipelines the objects of `data` need (measuring ones too, once those exist)
+    /// and uploads its planar shadows.
+    pub fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, data: &FrameData) {
         self.pipelines.prepare(device, data.items.iter().map(|i| main_variant(i, data.methods, false)));
         if let Some(debug) = &mut self.debug {
             debug.prepare(device, data.items.iter().map(|i| main_variant(i, data.methods, true)));
         }
+        self.planar.prepare(device, queue, data, self.debug.is_some());
     }
 
     /// Points the pass at new shadow maps after they were re-created.
     pub fn rebind(&mut self, device: &wgpu::Device, maps: &ShadowMaps) {
         self.bind_group = self.frame.bind(device, maps);
+        self.planar.bind(device, &self.frame.entries(maps));
     }
 
     /// Builds the probe pipeline if it is not built yet.
@@ -392,7 +425,7 @@ impl MainPass {
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: depth,
                 depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
-                stencil_ops: None,
+                stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Discard }),
             }),
             timestamp_writes: timer.map(PassTimer::main_writes),
             occlusion_query_set: None,
@@ -401,6 +434,8 @@ impl MainPass {
         pass.set_bind_group(0, &self.bind_group, &[]);
         let order = data.draw_order.iter().map(|&i| (i, main_variant(&data.items[i], data.methods, measuring)));
         pipelines.draw(&mut pass, with, &data.items, order);
+        let measured = measuring.then_some(data.frame.first_measured as usize);
+        self.planar.draw(&mut pass, with, data, measured);
     }
 }
 

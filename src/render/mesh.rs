@@ -170,7 +170,7 @@ pub struct Recipe {
     pub fragment: &'static str,
     /// Colour targets; empty for a depth-only pass.
     pub targets: Vec<Option<wgpu::ColorTargetState>>,
-    /// Depth format and test (depth writes are turned off for blended objects).
+    /// Depth format and test, and stencil (depth writes are turned off for blended objects).
     pub depth: wgpu::DepthStencilState,
     /// Its fragment stage looks shadows up (takes the `SHADOW_METHODS` constant).
     pub samples_shadows: bool,
@@ -236,10 +236,14 @@ impl Pipelines {
             .iter()
             .map(|t| {
                 t.clone().map(|t| wgpu::ColorTargetState {
-                    blend: blend.then_some(wgpu::BlendState {
-                        color: wgpu::BlendState::ALPHA_BLENDING.color,
-                        alpha: wgpu::BlendComponent::OVER,
-                    }),
+                    blend: if blend {
+                        Some(wgpu::BlendState {
+                            color: wgpu::BlendState::ALPHA_BLENDING.color,
+                            alpha: wgpu::BlendComponent::OVER,
+                        })
+                    } else {
+                        t.blend
+                    },
                     ..t
                 })
             })
@@ -250,7 +254,8 @@ impl Pipelines {
             compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
             targets: &targets,
         });
-        let depth = wgpu::DepthStencilState { depth_write_enabled: Some(!blend), ..r.depth.clone() };
+        let writes = r.depth.depth_write_enabled != Some(false) && !blend;
+        let depth = wgpu::DepthStencilState { depth_write_enabled: Some(writes), ..r.depth.clone() };
         let buffers = vertex_layouts(v.skinned);
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(r.label),

@@ -11,6 +11,7 @@ pub mod gpu_types;
 mod main_pass;
 mod mesh;
 mod moments;
+mod planar;
 mod readback;
 mod renderer;
 mod shaders;

@@ -76,7 +76,9 @@ pub fn colour_format(methods: u32, bits: MomentBits, full: bool) -> Result<Optio
         ShadowMethod::ALL.iter().copied().filter(|m| m.colour_map() && methods & (1 << *m as u32) != 0).collect();
     let depth32 = used.iter().any(|m| m.colour_depth_bits() > 16);
     if depth32 && !full {
-        return Err("32-bit float colour targets (rendering into and filtering R32Float), which r32f writes depth into");
+        return Err(
+            "32-bit float colour targets (rendering into and filtering R32Float), which r32f writes depth into",
+        );
     }
     let Some(widest) = used.iter().filter(|m| m.moments()).map(|m| m.moment_bits()).max() else {
         return Ok((!used.is_empty()).then_some(if depth32 { ColourFormat::R32 } else { ColourFormat::R16 }));

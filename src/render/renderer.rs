@@ -2,7 +2,7 @@
 
 use super::extract::extract;
 use super::gpu_types::Object;
-use super::main_pass::{DEPTH_FORMAT, MainPass};
+use super::main_pass::MainPass;
 use super::mesh::{Drawables, GpuMesh, JointPalette};
 use super::moments;
 use super::shadow_pass::{ShadowPass, ShadowStats};
@@ -139,7 +139,7 @@ impl Renderer {
         if let Some(format) = format {
             moments::set_terms(&mut data.layers, format);
         }
-        self.main.prepare(device, &data);
+        self.main.prepare(device, queue, &data);
         let size = (settings.shadow_map_size, data.layers.len());
         if self.shadow.ensure_maps(device, size, format, settings.shadow_depth) {
             self.main.rebind(device, &self.shadow.maps);
@@ -200,7 +200,7 @@ impl Renderer {
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
+            format: self.main.depth_format,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
             view_formats: &[],
         });

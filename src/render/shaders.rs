@@ -35,6 +35,8 @@ pub const SAMPLING: ShaderFile = shader_file!("shadow_sampling.wgsl");
 pub const LIGHTS: ShaderFile = shader_file!("lights.wgsl");
 /// The main pass, the measuring view and the probes.
 pub const MAIN: ShaderFile = shader_file!("main.wgsl");
+/// Planar shadows drawn over the ground.
+pub const PLANAR: ShaderFile = shader_file!("planar.wgsl");
 
 /// The shadow pass's files, in dependency order.
 pub const SHADOW_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, SHADOW];
@@ -42,6 +44,8 @@ pub const SHADOW_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, SHADOW];
 pub const BLUR_MODULE: &[ShaderFile] = &[BLUR];
 /// The main pass's files, in dependency order.
 pub const MAIN_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, LIGHTS, MAIN];
+/// The planar shadows' files: the main pass's, and its own.
+pub const PLANAR_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, LIGHTS, MAIN, PLANAR];
 
 /// A module's text, and the line where each of its parts begins.
 #[derive(Clone, Debug)]
@@ -123,7 +127,7 @@ mod tests {
 
     #[test]
     fn every_shader_variant_parses_and_validates_without_a_gpu() {
-        for (name, files) in [("shadow", SHADOW_MODULE), ("main", MAIN_MODULE)] {
+        for (name, files) in [("shadow", SHADOW_MODULE), ("main", MAIN_MODULE), ("planar", PLANAR_MODULE)] {
             let composed = Composed::new(files);
             let (module, info) = check(&composed).unwrap_or_else(|e| panic!("{name}: {e}"));
             // Every value the pipelines give the constants, in every combination.
@@ -137,7 +141,7 @@ mod tests {
                         constants.insert("TEXTURED".into(), textured);
                         constants.insert("ALPHA_MASK".into(), mask);
                         constants.insert("ALPHA_BLEND".into(), blend);
-                        if name == "main" {
+                        if name != "shadow" {
                             constants.insert("SHADOW_METHODS".into(), methods as f64);
                         }
                         naga::back::pipeline_constants::process_overrides(&module, &info, None, &constants)
@@ -186,7 +190,13 @@ mod tests {
         let blur_struct = ("Blur", gpu_types::Blur::FIELDS, size_of::<gpu_types::Blur>());
         let (shadow, _) = check(&Composed::new(SHADOW_MODULE)).unwrap();
         let shadow_layer = ("GpuLayer", gpu_types::GpuLayer::FIELDS, size_of::<gpu_types::GpuLayer>());
-        let each = shared.iter().map(|s| (&module, *s)).chain([(&blur, blur_struct), (&shadow, shadow_layer)]);
+        let (planar, _) = check(&Composed::new(PLANAR_MODULE)).unwrap();
+        let planar_struct = ("GpuPlanar", gpu_types::GpuPlanar::FIELDS, size_of::<gpu_types::GpuPlanar>());
+        let each = shared.iter().map(|s| (&module, *s)).chain([
+            (&blur, blur_struct),
+            (&shadow, shadow_layer),
+            (&planar, planar_struct),
+        ]);
         for (module, (name, fields, size)) in each {
             let (wgsl, span) = wgsl_layout(module, name);
             let rust: Vec<(String, usize)> = fields.iter().map(|(f, o)| (f.to_string(), *o)).collect();

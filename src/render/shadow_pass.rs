@@ -8,7 +8,7 @@
 use super::extract::{DrawItem, FrameData, LayerDraw};
 use super::gpu_types::GpuLayer;
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
-use super::moments::{MomentBlur, ColourFormat, ColourMaps, far_moments};
+use super::moments::{ColourFormat, ColourMaps, MomentBlur, far_moments};
 use super::shaders::{Composed, SHADOW_MODULE};
 use super::texture::{LayeredTarget, MaterialTextures};
 use super::timing::PassTimer;
@@ -154,9 +154,8 @@ impl ShadowPass {
         };
         let groups = [&layer_uniforms.layout, object_layout];
         let set = |depth: ShadowDepth| {
-            let pipelines = |fragment, targets| {
-                Pipelines::new(device, recipe(fragment, targets, depth), groups, palette, textures)
-            };
+            let pipelines =
+                |fragment, targets| Pipelines::new(device, recipe(fragment, targets, depth), groups, palette, textures);
             let colour = [ColourFormat::Half, ColourFormat::Full, ColourFormat::R16, ColourFormat::R32]
                 .map(|f| pipelines("fs_moments", vec![Some(f.texture().into())]));
             PipelineSet { depth: pipelines("fs_shadow", Vec::new()), colour }

@@ -6,6 +6,7 @@
 mod bounds;
 mod cascade;
 mod fit;
+mod planar;
 mod poisson;
 
 pub use bounds::{Aabb, MAX_WORLD_EXTENT, frustum_corners, intersects_clip_volume};
@@ -17,4 +18,5 @@ pub use fit::{
     CUBE_FACES, LightProjection, MAX_MAP_HALF_ANGLE, MAX_SPOT_HALF_ANGLE, MIN_SPOT_HALF_ANGLE, cube_face,
     cube_projections, depth_terms, light_range, light_view, spot_cone, spot_projection, view_distance,
 };
+pub use planar::{GROUND_PLANE, PLANAR_LIFT, flat_from_world, light_point, lights_plane};
 pub use poisson::{poisson_disc, wgsl_array};

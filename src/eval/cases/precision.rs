@@ -63,7 +63,8 @@ fn precision_scene(settings: &Settings) -> Result<App, crate::AppError> {
         let at = Transform::from_translation(LAMP + dir * (d + 0.05 * half)).looking_to(dir);
         add_block(&mut app, at.with_scale(Vec3::new(2.0 * half, 2.0 * half, 0.1 * half)));
     }
-    let spot = SpotLight { range: RANGE, intensity: 4.0, inner_angle: OUTER - 0.05, outer_angle: OUTER, ..Default::default() };
+    let spot =
+        SpotLight { range: RANGE, intensity: 4.0, inner_angle: OUTER - 0.05, outer_angle: OUTER, ..Default::default() };
     app.world.spawn((spot, Transform::from_translation(LAMP).looking_to(Vec3::NEG_Z), ShadowMap::default()));
     app.world.spawn(camera_looking(LAMP + Vec3::new(0.0, 0.3, 0.5), LAMP + Vec3::new(0.0, 0.0, -10.0)));
     Ok(app)
