@@ -31,6 +31,26 @@ enum Command {
     /// Find the shadow biases, light by light, that give the fewest wrong pixels on the sample
     /// scene, and write them to a file that play, render and bench --cache read (--biases FILE).
     Tune(TuneArgs),
+    /// Render the same view under each kind of shadow (hard, the filters, PCSS, the moment maps,
+    /// planar, R16F radial, toon) and write a Markdown grid labelling each picture with its cost
+    /// and error from a bench run's results.csv.
+    Gallery(GalleryArgs),
+}
+
+#[derive(Args)]
+struct GalleryArgs {
+    /// Where the pictures and gallery.md go.
+    #[arg(long, default_value = "docs/gallery")]
+    out: PathBuf,
+    /// The bench run whose numbers label the pictures (its results.csv).
+    #[arg(long, default_value = "docs/bench/results.csv", value_name = "CSV")]
+    bench: PathBuf,
+    /// Width of each picture in pixels.
+    #[arg(long, default_value_t = 480, value_parser = parse_size, allow_negative_numbers = true)]
+    width: u32,
+    /// Height of each picture in pixels.
+    #[arg(long, default_value_t = 270, value_parser = parse_size, allow_negative_numbers = true)]
+    height: u32,
 }
 
 /// Settings shared by every command.
@@ -300,7 +320,39 @@ fn run(cli: Cli) -> Result<()> {
         Command::Render(args) => render(&args),
         Command::Bench(args) => bench(&args),
         Command::Tune(args) => tune(&args),
+        Command::Gallery(args) => gallery(&args),
     }
+}
+
+fn gallery(args: &GalleryArgs) -> Result<()> {
+    use umbra::eval::gallery::{entries, markdown, read_results};
+    let csv = std::fs::read_to_string(&args.bench).with_context(|| format!("reading {}", args.bench.display()))?;
+    let results = read_results(&csv).map_err(|e| anyhow::anyhow!("{}: {e}", args.bench.display()))?;
+    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    let gpu = Gpu::headless()?;
+    println!("adapter: {}", gpu.describe());
+    let all = entries();
+    for e in &all {
+        // Each picture is its own app (and renderer, which holds its meshes): the same scene,
+        // time and camera, drawn its way.
+        let mut renderer = umbra::render::Renderer::new(&gpu, umbra::render::HEADLESS_FORMAT)?;
+        let mut app = App::new(e.settings(&Settings::default()))?;
+        app.resize(args.width, args.height);
+        let (eye, target, time) = umbra::eval::gallery::VIEW;
+        umbra::eval::measure::place_camera(&mut app.world, eye, target);
+        app.set_time(time);
+        let path = args.out.join(format!("{}.png", e.slug));
+        render_headless(&gpu, &mut renderer, &mut app, args.width, args.height)
+            .and_then(|image| image.save_png(&path))
+            .with_context(|| format!("rendering {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    let dir = args.out.to_string_lossy().replace('\\', "/");
+    let md = format!("Numbers from {}.\n\n{}", args.bench.display(), markdown(&all, &results, &dir, 4));
+    let path = args.out.join("gallery.md");
+    std::fs::write(&path, md).with_context(|| format!("writing {}", path.display()))?;
+    println!("wrote {}", path.display());
+    Ok(())
 }
 
 fn bench(args: &BenchArgs) -> Result<()> {

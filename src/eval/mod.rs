@@ -5,6 +5,7 @@ pub mod bench;
 pub mod cases;
 pub mod chart;
 pub mod cost;
+pub mod gallery;
 pub mod measure;
 pub mod metrics;
 pub mod results;

@@ -50,10 +50,12 @@ pub fn csv(rows: &[Row]) -> String {
     for r in rows {
         let (c, all) = (&r.config, r.scene_all());
         let s = c.settings(&Settings::default());
+        // A label with a comma (the Bevy-like baseline's) is quoted, as CSV readers expect.
+        let label = if c.label().contains(',') { format!("\"{}\"", c.label()) } else { c.label() };
         let _ = write!(
             out,
             "{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.5},{:.5},{}",
-            c.label(),
+            label,
             s.shadow_map_size,
             s.cascades,
             s.fit_mode.name(),

@@ -236,7 +236,13 @@ pub fn configs(quick: bool) -> Vec<Config> {
         // Moment maps (12 layers of 16 bytes a texel, blurred) only at the default size: on the
         // software rasterizer one frame takes seconds. The quick sweep takes one of them.
         let moments_here = |m: &ShadowMethod| map_size == d.map_size && (!quick || *m == ShadowMethod::Vsm);
-        for &method in ShadowMethod::ALL.iter().filter(|m| !m.moments() || moments_here(m)) {
+        // Planar shadows have no map: one row.
+        let here = |m: &ShadowMethod| match m {
+            m if m.moments() => moments_here(m),
+            ShadowMethod::Planar => map_size == d.map_size,
+            _ => true,
+        };
+        for &method in ShadowMethod::ALL.iter().filter(|m| here(m)) {
             push(Config { map_size, method, ..d });
         }
     }
