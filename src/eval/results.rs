@@ -207,12 +207,10 @@ fn by_format(rows: &[Row]) -> String {
         !c.bevy_like && changes_depth && rest == d
     };
     let mut out = String::from(
-        "
-How depth is kept: bytes a texel takes (depth map and colour map together), memory of one          layer, cost and error on the sample scene, and the precision case (worst wall):
-
-         | configuration | bytes per texel | MiB per layer | shadow cost ms | misclassified % | precision % |
-         | --- | --- | --- | --- | --- | --- |
-",
+        "\nHow depth is kept: bytes a texel takes (depth map and colour map together), memory of \
+         one layer, cost and error on the sample scene, and the precision case (worst wall):\n\n\
+         | configuration | bytes per texel | MiB per layer | shadow cost ms | misclassified % | precision % |\n\
+         | --- | --- | --- | --- | --- | --- |\n",
     );
     for r in rows.iter().filter(|r| about_depth(&r.config)) {
         let texels = (r.config.map_size as f64).powi(2);
