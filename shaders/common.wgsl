@@ -16,7 +16,9 @@ struct Object {
     receives_shadows: u32,
     // First matrix of this object's joints in the palette (skinned objects only).
     first_joint: u32,
-    _pad0: u32,
+    // 1 on the ground when lights that keep their maps draw planar shadows onto it instead
+    // (settings' planar_ground): those lights' maps are not looked up here.
+    planar_receiver: u32,
     _pad1: u32,
     _pad2: u32,
 };

@@ -65,7 +65,8 @@ struct GpuLight {
     // Multiplicative depth offset: the share of the distance to the light the receiver is
     // pulled towards it before the test (see scaled_depth in shadow_sampling.wgsl).
     bias_scale: f32,
-    _pad2: u32,
+    // 1 when it draws planar shadows onto the ground in place of its maps there.
+    planar_ground: u32,
     // The cookie's projection (spots with a cookie only).
     cookie_from_world: mat4x4<f32>,
 };

@@ -89,12 +89,14 @@ struct Shaded {
     visibility: vec4<f32>,
 };
 
-fn shade(world: vec3<f32>, n: vec3<f32>, f: Footprint, r: Response, test: bool) -> Shaded {
+fn shade(world: vec3<f32>, n: vec3<f32>, f: Footprint, r: Response, test: bool, ground: bool) -> Shaded {
     let v = normalize(frame.camera_position - world);
     let depth = dot(world - frame.camera_position, frame.camera_forward);
     var out = Shaded(r.albedo * frame.ambient, vec4<f32>(-1.0));
     for (var i = 0u; i < min(frame.light_count, MAX_LIGHTS); i += 1u) {
-        let s = light_sample(i, world, n, f, depth, test);
+        // A light that draws planar shadows onto the ground leaves its maps unread there.
+        let planar = ground && lights[i].planar_ground == 1u;
+        let s = light_sample(i, world, n, f, depth, test && !planar);
         if (s.reach > 0.0) {
             let k = i - frame.first_measured;
             if (i >= frame.first_measured && k < MEASURED_PER_PASS) {
@@ -132,7 +134,7 @@ fn footprint(in: VertexOut) -> Footprint {
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let f = footprint(in);
     let s = surface(in, front);
-    let color = shade(in.world, s.normal, f, response(s), receives_shadows()).color;
+    let color = shade(in.world, s.normal, f, response(s), receives_shadows(), object.planar_receiver == 1u).color;
     return vec4<f32>(color, select(1.0, s.albedo.a, ALPHA_BLEND));
 }
 
@@ -151,7 +153,7 @@ struct DebugOut {
 fn fs_debug(in: VertexOut, @builtin(front_facing) front: bool) -> DebugOut {
     let f = footprint(in);
     let s = surface(in, front);
-    let shaded = shade(in.world, s.normal, f, response(s), receives_shadows());
+    let shaded = shade(in.world, s.normal, f, response(s), receives_shadows(), object.planar_receiver == 1u);
     let depth = dot(in.world - frame.camera_position, frame.camera_forward);
     return DebugOut(
         bitcast<vec4<u32>>(vec4<f32>(in.world, 1.0)),
@@ -187,5 +189,5 @@ fn vs_probe(@builtin(vertex_index) i: u32, v: ProbeIn) -> ProbeOut {
 fn fs_probe(in: ProbeOut) -> @location(0) vec4<u32> {
     let white = Response(vec3<f32>(1.0), 0.0, 1.0);
     let f = Footprint(vec3<f32>(0.0), vec3<f32>(0.0), in.clip.xy);
-    return bitcast<vec4<u32>>(shade(in.world, normalize(in.normal), f, white, true).visibility);
+    return bitcast<vec4<u32>>(shade(in.world, normalize(in.normal), f, white, true, false).visibility);
 }

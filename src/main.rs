@@ -112,6 +112,10 @@ struct SceneArgs {
     /// Format of the depth maps: d32 (32-bit float) or d16 (16-bit fixed point, half the memory).
     #[arg(long, value_name = "FORMAT")]
     shadow_depth: Option<ShadowDepth>,
+    /// Every shadowed light also draws planar shadows onto the ground, which takes those in
+    /// place of its maps (other surfaces keep the maps).
+    #[arg(long)]
+    planar_ground: bool,
     /// Toon shading with this many bands, 2..16 (key T in play).
     #[arg(long, value_name = "BANDS")]
     toon: Option<u32>,
@@ -291,6 +295,7 @@ impl SceneArgs {
             light_bleeding: self.light_bleeding.unwrap_or(d.light_bleeding),
             moment_bits: self.moment_bits.unwrap_or(d.moment_bits),
             shadow_depth: self.shadow_depth.unwrap_or(d.shadow_depth),
+            planar_ground: self.planar_ground,
             toon_bands: self.toon.unwrap_or(d.toon_bands),
             // The file's first, so the command line's win.
             light_methods: file_methods.into_iter().chain(self.light_method.iter().cloned()).collect(),

@@ -96,7 +96,8 @@ fn run(event_loop: EventLoop<()>, app: App, frames: Option<u32>) -> Result<(), P
 }
 
 /// Changes the setting a key stands for (F: fit mode, C: cascade tints, 1-4: cascades, P:
-/// filter, R: receiver plane, K: caster culling, T: toon shading); false for any other key.
+/// filter, R: receiver plane, K: caster culling, T: toon shading, G: planar shadows on the
+/// ground); false for any other key.
 pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
     match code {
         KeyCode::KeyF => settings.fit_mode = settings.fit_mode.next(),
@@ -104,6 +105,7 @@ pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
         KeyCode::KeyP => settings.method = settings.method.next(),
         KeyCode::KeyR => settings.receiver_plane = !settings.receiver_plane,
         KeyCode::KeyK => settings.caster_culling = settings.caster_culling.next(),
+        KeyCode::KeyG => settings.planar_ground = !settings.planar_ground,
         KeyCode::KeyT => {
             settings.toon_bands = if settings.toon_bands == 0 { crate::settings::DEFAULT_TOON_BANDS } else { 0 }
         }
@@ -125,8 +127,9 @@ fn settings_line(settings: &Settings) -> String {
         crate::settings::CasterCulling::CameraView => ", culling to the camera view",
     };
     let toon = if settings.toon_bands > 0 { format!(", toon {}", settings.toon_bands) } else { String::new() };
+    let planar = if settings.planar_ground { ", planar ground" } else { "" };
     format!(
-        "{} cascades, {} fit, {} filter{flat}{culling}{tints}{toon}",
+        "{} cascades, {} fit, {} filter{flat}{culling}{tints}{toon}{planar}",
         settings.cascades,
         settings.fit_mode.name(),
         settings.method.name()
@@ -338,6 +341,7 @@ mod tests {
         assert!(change_setting(KeyCode::KeyR, &mut s) && !s.receiver_plane);
         assert!(change_setting(KeyCode::KeyT, &mut s) && s.toon_bands == crate::settings::DEFAULT_TOON_BANDS);
         assert!(change_setting(KeyCode::KeyT, &mut s) && s.toon_bands == 0);
+        assert!(change_setting(KeyCode::KeyG, &mut s) && s.planar_ground);
         assert!(settings_line(&s).contains("pcf3 filter without receiver plane"));
         let before = s.clone();
         assert!(!change_setting(KeyCode::KeyW, &mut s));

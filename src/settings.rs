@@ -73,6 +73,9 @@ pub struct Settings {
     pub moment_bits: MomentBits,
     /// The depth maps' format.
     pub shadow_depth: ShadowDepth,
+    /// Lights that keep their shadow maps also draw planar shadows onto the ground, which then
+    /// takes those instead of the maps (lights whose method is planar always do).
+    pub planar_ground: bool,
     /// Toon shading: each light's diffuse strength falls into this many bands, and a shadow
     /// takes a surface one band down (0: Phong shading).
     pub toon_bands: u32,
@@ -127,6 +130,7 @@ impl Default for Settings {
             moment_bits: MomentBits::Auto,
             shadow_depth: ShadowDepth::Float32,
             toon_bands: 0,
+            planar_ground: false,
             spot_map_limit: crate::shadow::MAX_MAP_HALF_ANGLE,
             ambient: 0.12,
             cubes: 10,

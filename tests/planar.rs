@@ -54,13 +54,16 @@ fn on_ground(frame: &DebugFrame, i: usize) -> bool {
     frame.covered(i) && frame.position[i].y.abs() < 1e-3 && frame.normal[i].y > 0.99
 }
 
-#[test]
-fn on_the_sample_ground_planar_shadows_match_the_truth_and_elsewhere_there_are_none() {
-    let mut app = App::new(planar()).unwrap();
+/// Per light of the sample scene under `settings`: ground pixels, those in true shadow, those
+/// wrong more than 2 pixels from an edge, truly shadowed pixels off the ground drawn lit, and
+/// ground pixels partly lit (a planar shadow is all or nothing; a filtered map is not).
+fn sample_ground(settings: Settings) -> Vec<[usize; 5]> {
+    let mut app = App::new(settings).unwrap();
     app.resize(SIZE, SIZE);
     let frame = measure(&mut app);
     let truth = truth::truth_of(&mut app.world, &frame, truth::SizeOverride::default(), 0);
     let (w, h) = (frame.width as i64, frame.height as i64);
+    let mut out = Vec::new();
     for (light, column) in truth.iter().enumerate() {
         let lit = |i: usize| column[i].map(|t| t.lit);
         // Within 2 pixels of a true edge the pixel grid decides; elsewhere planar must be right.
@@ -73,27 +76,52 @@ fn on_the_sample_ground_planar_shadows_match_the_truth_and_elsewhere_there_are_n
                 .flat_map(|dy| (-2..=2).map(move |dx| (x + dx, y + dy)))
                 .any(|(a, b)| (0..w).contains(&a) && (0..h).contains(&b) && lit((b * w + a) as usize) != lit(i))
         };
-        let (mut ground, mut wrong, mut shadowed, mut lost_elsewhere) = (0, 0, 0, 0);
+        let mut counts = [0; 5];
         for (i, t) in column.iter().enumerate() {
             let (Some(t), Some(r)) = (t, umbra::eval::metrics::rendered(&frame, light, i)) else { continue };
             if on_ground(&frame, i) {
-                ground += 1;
-                shadowed += !t.lit as usize;
-                wrong += (!near_edge(i) && (r < 0.5) == t.lit) as usize;
+                counts[0] += 1;
+                counts[1] += !t.lit as usize;
+                counts[2] += (!near_edge(i) && (r < 0.5) == t.lit) as usize;
+                counts[4] += (r > 0.0 && r < 1.0) as usize;
             } else {
-                lost_elsewhere += (!t.lit && r >= 0.5) as usize;
+                counts[3] += (!t.lit && r >= 0.5) as usize;
             }
         }
         eprintln!(
-            "light {light}: {ground} ground pixels, {shadowed} in shadow, {wrong} wrong away from edges; {lost_elsewhere} shadowed pixels off the ground drawn lit"
+            "light {light}: {counts:?} (ground, in shadow, wrong away from edges, lost off the ground, partly lit)"
         );
+        out.push(counts);
+    }
+    out
+}
+
+#[test]
+fn on_the_sample_ground_planar_shadows_match_the_truth_and_elsewhere_there_are_none() {
+    for (light, [ground, shadowed, wrong, lost_elsewhere, partial]) in sample_ground(planar()).into_iter().enumerate() {
         assert!(wrong <= ground / 1000, "light {light}: {wrong} of {ground} ground pixels wrong");
+        assert_eq!(partial, 0, "light {light}: a planar shadow has no partly lit pixels");
         if light == 0 {
             // The sun shadows the ground and the boxes: on the ground planar has it, on the boxes
             // and the pillars nothing does.
             assert!(shadowed > 500, "the sun's shadow is on the ground: {shadowed}");
             assert!(lost_elsewhere > 100, "shadows off the ground are missing: {lost_elsewhere}");
         }
+    }
+}
+
+#[test]
+fn with_planar_ground_the_ground_takes_planar_shadows_and_the_rest_keeps_the_maps() {
+    let settings = Settings { planar_ground: true, ..Settings::default() };
+    let maps_only: Vec<[usize; 5]> = sample_ground(Settings::default());
+    for (light, [ground, _, wrong, lost_elsewhere, partial]) in sample_ground(settings).into_iter().enumerate() {
+        assert!(wrong <= ground / 1000, "light {light}: {wrong} of {ground} ground pixels wrong");
+        // The ground's shadow is planar (all or nothing) where the maps' bilinear edge is not...
+        assert_eq!(partial, 0, "light {light}: the ground reads a map");
+        assert!(maps_only[light][4] > 0, "light {light}: the maps draw no partly lit edge to tell them apart");
+        // ...and off the ground the maps still shadow: a few edge pixels lost (2 of the sun's
+        // here), where planar alone loses over a hundred.
+        assert!(lost_elsewhere <= 10, "light {light}: {lost_elsewhere} shadowed pixels off the ground drawn lit");
     }
 }
 

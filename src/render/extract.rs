@@ -5,7 +5,7 @@
 //! array: slots are the renderer's business, not the world's.
 
 use super::gpu_types::{Frame, GpuLayer, GpuLight, GpuPlanar, MAX_LAYERS, Object, kind_id, shape_id};
-use super::planar::planar_draws;
+use super::planar::{draws_planar, ground, planar_draws};
 use crate::components::*;
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{Aabb, intersects_clip_volume, spot_projection};
@@ -232,7 +232,7 @@ pub fn extract(world: &mut World) -> FrameData {
         .iter(world)
         .next()
         .map_or((Mat4::ZERO, Vec3::ZERO, Vec3::NEG_Z), |(c, t)| (c.view_proj(t, aspect), t.translation, t.forward()));
-    let (items, joints) = draw_items(world);
+    let (mut items, joints) = draw_items(world);
     let draw_order = draw_order(&items, eye);
 
     let cull_to = (settings.caster_culling == CasterCulling::CameraView).then_some(&clip_from_world);
@@ -289,7 +289,18 @@ pub fn extract(world: &mut World) -> FrameData {
         toon_bands: settings.toon_bands,
         ..Frame::zeroed()
     };
-    let planar = if settings.shadows { planar_draws(&scene_lights, &items) } else { Vec::new() };
+    let planar =
+        if settings.shadows { planar_draws(&scene_lights, &items, settings.planar_ground) } else { Vec::new() };
+    // With planar shadows on the ground for lights that keep their maps, the ground leaves
+    // those maps unread (`planar_receiver`, `planar_ground`).
+    if settings.shadows && settings.planar_ground {
+        for (light, gpu) in scene_lights.iter().zip(&mut lights) {
+            gpu.planar_ground = (gpu.layer_count > 0 && draws_planar(light, true)) as u32;
+        }
+        if let Some(g) = ground(&items) {
+            items[g].0.object.planar_receiver = 1;
+        }
+    }
     let items = items.into_iter().map(|(item, _)| item).collect();
     FrameData { frame, lights, labels, layers, items, draws, clip_from_world, joints, draw_order, methods, planar }
 }

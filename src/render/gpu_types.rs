@@ -43,7 +43,8 @@ gpu_struct! {
         pub receives_shadows: u32,
         /// The object's first matrix in the joint palette (skinned objects only).
         pub first_joint: u32,
-        pub _pad0: u32,
+        /// 1 on the ground when lights draw planar shadows onto it in place of their maps.
+        pub planar_receiver: u32,
         pub _pad1: u32,
         pub _pad2: u32,
     }
@@ -133,7 +134,8 @@ gpu_struct! {
         /// Multiplicative depth offset: the share of the distance to the light the receiver is
         /// pulled towards it.
         pub bias_scale: f32,
-        pub _pad2: u32,
+        /// 1 when it draws planar shadows onto the ground in place of its maps there.
+        pub planar_ground: u32,
         /// World to the cookie's clip space (spots with a cookie).
         pub cookie_from_world: Mat4,
     }

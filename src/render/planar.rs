@@ -22,7 +22,7 @@ use crate::systems::{LightKind, MAX_LIGHTS, SceneLight};
 const ON_PLANE: f32 = 1e-3;
 
 /// The receiving plane's surface among `items`: the widest flat receiver lying on the plane.
-fn ground(items: &[(DrawItem, Aabb)]) -> Option<usize> {
+pub fn ground(items: &[(DrawItem, Aabb)]) -> Option<usize> {
     let flat = |b: &Aabb| b.min.y.abs() < ON_PLANE && b.max.y.abs() < ON_PLANE;
     let area = |b: &Aabb| (b.max.x - b.min.x) * (b.max.z - b.min.z);
     (0..items.len())
@@ -30,9 +30,16 @@ fn ground(items: &[(DrawItem, Aabb)]) -> Option<usize> {
         .max_by(|&a, &b| area(&items[a].1).total_cmp(&area(&items[b].1)))
 }
 
+/// Draws planar shadows onto the ground: its method is planar, or it casts a shadow and
+/// `ground_too` (the settings' planar_ground) gives every shadowed light planar shadows there.
+pub fn draws_planar(light: &SceneLight, ground_too: bool) -> bool {
+    light.shadowed && (light.method == ShadowMethod::Planar || ground_too)
+}
+
 /// The planar shadows of `lights` (a light's index is its place in the list) over the ground of
-/// `items`: none without a ground, and none from a light below it or a sun shining up.
-pub fn planar_draws(lights: &[SceneLight], items: &[(DrawItem, Aabb)]) -> Vec<PlanarDraw> {
+/// `items`, for the lights [`draws_planar`] picks: none without a ground, and none from a light
+/// below it or a sun shining up.
+pub fn planar_draws(lights: &[SceneLight], items: &[(DrawItem, Aabb)], ground_too: bool) -> Vec<PlanarDraw> {
     let Some(ground) = ground(items) else { return Vec::new() };
     let g = &items[ground].0.object;
     let casters: Vec<usize> =
@@ -40,7 +47,7 @@ pub fn planar_draws(lights: &[SceneLight], items: &[(DrawItem, Aabb)]) -> Vec<Pl
     lights
         .iter()
         .enumerate()
-        .filter(|(_, l)| l.method == ShadowMethod::Planar && l.shadowed)
+        .filter(|(_, l)| draws_planar(l, ground_too))
         .filter_map(|(index, l)| {
             let point = match l.kind {
                 LightKind::Sun { direction, .. } => light_point(None, direction),
