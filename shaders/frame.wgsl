@@ -22,18 +22,12 @@ struct Frame {
     probe_height: u32,
     // 1 when the seams of shadow cubes are handled (see cube_test in lights.wgsl).
     cube_seams: u32,
-    // 1 when filters compare each tap with the receiver's plane (see receiver_plane in
-    // shadow_sampling.wgsl).
-    receiver_plane: u32,
     // Depth bias in metres along the light, on top of every light's own (in texels).
     depth_bias_metres: f32,
     // 1 when PCSS searches for blockers (else it filters with a fixed kernel).
     pcss_search: u32,
     // Bands of toon shading (0: Phong; see toon in main.wgsl).
     toon_bands: u32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
 };
 
 // One light; `kind` is LIGHT_SUN, LIGHT_SPOT or LIGHT_POINT.
@@ -67,6 +61,12 @@ struct GpuLight {
     bias_scale: f32,
     // 1 when it draws planar shadows onto the ground in place of its maps there.
     planar_ground: u32,
+    // 1 when its filters compare each tap with the receiver's plane (see receiver_plane in
+    // shadow_sampling.wgsl).
+    receiver_plane: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
     // The cookie's projection (spots with a cookie only).
     cookie_from_world: mat4x4<f32>,
 };

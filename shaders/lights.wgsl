@@ -39,7 +39,7 @@ fn texel_size(index: u32, distance: f32) -> f32 {
 fn layer_test(light: GpuLight, index: u32, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint) -> f32 {
     let texel = texel_size(index, distance);
     let biased = biased_point(p, n, l, texel, light_bias(light));
-    return shadow_lookup(layer_ref(light, index), biased, light.method, f, frame.receiver_plane == 1u, l, texel);
+    return shadow_lookup(layer_ref(light, index), biased, light.method, f, light.receiver_plane == 1u, l, texel);
 }
 
 // Layer `index` of `light` as a lookup sees it.
@@ -57,7 +57,7 @@ fn cube_test(light: GpuLight, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3
     let biased = biased_point(p, n, l, texel, light_bias(light));
     let picked = select(p, biased, frame.cube_seams == 1u);
     let index = light.first_layer + cube_face(picked - light.position);
-    return shadow_lookup(layer_ref(light, index), biased, light.method, f, frame.receiver_plane == 1u, l, texel);
+    return shadow_lookup(layer_ref(light, index), biased, light.method, f, light.receiver_plane == 1u, l, texel);
 }
 
 // Visibility of a sun at `p` (view depth `depth`): past the last cascade everything is lit, and

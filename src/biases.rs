@@ -41,7 +41,19 @@ fn bias_from(v: &Value, at: &str) -> Result<ShadowBias, String> {
             _ => return Err(format!("{at}: `scale` = {x} must be a share between 0 and {MAX_BIAS_SCALE}")),
         },
     };
-    Ok(ShadowBias { constant: field("constant")?, slope: field("slope")?, normal: field("normal")?, scale })
+    // So is the receiver plane, on unless the file says otherwise.
+    let receiver_plane = match v.get("receiver_plane") {
+        None => true,
+        Some(Value::Bool(b)) => *b,
+        Some(x) => return Err(format!("{at}: `receiver_plane` = {x} must be true or false")),
+    };
+    Ok(ShadowBias {
+        constant: field("constant")?,
+        slope: field("slope")?,
+        normal: field("normal")?,
+        scale,
+        receiver_plane,
+    })
 }
 
 impl LightBiases {
@@ -72,7 +84,13 @@ impl LightBiases {
             .map(|(name, b)| {
                 (
                     name.clone(),
-                    json!({ "constant": b.constant, "slope": b.slope, "normal": b.normal, "scale": b.scale }),
+                    json!({
+                        "constant": b.constant,
+                        "slope": b.slope,
+                        "normal": b.normal,
+                        "scale": b.scale,
+                        "receiver_plane": b.receiver_plane,
+                    }),
                 )
             })
             .collect();
@@ -151,8 +169,11 @@ mod tests {
     #[test]
     fn biases_survive_a_round_trip_and_bad_files_are_named() {
         let b = LightBiases(vec![
-            ("point 1".into(), ShadowBias { constant: 1.0, slope: 0.0, normal: 0.25, scale: 0.0 }),
-            ("sun".into(), ShadowBias { constant: 0.5, slope: 2.0, normal: 1.0, scale: 0.02 }),
+            (
+                "point 1".into(),
+                ShadowBias { constant: 1.0, slope: 0.0, normal: 0.25, scale: 0.0, receiver_plane: true },
+            ),
+            ("sun".into(), ShadowBias { constant: 0.5, slope: 2.0, normal: 1.0, scale: 0.02, receiver_plane: false }),
         ]);
         assert_eq!(LightBiases::from_json(&b.to_json()), Ok(b));
         assert!(LightBiases::from_json("{").unwrap_err().contains("not JSON"));
@@ -162,6 +183,10 @@ mod tests {
         assert!(LightBiases::from_json(missing).unwrap_err().contains("spot 1: `normal` must be a number"));
         let scale = r#"{"lights": {"sun": {"constant": 0, "slope": 0, "normal": 0, "scale": 2}}}"#;
         assert!(LightBiases::from_json(scale).unwrap_err().contains("sun: `scale` = 2 must be a share"));
+        let plane = r#"{"lights": {"sun": {"constant": 0, "slope": 0, "normal": 0, "receiver_plane": 1}}}"#;
+        assert!(LightBiases::from_json(plane).unwrap_err().contains("`receiver_plane` = 1 must be true or false"));
+        let old = r#"{"lights": {"sun": {"constant": 0, "slope": 0, "normal": 0}}}"#;
+        assert!(LightBiases::from_json(old).unwrap().0[0].1.receiver_plane, "a file without it keeps the plane");
         assert!(LightBiases::from_json(r#"{"lights": [1]}"#).unwrap_err().contains("must be an object"));
         let old = r#"{"sun": {"constant": 1, "slope": 1, "normal": 1}}"#;
         assert!(LightBiases::from_json(old).unwrap_err().contains("unknown key `sun`"));

@@ -112,6 +112,10 @@ struct SceneArgs {
     /// Format of the depth maps: d32 (32-bit float) or d16 (16-bit fixed point, half the memory).
     #[arg(long, value_name = "FORMAT")]
     shadow_depth: Option<ShadowDepth>,
+    /// Filters compare every tap with the lookup's centre, not with the receiver's plane (for
+    /// every light without a bias of its own; key R in play).
+    #[arg(long)]
+    no_receiver_plane: bool,
     /// Every shadowed light also draws planar shadows onto the ground, which takes those in
     /// place of its maps (other surfaces keep the maps).
     #[arg(long)]
@@ -296,6 +300,7 @@ impl SceneArgs {
             moment_bits: self.moment_bits.unwrap_or(d.moment_bits),
             shadow_depth: self.shadow_depth.unwrap_or(d.shadow_depth),
             planar_ground: self.planar_ground,
+            receiver_plane: !self.no_receiver_plane,
             toon_bands: self.toon.unwrap_or(d.toon_bands),
             // The file's first, so the command line's win.
             light_methods: file_methods.into_iter().chain(self.light_method.iter().cloned()).collect(),
@@ -528,21 +533,22 @@ fn tune(args: &TuneArgs) -> Result<()> {
     };
     println!("tuned on the first half of the views; held out: the other half, which the search never saw");
     println!(
-        "| light | tuned on: before | after | held out: before | after | bias found: constant, slope, normal (texels); scale |"
+        "| light | tuned on: before | after | held out: before | after | bias found: constant, slope, normal (texels); scale; receiver plane |"
     );
     println!("| --- | --- | --- | --- | --- | --- |");
     for l in &lights {
         let (held_before, held_after) =
             l.held_out.as_ref().map_or(("-".into(), "-".into()), |(b, a)| (shown(b), shown(a)));
         println!(
-            "| {} | {} | {} | {held_before} | {held_after} | {}, {}, {}; {} |",
+            "| {} | {} | {} | {held_before} | {held_after} | {}, {}, {}; {}; {} |",
             l.light,
             shown(&l.before),
             shown(&l.after),
             l.bias.constant,
             l.bias.slope,
             l.bias.normal,
-            l.bias.scale
+            l.bias.scale,
+            if l.bias.receiver_plane { "on" } else { "off" }
         );
     }
     biases.save(&args.out)?;

@@ -278,6 +278,7 @@ impl Settings {
             slope: self.slope_bias,
             normal: self.normal_bias,
             scale: self.bias_scale,
+            receiver_plane: self.receiver_plane,
         }
     }
 

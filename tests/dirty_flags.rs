@@ -101,7 +101,7 @@ fn moving_one_cube_dirties_exactly_the_layers_whose_volume_holds_it() {
 fn a_lights_bias_or_method_dirties_no_map() {
     // Both are applied when the map is sampled; the map itself stays as it was.
     let mut s = scene();
-    let bias = ShadowBias { constant: 2.5, slope: 0.0, normal: 0.0, scale: 0.0 };
+    let bias = ShadowBias { constant: 2.5, slope: 0.0, normal: 0.0, scale: 0.0, receiver_plane: true };
     s.app.world.entity_mut(s.right_spot).insert((bias, umbra::components::ShadowMethod::Pcf5));
     s.app.set_time(0.0);
     assert!(!dirty(&s, s.right_spot) && !dirty(&s, s.left_spot) && !dirty(&s, s.sun));

@@ -4,6 +4,7 @@
 
 mod common;
 
+use bevy_ecs::prelude::{Entity, With};
 use common::*;
 use glam::Vec3;
 use umbra::assets::{MeshLibrary, cube, plane};
@@ -24,7 +25,11 @@ const HIGH: f32 = 2.0;
 /// one high, seen from straight above. The penumbra of a plate's edge is 2 R h / (4 - h) wide:
 /// 1.3 cm for the low one, 20 cm for the high one.
 fn plates(method: ShadowMethod) -> App {
-    let mut app = App::empty(Settings { method, ..Settings::default() }).unwrap();
+    plates_with(Settings { method, ..Settings::default() })
+}
+
+fn plates_with(settings: Settings) -> App {
+    let mut app = App::empty(settings).unwrap();
     let (ground, block) = {
         let mut meshes = app.world.resource_mut::<MeshLibrary>();
         (meshes.add(plane(40.0)), meshes.add(cube(Vec3::splat(0.5))))
@@ -54,7 +59,10 @@ struct Seen {
 }
 
 fn measure(method: ShadowMethod) -> Seen {
-    let mut app = plates(method);
+    measure_app(plates(method), method.name())
+}
+
+fn measure_app(mut app: App, name: &str) -> Seen {
     let gpu = gpu();
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
     app.set_time(0.0);
@@ -80,7 +88,7 @@ fn measure(method: ShadowMethod) -> Seen {
     };
     eprintln!(
         "{}: misclassified {:.4} %, MAE soft {:.4}; partly lit pixels low/high {}/{} (truth {}/{})",
-        method.name(),
+        name,
         100.0 * seen.tally.misclassified(),
         seen.tally.mae_soft(),
         seen.partial_low,
@@ -148,4 +156,28 @@ fn pcss_penumbrae_grow_with_the_casters_height_as_the_truths_do() {
         pcss.tally.mae_soft(),
         bilinear.tally.mae_soft()
     );
+}
+
+#[test]
+fn the_receiver_plane_is_each_lights_own() {
+    // PCF 5x5 on an open plane under a sun 20° up: with the receiver plane off in the settings
+    // the lit plane darkens itself (soft acne); the sun's own bias turning it back on gives
+    // exactly what the default gives.
+    use umbra::eval::cases::scenes::{ground, sun_direction};
+    let plane = |settings: &Settings| {
+        let view = (Vec3::new(0.0, 5.0, 10.0), Vec3::new(0.0, 0.0, -2.0));
+        let mut app = ground(settings, 80.0, true, sun_direction(20.0, 30.0), view).unwrap();
+        app.resize(SIZE, SIZE);
+        app
+    };
+    let pcf5 = Settings { method: ShadowMethod::Pcf5, ..Settings::default() };
+    let flat_settings = Settings { receiver_plane: false, ..pcf5.clone() };
+    let with = measure_app(plane(&pcf5), "pcf5");
+    let flat = measure_app(plane(&flat_settings), "pcf5 flat");
+    let mut own = plane(&flat_settings);
+    let sun = own.world.query_filtered::<Entity, With<DirectionalLight>>().single(&own.world).unwrap();
+    own.world.entity_mut(sun).insert(ShadowBias { receiver_plane: true, ..ShadowBias::default() });
+    let own = measure_app(own, "pcf5 flat, the sun's own plane");
+    assert!(flat.tally.mae_soft() > 2.0 * with.tally.mae_soft(), "the plane makes no difference here");
+    assert_eq!(own.tally.mae_soft(), with.tally.mae_soft(), "the light's own plane is not used");
 }

@@ -143,6 +143,9 @@ pub struct ShadowBias {
     /// format's rounding does. 0.05 is the source's `depth × 0.95`; not in texels, and 0 by
     /// default.
     pub scale: f32,
+    /// Filters compare each tap with the depth the receiver's plane has there (receiver-plane
+    /// depth bias, Isidoro 2006), not with the depth at the lookup's centre.
+    pub receiver_plane: bool,
 }
 
 impl Default for ShadowBias {
@@ -150,7 +153,7 @@ impl Default for ShadowBias {
     /// with the fewest wrong pixels on the sample scene that still keeps every failure case in
     /// bounds (no bias at all brings back acne).
     fn default() -> Self {
-        ShadowBias { constant: 0.5, slope: 0.5, normal: 0.5, scale: 0.0 }
+        ShadowBias { constant: 0.5, slope: 0.5, normal: 0.5, scale: 0.0, receiver_plane: true }
     }
 }
 

@@ -1,7 +1,8 @@
-//! `umbra tune`: for each light, the constant, slope and normal bias and the multiplicative
-//! offset that give the fewest wrong pixels (false shadow + false lit) over the scene's views
-//! (the sample's four, or a scene file's camera): a coarse grid of the three texel biases
-//! together, then coordinate descent from the best of it over finer values of all four.
+//! `umbra tune`: for each light, the constant, slope and normal bias, the multiplicative offset
+//! and the receiver plane (on or off) that give the fewest wrong pixels (false shadow + false
+//! lit) over the scene's views (the sample's four, or a scene file's camera): a coarse grid of
+//! the three texel biases together, then coordinate descent from the best of it over finer
+//! values of all five.
 //!
 //! Lights do not change each other's shadows, so every candidate is tried on all lights in one
 //! render and each light keeps what suits it. Every light of any kind is tuned, with the method
@@ -29,7 +30,7 @@ pub const SCALE_CANDIDATES: [f32; 7] = [0.0, 0.001, 0.002, 0.005, 0.01, 0.02, 0.
 /// Values of the coarse grid, tried for all three parameters together.
 pub const COARSE: [f32; 4] = [0.0, 0.5, 1.0, 2.0];
 
-/// Rounds of coordinate descent over the four parameters.
+/// Rounds of coordinate descent over the five parameters.
 const ROUNDS: usize = 2;
 
 /// What tuning did for one light.
@@ -76,13 +77,23 @@ fn wrong(t: &Tally) -> u64 {
     t.false_shadow + t.false_lit
 }
 
-/// The values tried for parameter `param` (constant, slope, normal, scale).
+/// The parameters searched: constant, slope, normal, scale, receiver plane.
+const PARAMETERS: usize = 5;
+
+/// The values tried for parameter `param` (the receiver plane's: on, off).
 fn candidates(param: usize) -> &'static [f32] {
-    if param == 3 { &SCALE_CANDIDATES } else { &CANDIDATES }
+    match param {
+        3 => &SCALE_CANDIDATES,
+        4 => &[1.0, 0.0],
+        _ => &CANDIDATES,
+    }
 }
 
 fn set(b: &mut ShadowBias, param: usize, v: f32) {
-    *[&mut b.constant, &mut b.slope, &mut b.normal, &mut b.scale][param] = v;
+    match param {
+        4 => b.receiver_plane = v > 0.5,
+        _ => *[&mut b.constant, &mut b.slope, &mut b.normal, &mut b.scale][param] = v,
+    }
 }
 
 /// Renders every light with `candidate(its bias)`; each light whose error goes down (or stays,
@@ -129,23 +140,18 @@ pub fn tune(
     let initial = current.clone();
     let before = errors(&mut m, views, &current)?;
     let mut best = before.clone();
-    let grid: Vec<ShadowBias> = COARSE
-        .iter()
-        .flat_map(|&c| {
-            COARSE.iter().flat_map(move |&s| {
-                COARSE.iter().map(move |&n| ShadowBias { constant: c, slope: s, normal: n, scale: 0.0 })
-            })
-        })
-        .collect();
-    let steps = grid.len() + ROUNDS * (0..4).map(|p| candidates(p).len()).sum::<usize>();
+    let grid: Vec<[f32; 3]> =
+        COARSE.iter().flat_map(|&c| COARSE.iter().flat_map(move |&s| COARSE.iter().map(move |&n| [c, s, n]))).collect();
+    let steps = grid.len() + ROUNDS * (0..PARAMETERS).map(|p| candidates(p).len()).sum::<usize>();
     let mut done = 0;
-    for b in &grid {
+    for &[constant, slope, normal] in &grid {
         progress(done, steps);
         done += 1;
-        try_candidate((&mut m, views), &mut current, &mut best, |_| *b)?;
+        // The grid sets the texel biases; the offset and the receiver plane stay each light's.
+        try_candidate((&mut m, views), &mut current, &mut best, |b| ShadowBias { constant, slope, normal, ..*b })?;
     }
     for _ in 0..ROUNDS {
-        for param in 0..4 {
+        for param in 0..PARAMETERS {
             for &v in candidates(param) {
                 progress(done, steps);
                 done += 1;

@@ -81,17 +81,12 @@ gpu_struct! {
         pub probe_height: u32,
         /// 1 when the seams of shadow cubes are handled.
         pub cube_seams: u32,
-        /// 1 when filters compare each tap with the receiver's plane.
-        pub receiver_plane: u32,
         /// Depth bias in metres along the light, for every light.
         pub depth_bias_metres: f32,
         /// 1 when PCSS searches for blockers (else it filters with a fixed kernel).
         pub pcss_search: u32,
         /// Bands of toon shading (0: Phong).
         pub toon_bands: u32,
-        pub _pad0: u32,
-        pub _pad1: u32,
-        pub _pad2: u32,
     }
 }
 
@@ -136,6 +131,11 @@ gpu_struct! {
         pub bias_scale: f32,
         /// 1 when it draws planar shadows onto the ground in place of its maps there.
         pub planar_ground: u32,
+        /// 1 when its filters compare with the receiver's plane.
+        pub receiver_plane: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
         /// World to the cookie's clip space (spots with a cookie).
         pub cookie_from_world: Mat4,
     }

@@ -206,7 +206,7 @@ mod tests {
         let point = world.spawn((PointLight::default(), Transform::from_xyz(0.0, 3.0, 0.0))).id();
         let sun = world.spawn((DirectionalLight::default(), ShadowMap::default(), ShadowMethod::Pcf5)).id();
         let wide = SpotLight { outer_angle: 1.2, ..Default::default() };
-        let bias = ShadowBias { constant: 2.0, slope: 0.0, normal: 1.0, scale: 0.0 };
+        let bias = ShadowBias { constant: 2.0, slope: 0.0, normal: 1.0, scale: 0.0, receiver_plane: true };
         let second = world.spawn((wide, Transform::default(), ShadowMap::default(), bias)).id();
         let lights = light_list(&mut world);
         let order: Vec<Entity> = lights.iter().map(|l| l.entity).collect();

@@ -68,7 +68,7 @@ pub fn seams_scene(settings: &Settings) -> Result<App, AppError> {
         add_box(&mut app, Vec3::new(x, 0.2, z), Vec3::new(0.06, 0.2, 0.06));
     }
     let lamp = PointLight { range: 15.0, intensity: 3.0, ..Default::default() };
-    let bias = ShadowBias { constant: 1.0, slope: 1.0, normal: 2.0, scale: 0.0 };
+    let bias = ShadowBias { constant: 1.0, slope: 1.0, normal: 2.0, scale: 0.0, receiver_plane: true };
     app.world.spawn((lamp, Transform::from_translation(SEAMS_LAMP), ShadowMap::default(), bias));
     Ok(app)
 }
