@@ -83,7 +83,7 @@ pub fn cube_projections(position: Vec3, range: f32, resolution: u32, margin: u32
     let res = resolution.max(1) as f32;
     let tan_half = 1.0 + 2.0 * margin as f32 / res;
     let far = light_range(range);
-    let near = (far * 0.005).max(0.02);
+    let near = near_plane(far);
     let proj = directx::perspective(2.0 * tan_half.atan(), 1.0, near, far);
     let texel = glam::Vec2::new(0.0, 2.0 * tan_half / res);
     CUBE_FACES.map(|d| {
@@ -103,6 +103,13 @@ pub fn light_view(eye: Vec3, dir: Vec3) -> Mat4 {
     look_to_mat4(eye, dir, up)
 }
 
+/// The near plane of a spot's or a cube face's projection whose far plane is `far`: a small
+/// fraction of it, so depth precision goes where the receivers are, but never nearer than 2 cm.
+#[must_use]
+pub fn near_plane(far: f32) -> f32 {
+    (far * 0.005).max(0.02)
+}
+
 /// A spot light's perspective projection: the cone's outer angle, near/far from its range.
 ///
 /// The half angle is the cone's ([`spot_cone`]), held to below 90° so the projection exists (a
@@ -118,7 +125,7 @@ pub fn spot_projection(
 ) -> LightProjection {
     let half = spot_cone(0.0, outer_half_angle).1.min(89.0f32.to_radians());
     let far = light_range(range);
-    let near = (far * 0.005).max(0.02);
+    let near = near_plane(far);
     let view = light_view(position, direction);
     let proj = directx::perspective(2.0 * half, 1.0, near, far);
     let texel = 2.0 * half.tan() / resolution.max(1) as f32;

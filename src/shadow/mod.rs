@@ -16,7 +16,7 @@ pub use cascade::{
 };
 pub use fit::{
     CUBE_FACES, LightProjection, MAX_MAP_HALF_ANGLE, MAX_SPOT_HALF_ANGLE, MIN_SPOT_HALF_ANGLE, cube_face,
-    cube_projections, depth_terms, light_range, light_view, spot_cone, spot_projection, view_distance,
+    cube_projections, depth_terms, light_range, light_view, near_plane, spot_cone, spot_projection, view_distance,
 };
 pub use planar::{GROUND_PLANE, PLANAR_LIFT, flat_from_world, light_point, lights_plane};
 pub use poisson::{poisson_disc, wgsl_array};

@@ -33,9 +33,9 @@ pub const WALL_DISTANCES: [f32; 6] = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0];
 const WALL_HALF_ANGLE: f32 = 0.06;
 const WALL_SPACING: f32 = 0.16;
 
-/// The map's near plane for a spot of `RANGE` (as `shadow::spot_projection` sets it).
+/// The map's near plane for a spot of `RANGE`.
 fn near() -> f32 {
-    (crate::shadow::light_range(RANGE) * 0.005).max(0.02)
+    crate::shadow::near_plane(crate::shadow::light_range(RANGE))
 }
 
 /// The distance beyond which a `Depth16Unorm` map of `size` texels rounds a wall's depth by more
