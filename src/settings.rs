@@ -168,16 +168,6 @@ pub enum ShadowDepth {
     Unorm16,
 }
 
-impl ShadowDepth {
-    /// The texture format.
-    pub fn texture(self) -> wgpu::TextureFormat {
-        match self {
-            ShadowDepth::Float32 => wgpu::TextureFormat::Depth32Float,
-            ShadowDepth::Unorm16 => wgpu::TextureFormat::Depth16Unorm,
-        }
-    }
-}
-
 /// Default blur radius of moment maps, in texels.
 pub const DEFAULT_MOMENT_BLUR: u32 = 2;
 /// Largest blur radius of moment maps, in texels.

@@ -34,11 +34,33 @@ pub struct ShadowMaps {
     pub moments: ColourMaps,
 }
 
+/// The texture format of depth maps of `depth`.
+fn depth_texture(depth: ShadowDepth) -> wgpu::TextureFormat {
+    match depth {
+        ShadowDepth::Float32 => wgpu::TextureFormat::Depth32Float,
+        ShadowDepth::Unorm16 => wgpu::TextureFormat::Depth16Unorm,
+    }
+}
+
 /// The pipelines that draw into depth maps of one format: depth alone, and depth with a colour
 /// map of each [`ColourFormat`] (indexed by it).
 struct PipelineSet {
     depth: Pipelines,
     colour: [Pipelines; 4],
+}
+
+impl PipelineSet {
+    /// The pipelines for a layer with a colour map of `colour` (or none).
+    fn get(&self, colour: Option<ColourFormat>) -> &Pipelines {
+        colour.map_or(&self.depth, |f| &self.colour[f as usize])
+    }
+
+    fn get_mut(&mut self, colour: Option<ColourFormat>) -> &mut Pipelines {
+        match colour {
+            Some(f) => &mut self.colour[f as usize],
+            None => &mut self.depth,
+        }
+    }
 }
 
 /// Pipelines, per-layer matrices and the shadow-map array.
@@ -143,7 +165,7 @@ impl ShadowPass {
             fragment,
             targets,
             depth: wgpu::DepthStencilState {
-                format: depth.texture(),
+                format: depth_texture(depth),
                 depth_write_enabled: Some(true),
                 depth_compare: Some(wgpu::CompareFunction::LessEqual),
                 stencil: Default::default(),
@@ -197,8 +219,7 @@ impl ShadowPass {
 
     /// The pipelines that draw `layer`.
     fn pipelines(&self, layer: &LayerDraw) -> &Pipelines {
-        let set = &self.sets[self.maps.depth as usize];
-        self.colour_format(layer).map_or(&set.depth, |f| &set.colour[f as usize])
+        self.sets[self.maps.depth as usize].get(self.colour_format(layer))
     }
 
     /// What `layer` is drawn as with moment maps blurred by `blur` texels.
@@ -241,11 +262,8 @@ impl ShadowPass {
         self.layer_uniforms.write(device, queue, &uniforms);
         let variant = |i: usize| (i, shadow_variant(&data.items[i], faces));
         for layer in &todo {
-            let set = &mut self.sets[self.maps.depth as usize];
-            let pipelines = match self.maps.moments.format.filter(|_| layer.method.colour_map()) {
-                Some(format) => &mut set.colour[format as usize],
-                None => &mut set.depth,
-            };
+            let format = self.colour_format(layer);
+            let pipelines = self.sets[self.maps.depth as usize].get_mut(format);
             pipelines.prepare(device, layer.casters.iter().map(|&i| variant(i).1));
         }
         let blurred: Vec<&LayerDraw> = todo
@@ -321,7 +339,7 @@ fn array_layers(needed: usize) -> u32 {
 impl ShadowMaps {
     fn new(device: &wgpu::Device, size: u32, layers: u32, colour: Option<ColourFormat>, depth: ShadowDepth) -> Self {
         let LayeredTarget { layer_views, array_view } =
-            LayeredTarget::new(device, "shadow maps", depth.texture(), size, layers);
+            LayeredTarget::new(device, "shadow maps", depth_texture(depth), size, layers);
         let moments = ColourMaps::new(device, colour, size, layers);
         ShadowMaps { size, layers, depth, layer_views, array_view, moments }
     }
