@@ -28,6 +28,6 @@ fn main() -> anyhow::Result<()> {
     let mesh = app.world.resource_mut::<MeshLibrary>().add(cube(Vec3::splat(0.4)));
     app.world.spawn((mesh, Material::color(0.95, 0.85, 0.2), Follower, ShadowCaster, ShadowReceiver));
     app.add_systems(follow_camera);
-    umbra::play::play_or_render(app, None, "gameplay.png".as_ref())?;
+    umbra::play::play_or_render(app, None, umbra::ui::Lab::default(), "gameplay.png".as_ref())?;
     Ok(())
 }

@@ -19,7 +19,10 @@ struct Object {
     // 1 on the ground when lights that keep their maps draw planar shadows onto it instead
     // (settings' planar_ground): those lights' maps are not looked up here.
     planar_receiver: u32,
-    _pad1: u32,
+    // 1 on the ground when it shows its checker (settings' ground_grid): a faint 1 m checker
+    // that makes stair-steps, acne and shimmer easy to see. Colour only: the measuring view
+    // never reads it.
+    ground_grid: u32,
     _pad2: u32,
 };
 

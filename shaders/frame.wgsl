@@ -28,6 +28,12 @@ struct Frame {
     pcss_search: u32,
     // Bands of toon shading (0: Phong; see toon in main.wgsl).
     toon_bands: u32,
+    // 1 + the index of the light whose shadow-map texel density is shown instead of the
+    // shading (0: the shading; see texel_density in main.wgsl).
+    texel_view: u32,
+    _pad_frame0: u32,
+    _pad_frame1: u32,
+    _pad_frame2: u32,
 };
 
 // One light; `kind` is LIGHT_SUN, LIGHT_SPOT or LIGHT_POINT.

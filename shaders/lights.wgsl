@@ -60,6 +60,23 @@ fn cube_test(light: GpuLight, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3
     return shadow_lookup(layer_ref(light, index), biased, light.method, f, light.receiver_plane == 1u, l, texel);
 }
 
+// World size of the shadow-map texel that light `light` looks up at `p` (view depth `depth`):
+// its cascade's for a sun, its map's (or cube face's) at that distance for others; 0 where it
+// has no map there.
+fn texel_at(light: GpuLight, p: vec3<f32>, depth: f32) -> f32 {
+    if (light.layer_count == 0u) {
+        return 0.0;
+    }
+    if (light.shape == SHAPE_CASCADES) {
+        let pick = pick_cascade(light, depth);
+        if (pick.index >= light.layer_count) {
+            return 0.0;
+        }
+        return texel_size(light.first_layer + pick.index, 0.0);
+    }
+    return texel_size(light.first_layer, length(light.position - p));
+}
+
 // Visibility of a sun at `p` (view depth `depth`): past the last cascade everything is lit, and
 // the shadow fades out before it rather than ending in a hard edge.
 fn sun_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint, depth: f32) -> f32 {

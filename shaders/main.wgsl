@@ -120,9 +120,50 @@ fn receives_shadows() -> bool {
     return frame.shadows_on == 1u && object.receives_shadows == 1u;
 }
 
-// The object's response with the surface's albedo.
-fn response(s: Surface) -> Response {
-    return Response(s.albedo.rgb, object.specular, object.shininess);
+// The object's response with the surface's albedo (on the ground, under its checker).
+fn response(s: Surface, world: vec3<f32>, f: Footprint) -> Response {
+    var albedo = s.albedo.rgb;
+    if (object.ground_grid == 1u) {
+        albedo *= 1.0 - GRID_CONTRAST * checker(world.xz, abs(f.dp_dx.xz) + abs(f.dp_dy.xz));
+    }
+    return Response(albedo, object.specular, object.shininess);
+}
+
+// How much darker the ground's dark squares are: enough to see a stair-step against, too
+// little to hide a shadow.
+const GRID_CONTRAST: f32 = 0.1;
+
+// A 1 m checker at `p` (0 on light squares, 1 on dark ones), box-filtered over the pixel's
+// footprint `w` so that it fades to its mean far away instead of aliasing itself (the analytic
+// filter of a square wave: the integral of its steps over the footprint).
+fn checker(p: vec2<f32>, w: vec2<f32>) -> f32 {
+    let width = max(w, vec2<f32>(1e-4));
+    let steps = 2.0 * (abs(fract((p - 0.5 * width) * 0.5) - 0.5) - abs(fract((p + 0.5 * width) * 0.5) - 0.5)) / width;
+    return 0.5 - 0.5 * steps.x * steps.y;
+}
+
+// Texel density (Lloyd et al. 2006, the aliasing measure): shadow-map texels of light `i` per
+// screen pixel along a side, where the surface at `world` (unit normal `n`, footprint `f`) sees
+// it. Red: a texel covers several pixels (stair-steps); green: about one each; blue: many texels
+// a pixel (resolution spent where it cannot be seen). Grey where the light has no map there.
+fn texel_density(i: u32, world: vec3<f32>, n: vec3<f32>, f: Footprint, depth: f32) -> vec3<f32> {
+    let light = lights[i];
+    let texel = texel_at(light, world, depth);
+    if (texel <= 0.0) {
+        return vec3<f32>(0.35);
+    }
+    var l = -light.direction;
+    if (light.kind != LIGHT_SUN) {
+        l = normalize(light.position - world);
+    }
+    // A texel's square laid along the light onto the surface, against the pixel's footprint.
+    let texel_area = texel * texel / max(abs(dot(n, l)), 0.05);
+    let pixel_area = max(length(cross(f.dp_dx, f.dp_dy)), 1e-12);
+    let t = clamp(log2(pixel_area / texel_area) * 0.5 / 3.0, -1.0, 1.0);
+    let red = vec3<f32>(0.9, 0.15, 0.1);
+    let green = vec3<f32>(0.2, 0.8, 0.2);
+    let blue = vec3<f32>(0.15, 0.35, 0.95);
+    return select(mix(green, blue, t), mix(green, red, -t), t < 0.0);
 }
 
 // The fragment's footprint; taken before anything can branch, as derivatives must be.
@@ -134,7 +175,11 @@ fn footprint(in: VertexOut) -> Footprint {
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let f = footprint(in);
     let s = surface(in, front);
-    let color = shade(in.world, s.normal, f, response(s), receives_shadows(), object.planar_receiver == 1u).color;
+    var color = shade(in.world, s.normal, f, response(s, in.world, f), receives_shadows(), object.planar_receiver == 1u).color;
+    if (frame.texel_view > 0u) {
+        let depth = dot(in.world - frame.camera_position, frame.camera_forward);
+        color = texel_density(frame.texel_view - 1u, in.world, s.normal, f, depth) * (0.35 + 0.65 * max(dot(s.normal, normalize(frame.camera_position - in.world)), 0.0));
+    }
     return vec4<f32>(color, select(1.0, s.albedo.a, ALPHA_BLEND));
 }
 
@@ -153,7 +198,7 @@ struct DebugOut {
 fn fs_debug(in: VertexOut, @builtin(front_facing) front: bool) -> DebugOut {
     let f = footprint(in);
     let s = surface(in, front);
-    let shaded = shade(in.world, s.normal, f, response(s), receives_shadows(), object.planar_receiver == 1u);
+    let shaded = shade(in.world, s.normal, f, response(s, in.world, f), receives_shadows(), object.planar_receiver == 1u);
     let depth = dot(in.world - frame.camera_position, frame.camera_forward);
     return DebugOut(
         bitcast<vec4<u32>>(vec4<f32>(in.world, 1.0)),

@@ -41,11 +41,13 @@ pub mod components;
 pub mod eval;
 pub mod play;
 pub mod render;
+pub mod reproduce;
 pub mod scene;
 pub mod scene_file;
 pub mod settings;
 pub mod shadow;
 pub mod systems;
+pub mod ui;
 
 use assets::MeshLibrary;
 use bevy_ecs::prelude::*;
@@ -90,19 +92,6 @@ pub enum Stage {
     Lights,
 }
 
-/// Gives each light named in `methods` its method; a name no light has is an error.
-fn give_methods(world: &mut World, methods: &[(String, components::ShadowMethod)]) -> Result<(), AppError> {
-    let lights = systems::light_list(world);
-    for (name, method) in methods {
-        let Some(light) = lights.iter().find(|l| l.label.to_string() == *name) else {
-            let known: Vec<String> = lights.iter().map(|l| format!("`{}`", l.label)).collect();
-            return Err(AppError::UnknownLight { name: name.clone(), known: known.join(", ") });
-        };
-        world.entity_mut(light.entity).insert(*method);
-    }
-    Ok(())
-}
-
 /// The sample: a world, its update schedule and a fixed clock.
 pub struct App {
     /// All entities, components and resources.
@@ -123,7 +112,13 @@ impl App {
         if let Some(biases) = &settings.biases {
             biases.apply(&mut app.world);
         }
-        give_methods(&mut app.world, &settings.light_methods)?;
+        reproduce::apply(&mut app.world, &settings.light_settings)?;
+        if let Some(name) = &settings.texel_density {
+            reproduce::light_named(&mut app.world, name)?;
+        }
+        if let Some((eye, target)) = settings.camera {
+            scene::place_camera(&mut app.world, eye, target);
+        }
         Ok(app)
     }
 
@@ -143,7 +138,7 @@ impl App {
         update.configure_sets((Stage::Animate, Stage::Camera, Stage::Gameplay, Stage::Lights).chain());
         update
             .add_systems((systems::spin, systems::bob, systems::walk, systems::animate_models).in_set(Stage::Animate));
-        update.add_systems(systems::fly_camera.in_set(Stage::Camera));
+        update.add_systems((systems::fly_camera, systems::orbit_camera).in_set(Stage::Camera));
         let lights = (
             (systems::pose_parts, systems::follow_nodes),
             systems::update_bounds,
@@ -166,6 +161,12 @@ impl App {
         let mut time = self.world.resource_mut::<Time>();
         time.frame += 1;
         time.t = time.frame as f64 * time.dt as f64;
+        self.run_update();
+    }
+
+    /// Runs the update schedule with the clock held where it is: the camera and anything else
+    /// driven by input moves, the animation does not.
+    pub fn step_held(&mut self) {
         self.run_update();
     }
 
@@ -194,7 +195,8 @@ impl App {
 
     fn run_update(&mut self) {
         self.update.run(&mut self.world);
-        // Mouse motion is consumed by the step that saw it.
-        self.world.resource_mut::<Input>().look_delta = glam::Vec2::ZERO;
+        // Mouse motion and the wheel are consumed by the step that saw them.
+        let mut input = self.world.resource_mut::<Input>();
+        (input.look_delta, input.drag_delta, input.zoom) = (glam::Vec2::ZERO, glam::Vec2::ZERO, 0.0);
     }
 }

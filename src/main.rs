@@ -2,14 +2,14 @@
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
+use scene_args::{SceneArgs, parse_angle, parse_radius, parse_size, parse_time};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use umbra::components::ShadowMethod;
 use umbra::components::{ModelInstance, Transform};
 use umbra::render::{Gpu, render_headless, render_png};
-use umbra::settings::{CasterCulling, MomentBits, ShadowDepth, ShadowFaces};
-use umbra::shadow::FitMode;
 use umbra::{App, Settings};
+
+mod scene_args;
 
 /// umbra: a game sample about real-time shadow mapping.
 #[derive(Parser)]
@@ -53,118 +53,59 @@ struct GalleryArgs {
     height: u32,
 }
 
-/// Settings shared by every command.
-#[derive(Args, Clone, Default)]
-struct SceneArgs {
-    /// Turn shadows off.
-    #[arg(long)]
-    no_shadows: bool,
-    /// Shadow-map layer size in texels.
-    #[arg(long, value_name = "TEXELS")]
-    shadow_map_size: Option<u32>,
-    /// How dark shadows are, 0..1.
-    #[arg(long, value_name = "0..1", allow_negative_numbers = true)]
-    shadow_strength: Option<f32>,
-    /// Constant depth bias in texels.
-    #[arg(long, value_name = "TEXELS", allow_negative_numbers = true)]
-    depth_bias: Option<f32>,
-    /// Slope-scaled depth bias in texels.
-    #[arg(long, value_name = "TEXELS", allow_negative_numbers = true)]
-    slope_bias: Option<f32>,
-    /// Normal-offset bias in texels.
-    #[arg(long, value_name = "TEXELS", allow_negative_numbers = true)]
-    normal_bias: Option<f32>,
-    /// Multiplicative depth offset: the share of the distance to the light a receiver is pulled
-    /// towards it before the test, 0..0.5 (the source article's `depth × 0.95` is 0.05).
-    #[arg(long, value_name = "SHARE", allow_negative_numbers = true)]
-    bias_scale: Option<f32>,
-    /// Number of animated cubes.
-    #[arg(long)]
-    cubes: Option<u32>,
-    /// Cascades of the sun's shadow, 1..4.
-    #[arg(long, value_name = "N")]
-    cascades: Option<u32>,
-    /// Cascade split scheme: 0 uniform .. 1 logarithmic.
-    #[arg(long, value_name = "0..1", allow_negative_numbers = true)]
-    split_lambda: Option<f32>,
-    /// Fraction of each cascade that blends into the next, 0..0.5.
-    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
-    cascade_blend: Option<f32>,
-    /// How cascades are fitted: stable (no shimmer), unsnapped or tight (sharper, shimmers).
-    #[arg(long, value_name = "MODE")]
-    fit: Option<FitMode>,
-    /// Tint each cascade in its own colour.
-    #[arg(long)]
-    cascade_debug: bool,
-    /// How shadow maps are sampled, for every light without a method of its own: nearest,
-    /// bilinear, pcf3, pcf5, gauss5, poisson16, poisson32, pcss, vsm, evsm, msm, r32f (depth in an R32F colour target) or r16f-radial (distance from the light in R16F).
-    #[arg(long, alias = "filter", value_name = "METHOD")]
-    method: Option<ShadowMethod>,
-    /// Blur radius of moment maps (vsm, evsm, msm) in texels, 0..16 (0: none).
-    #[arg(long, value_name = "TEXELS")]
-    moment_blur: Option<u32>,
-    /// Light-bleeding reduction of moment maps, 0..0.9: the share of their bound cut away.
-    #[arg(long, value_name = "0..0.9")]
-    light_bleeding: Option<f32>,
-    /// Float bits per moment: auto (each method's own choice), 16 or 32.
-    #[arg(long, value_name = "BITS")]
-    moment_bits: Option<MomentBits>,
-    /// Format of the depth maps: d32 (32-bit float) or d16 (16-bit fixed point, half the memory).
-    #[arg(long, value_name = "FORMAT")]
-    shadow_depth: Option<ShadowDepth>,
-    /// Filters compare every tap with the lookup's centre, not with the receiver's plane (for
-    /// every light without a bias of its own; key R in play).
-    #[arg(long)]
-    no_receiver_plane: bool,
-    /// Every shadowed light also draws planar shadows onto the ground, which takes those in
-    /// place of its maps (other surfaces keep the maps).
-    #[arg(long)]
-    planar_ground: bool,
-    /// Toon shading with this many bands, 2..16 (key T in play).
-    #[arg(long, value_name = "BANDS")]
-    toon: Option<u32>,
-    /// Which casters shadow maps take: light (all in the light's volume) or camera (only those
-    /// the camera sees, a shortcut that loses off-screen casters).
-    #[arg(long, value_name = "MODE")]
-    culling: Option<CasterCulling>,
-    /// Which caster faces shadow maps take: both, or back (only those turned away from the light).
-    #[arg(long, value_name = "FACES")]
-    shadow_faces: Option<ShadowFaces>,
-    /// Draw every shadow map every frame instead of only those of dirty lights.
-    #[arg(long)]
-    redraw_shadows: bool,
-    /// Leave the walking character out.
-    #[arg(long)]
-    no_character: bool,
-    /// Place this glTF model (.gltf or .glb) in the middle of the scene, playing its first clip.
-    #[arg(long, value_name = "PATH")]
-    model: Option<PathBuf>,
-    /// Play this glTF scene (.gltf or .glb) instead of the sample: its meshes, its lights
-    /// (KHR_lights_punctual) with shadows, its first camera (or one that frames it); a sun is
-    /// added when it has no light.
-    #[arg(long, value_name = "PATH", conflicts_with = "model")]
-    scene: Option<PathBuf>,
-    /// What one lux (or one candela at 1 m) of a scene file's lights is worth on screen; files
-    /// with physical values (a 100000 lux sun) want about 0.00001.
-    #[arg(long, value_name = "FACTOR")]
-    exposure: Option<f32>,
-    /// Per-light shadow biases from a file written by `umbra tune` (and per-light methods, if it
-    /// has `"methods": {"spot 1": "pcss"}`).
-    #[arg(long, value_name = "FILE")]
-    biases: Option<PathBuf>,
-    /// One light's shadow method, by its name: `--light-method "spot 1=pcss"` (repeat for more
-    /// lights; the others take --method).
-    #[arg(long, value_name = "LIGHT=METHOD", value_parser = parse_light_method)]
-    light_method: Vec<(String, ShadowMethod)>,
-}
-
 #[derive(Args, Default)]
 struct PlayArgs {
     /// Quit after showing this many frames (for smoke tests).
     #[arg(long, value_name = "N")]
     frames: Option<u32>,
+    /// Start the scene's clock at this time, in seconds.
+    #[arg(long, value_parser = parse_time, allow_negative_numbers = true)]
+    time: Option<f64>,
+    #[command(flatten)]
+    lab: LabArgs,
     #[command(flatten)]
     scene: SceneArgs,
+}
+
+/// How the window starts: what the panel's switches would otherwise set.
+#[derive(Args, Default)]
+struct LabArgs {
+    /// Open the panel (Tab).
+    #[arg(long)]
+    panel: bool,
+    /// Hold the scene's clock (H).
+    #[arg(long)]
+    hold: bool,
+    /// Measure the first frame against the truth and lay the errors over it (M).
+    #[arg(long)]
+    measure: bool,
+    /// Measure again whenever the view has been still half a second (N).
+    #[arg(long)]
+    auto_measure: bool,
+    /// Measure at the window's size divided by this: 1, 2 or 4 (default 2).
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..=4))]
+    measure_scale: Option<u32>,
+    /// Open the shadow-map viewer (V).
+    #[arg(long)]
+    map_viewer: bool,
+    /// Start with the orbit camera round the scene's middle (O).
+    #[arg(long)]
+    orbit: bool,
+}
+
+impl LabArgs {
+    fn lab(&self) -> umbra::ui::Lab {
+        let d = umbra::ui::Lab::default();
+        umbra::ui::Lab {
+            panel: self.panel,
+            hold: self.hold,
+            auto_measure: self.auto_measure,
+            measure_scale: self.measure_scale.unwrap_or(d.measure_scale),
+            map_viewer: self.map_viewer,
+            asked: umbra::ui::panel::Asked { measure: self.measure, camera: self.orbit, screenshot: false },
+            ..d
+        }
+    }
 }
 
 #[derive(Args)]
@@ -198,8 +139,12 @@ struct BenchArgs {
     out: PathBuf,
     /// Instead of the sweep: frame cost with shadows off and on while nothing, one cube or
     /// everything moves (what the shadow-map cache saves).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "lab")]
     cache: bool,
+    /// Instead of the sweep: frame cost of the still scene alone, with the window's panel open,
+    /// and with a measurement against the truth running on a worker thread.
+    #[arg(long)]
+    lab: bool,
     /// Rays over each light's disc for the soft truth (default 32, 8 with --quick).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=4096))]
     soft_rays: Option<u32>,
@@ -235,86 +180,6 @@ struct TuneArgs {
     height: u32,
     #[command(flatten)]
     scene: SceneArgs,
-}
-
-fn parse_size(s: &str) -> Result<u32, String> {
-    match s.parse::<i64>() {
-        Ok(v) if (1..=16384).contains(&v) => Ok(v as u32),
-        _ => Err(format!("`{s}` is not a size: give a whole number of pixels from 1 to 16384")),
-    }
-}
-
-fn parse_angle(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(a) if (0.0..=10.0).contains(&a) => Ok(a),
-        _ => Err(format!("`{s}` is not an angle: give degrees from 0 to 10")),
-    }
-}
-
-fn parse_radius(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(r) if (0.0..=10.0).contains(&r) => Ok(r),
-        _ => Err(format!("`{s}` is not a radius: give metres from 0 to 10")),
-    }
-}
-
-fn parse_time(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(t) if t.is_finite() && t >= 0.0 => Ok(t),
-        _ => Err(format!("`{s}` is not a time: give seconds, 0 or more")),
-    }
-}
-
-fn parse_light_method(s: &str) -> Result<(String, ShadowMethod), String> {
-    let (light, method) = s.rsplit_once('=').ok_or(format!("`{s}` is not LIGHT=METHOD (such as \"spot 1=pcss\")"))?;
-    Ok((light.trim().to_string(), method.trim().parse()?))
-}
-
-impl SceneArgs {
-    fn settings(&self) -> Result<Settings> {
-        let d = Settings::default();
-        let (biases, file_methods) = match self.biases.as_deref() {
-            Some(path) => {
-                let (biases, methods) = umbra::biases::LightBiases::load_with_methods(path)?;
-                (Some(biases), methods)
-            }
-            None => (None, Vec::new()),
-        };
-        Ok(Settings {
-            shadows: !self.no_shadows,
-            shadow_map_size: self.shadow_map_size.unwrap_or(d.shadow_map_size),
-            shadow_strength: self.shadow_strength.unwrap_or(d.shadow_strength),
-            depth_bias: self.depth_bias.unwrap_or(d.depth_bias),
-            slope_bias: self.slope_bias.unwrap_or(d.slope_bias),
-            normal_bias: self.normal_bias.unwrap_or(d.normal_bias),
-            bias_scale: self.bias_scale.unwrap_or(d.bias_scale),
-            cubes: self.cubes.unwrap_or(d.cubes),
-            cascades: self.cascades.unwrap_or(d.cascades),
-            split_lambda: self.split_lambda.unwrap_or(d.split_lambda),
-            cascade_blend: self.cascade_blend.unwrap_or(d.cascade_blend),
-            fit_mode: self.fit.unwrap_or(d.fit_mode),
-            cascade_debug: self.cascade_debug,
-            method: self.method.unwrap_or(d.method),
-            moment_blur: self.moment_blur.unwrap_or(d.moment_blur),
-            light_bleeding: self.light_bleeding.unwrap_or(d.light_bleeding),
-            moment_bits: self.moment_bits.unwrap_or(d.moment_bits),
-            shadow_depth: self.shadow_depth.unwrap_or(d.shadow_depth),
-            planar_ground: self.planar_ground,
-            receiver_plane: !self.no_receiver_plane,
-            toon_bands: self.toon.unwrap_or(d.toon_bands),
-            // The file's first, so the command line's win.
-            light_methods: file_methods.into_iter().chain(self.light_method.iter().cloned()).collect(),
-            caster_culling: self.culling.unwrap_or(d.caster_culling),
-            shadow_faces: self.shadow_faces.unwrap_or(d.shadow_faces),
-            reuse_shadow_maps: !self.redraw_shadows,
-            character: !self.no_character,
-            model: self.model.clone(),
-            scene: self.scene.clone(),
-            exposure: self.exposure.unwrap_or(d.exposure),
-            biases,
-            ..d
-        })
-    }
 }
 
 fn main() {
@@ -366,9 +231,11 @@ fn gallery(args: &GalleryArgs) -> Result<()> {
 }
 
 fn bench(args: &BenchArgs) -> Result<()> {
-    if !args.cache {
+    if !args.cache && !args.lab {
         return sweep(args);
     }
+    use umbra::eval::bench::{LAB_SCENARIOS, SCENARIOS};
+    let scenarios = if args.lab { &LAB_SCENARIOS[..] } else { &SCENARIOS[..] };
     let settings = args.scene.settings()?;
     settings.validate()?;
     let gpu = Gpu::headless()?;
@@ -382,11 +249,12 @@ fn bench(args: &BenchArgs) -> Result<()> {
         settings.cascades,
         settings.fit_mode.name()
     );
-    let rows = umbra::eval::bench::run(&gpu, &settings, args.frames, args.width, args.height, |done, all| {
-        if done == all || done % 10 == 0 {
-            eprint!("\r{done}/{all} rounds");
-        }
-    })?;
+    let rows =
+        umbra::eval::bench::run(&gpu, &settings, scenarios, args.frames, args.width, args.height, |done, all| {
+            if done == all || done % 10 == 0 {
+                eprint!("\r{done}/{all} rounds");
+            }
+        })?;
     eprintln!();
     print!("{}", umbra::eval::bench::table(&rows));
     Ok(())
@@ -557,8 +425,11 @@ fn tune(args: &TuneArgs) -> Result<()> {
 }
 
 fn play(args: PlayArgs) -> Result<()> {
-    let app = app(&args.scene)?;
-    Ok(umbra::play::play_or_render(app, args.frames, Path::new("umbra.png"))?)
+    let mut app = app(&args.scene)?;
+    if let Some(t) = args.time {
+        app.set_time(t);
+    }
+    Ok(umbra::play::play_or_render(app, args.frames, args.lab.lab(), Path::new("umbra.png"))?)
 }
 
 fn render(args: &RenderArgs) -> Result<()> {

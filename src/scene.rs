@@ -164,6 +164,18 @@ pub fn default_camera() -> (Camera, FlyCamera, Transform) {
     camera_looking(Vec3::new(2.0, 5.5, 12.5), Vec3::new(-0.5, 1.0, 0.0))
 }
 
+/// Points the world's camera from `eye` at `target` (turning its fly camera to match, so the
+/// update does not turn it back).
+pub fn place_camera(world: &mut World, eye: Vec3, target: Vec3) {
+    let (_, fly, transform) = camera_looking(eye, target);
+    for (mut t, f) in world.query_filtered::<(&mut Transform, Option<&mut FlyCamera>), With<Camera>>().iter_mut(world) {
+        *t = transform;
+        if let Some(mut f) = f {
+            (f.yaw, f.pitch) = (fly.yaw, fly.pitch);
+        }
+    }
+}
+
 /// A fly camera at `eye` looking at `target`.
 pub fn camera_looking(eye: Vec3, target: Vec3) -> (Camera, FlyCamera, Transform) {
     let to = target - eye;

@@ -41,9 +41,12 @@ pub struct Settings {
     pub cascade_debug: bool,
     /// How shadow maps are sampled, for every light without a method of its own.
     pub method: ShadowMethod,
-    /// Methods of their own for the lights so named ("sun", "spot 1", "point 1"); a name no light
-    /// has is an error when the scene is made.
-    pub light_methods: Vec<(String, ShadowMethod)>,
+    /// Settings of their own for the lights so named ("sun", "spot 1", "point 1"): a method, a
+    /// bias, a size, no shadow; applied in order when the scene is made, and a name no light has
+    /// is an error then.
+    pub light_settings: Vec<(String, crate::reproduce::LightSetting)>,
+    /// Where the camera starts (eye, target), instead of the scene's own camera.
+    pub camera: Option<(glam::Vec3, glam::Vec3)>,
     /// Which casters are drawn into a shadow map and fitted into its depth range.
     pub caster_culling: CasterCulling,
     /// Which faces of the casters are drawn into shadow maps.
@@ -76,6 +79,14 @@ pub struct Settings {
     /// Lights that keep their shadow maps also draw planar shadows onto the ground, which then
     /// takes those instead of the maps (lights whose method is planar always do).
     pub planar_ground: bool,
+    /// The ground shows a faint 1 m checker, so stair-steps, acne and shimmer are easy to see
+    /// (the picture only: the measuring view and the truth never see it).
+    pub ground_grid: bool,
+    /// Shows, in place of the shading, how many shadow-map texels of the light so named fall
+    /// on each screen pixel (Lloyd et al.'s aliasing measure).
+    pub texel_density: Option<String>,
+    /// Draws each shadowed light's layers (cascade boxes, spot and cube-face frusta) as lines.
+    pub light_volumes: bool,
     /// Toon shading: each light's diffuse strength falls into this many bands, and a shadow
     /// takes a surface one band down (0: Phong shading).
     pub toon_bands: u32,
@@ -118,7 +129,8 @@ impl Default for Settings {
             fit_mode: FitMode::Stable,
             cascade_debug: false,
             method: ShadowMethod::Bilinear,
-            light_methods: Vec::new(),
+            light_settings: Vec::new(),
+            camera: None,
             caster_culling: CasterCulling::LightVolume,
             shadow_faces: ShadowFaces::Both,
             reuse_shadow_maps: true,
@@ -130,6 +142,9 @@ impl Default for Settings {
             moment_bits: MomentBits::Auto,
             shadow_depth: ShadowDepth::Float32,
             toon_bands: 0,
+            ground_grid: true,
+            texel_density: None,
+            light_volumes: false,
             planar_ground: false,
             spot_map_limit: crate::shadow::MAX_MAP_HALF_ANGLE,
             ambient: 0.12,
@@ -342,6 +357,11 @@ impl Settings {
             let why = "a model goes into the sample scene and a scene file replaces it: give one or the other";
             return bad("model", model.display(), why);
         }
+        if let Some((eye, target)) = self.camera
+            && !(eye.is_finite() && target.is_finite() && eye.distance(target) > 1e-3)
+        {
+            return bad("camera", format!("{eye} looking at {target}"), "must be two finite points apart");
+        }
         if self.cubes > 1000 {
             return bad("cubes", self.cubes, "must be at most 1000");
         }
@@ -382,7 +402,8 @@ mod tests {
     #[test]
     fn nonsense_is_named() {
         type Case = (fn(&mut Settings), &'static str);
-        let cases: [Case; 15] = [
+        let cases: [Case; 16] = [
+            (|s| s.camera = Some((glam::Vec3::ONE, glam::Vec3::ONE)), "camera"),
             (|s| s.bias_scale = 0.9, "bias_scale"),
             (|s| s.toon_bands = 1, "toon_bands"),
             (|s| s.moment_blur = 99, "moment_blur"),

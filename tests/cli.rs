@@ -45,7 +45,7 @@ fn without_a_display_play_renders_umbra_png() {
 #[test]
 fn bad_arguments_are_named_and_fail() {
     let dir = scratch("bad");
-    let cases: [(&[&str], &str); 19] = [
+    let cases: [(&[&str], &str); 26] = [
         (&["render", "--bias-scale", "0.9"], "bias_scale"),
         (&["render", "--shadow-depth", "d8"], "not a depth-map format"),
         (&["render", "--moment-bits", "24"], "not a moment-map precision"),
@@ -65,6 +65,13 @@ fn bad_arguments_are_named_and_fail() {
         (&["render", "--light-method", "lamp=pcss"], "no light is called `lamp`: the scene's lights are `sun`"),
         (&["render", "--light-method", "spot 1=blurry"], "not a shadow method"),
         (&["render", "--light-method", "pcss"], "not LIGHT=METHOD"),
+        (&["render", "--light-bias", "sun=1,2"], "not CONSTANT,SLOPE,NORMAL"),
+        (&["render", "--light-bias", "moon=1,2,3"], "no light is called `moon`"),
+        (&["render", "--light-size", "sun=-1"], "not a size"),
+        (&["render", "--no-light-shadow", "lamp"], "no light is called `lamp`"),
+        (&["render", "--eye", "1,2,3"], "--target"),
+        (&["render", "--eye", "1,2", "--target", "0,0,0"], "not a point"),
+        (&["play", "--measure-scale", "9"], "--measure-scale"),
     ];
     for (args, says) in cases {
         let out = umbra(args, &dir);

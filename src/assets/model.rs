@@ -100,7 +100,7 @@ pub struct ModelCamera {
 }
 
 /// A whole model as loaded from a file.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Model {
     /// Where it came from, for messages.
     pub name: String,

@@ -203,6 +203,46 @@ impl FlyCamera {
     }
 }
 
+/// Orbit-camera state: while `active`, the camera circles `focus` at `distance`, turned by
+/// dragging and pulled in or out by the wheel; otherwise the fly camera steers it.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct OrbitCamera {
+    /// It steers the camera (the fly camera waits).
+    pub active: bool,
+    /// What it circles.
+    pub focus: OrbitFocus,
+    /// Metres from the focus.
+    pub distance: f32,
+    /// Turn about world Y in radians (0 looks along -Z, as [`FlyCamera::yaw`]).
+    pub yaw: f32,
+    /// Turn above the horizon in radians (negative looks down).
+    pub pitch: f32,
+    /// Radians turned per pixel dragged.
+    pub sensitivity: f32,
+}
+
+impl Default for OrbitCamera {
+    fn default() -> Self {
+        OrbitCamera {
+            active: false,
+            focus: OrbitFocus::Point(Vec3::new(0.0, 1.0, 0.0)),
+            distance: 12.0,
+            yaw: 0.0,
+            pitch: -0.4,
+            sensitivity: 0.005,
+        }
+    }
+}
+
+/// What an orbit camera circles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum OrbitFocus {
+    /// A fixed point (the scene's centre).
+    Point(Vec3),
+    /// An entity, this far above its origin (the walking character's chest).
+    Entity(Entity, f32),
+}
+
 /// Marks an entity that is drawn into shadow maps.
 #[derive(Component, Clone, Copy, Debug, Default)]
 pub struct ShadowCaster;
@@ -337,13 +377,17 @@ pub enum Key {
     Fast,
 }
 
-/// Input for this step: held keys and mouse motion while looking.
+/// Input for this step: held keys, mouse motion while looking or dragging, and the wheel.
 #[derive(Resource, Clone, Debug, Default, PartialEq)]
 pub struct Input {
     /// Keys held down.
     pub held: Vec<Key>,
     /// Mouse motion in pixels since the last step (only while looking).
     pub look_delta: Vec2,
+    /// Mouse motion in pixels since the last step while dragging (the orbit camera's turn).
+    pub drag_delta: Vec2,
+    /// Wheel steps since the last step (positive: towards the scene).
+    pub zoom: f32,
 }
 
 impl Input {

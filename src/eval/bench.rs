@@ -1,6 +1,7 @@
-//! `umbra bench`: what a frame costs when the scene is still, when one cube moves and when
-//! everything moves, with shadows on and off. The scenarios are measured in interleaved rounds
-//! in one run, so their ratios are fair even on a machine whose speed drifts.
+//! `umbra bench --cache`: what a frame costs when the scene is still, when one cube moves and
+//! when everything moves, with shadows on and off; `umbra bench --lab`: what the window's panel
+//! and a measurement in flight add to a still frame. The scenarios are measured in interleaved
+//! rounds in one run, so their ratios are fair even on a machine whose speed drifts.
 
 use crate::components::{Animator, Bob, FlyCamera, Spin, Walker};
 use crate::render::{Gpu, HEADLESS_FORMAT, RenderError, Renderer, ShadowStats};
@@ -30,6 +31,19 @@ pub enum Motion {
     Everything,
 }
 
+/// What the window's lab does on top of the frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lab {
+    /// Nothing: the scene alone.
+    Off,
+    /// The panel is laid out and painted over the frame.
+    Panel,
+    /// A measurement against the truth (at half the frame's size, as the window measures by
+    /// default) starts on a worker thread just before the frame; it is waited for after the
+    /// frame is timed, so it slows no other scenario's frames.
+    Measuring,
+}
+
 /// One measured configuration.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Scenario {
@@ -39,14 +53,23 @@ pub struct Scenario {
     pub shadows: bool,
     /// What moves.
     pub motion: Motion,
+    /// What the lab adds.
+    pub lab: Lab,
 }
 
 /// The scenarios of the shadow-cache bench, the baseline (still, no shadows) first.
 pub const SCENARIOS: [Scenario; 4] = [
-    Scenario { name: "still, shadows off", shadows: false, motion: Motion::Still },
-    Scenario { name: "still, shadows on", shadows: true, motion: Motion::Still },
-    Scenario { name: "one cube moving", shadows: true, motion: Motion::OneCube },
-    Scenario { name: "everything moving", shadows: true, motion: Motion::Everything },
+    Scenario { name: "still, shadows off", shadows: false, motion: Motion::Still, lab: Lab::Off },
+    Scenario { name: "still, shadows on", shadows: true, motion: Motion::Still, lab: Lab::Off },
+    Scenario { name: "one cube moving", shadows: true, motion: Motion::OneCube, lab: Lab::Off },
+    Scenario { name: "everything moving", shadows: true, motion: Motion::Everything, lab: Lab::Off },
+];
+
+/// The scenarios of the lab bench, the baseline (the still scene alone) first.
+pub const LAB_SCENARIOS: [Scenario; 3] = [
+    Scenario { name: "still, shadows on", shadows: true, motion: Motion::Still, lab: Lab::Off },
+    Scenario { name: "still, panel open", shadows: true, motion: Motion::Still, lab: Lab::Panel },
+    Scenario { name: "still, a measurement in flight", shadows: true, motion: Motion::Still, lab: Lab::Measuring },
 ];
 
 /// A scenario's result.
@@ -64,6 +87,10 @@ pub struct BenchRow {
     pub drawn_per_frame: f64,
     /// Shadow-map layers kept per frame, on average.
     pub kept_per_frame: f64,
+    /// Frames a measurement was still running at the end of (the rest overlapped it only in part).
+    pub measured: u32,
+    /// How long the worker took for each measurement, median, in milliseconds (NaN with none).
+    pub measure_ms: f64,
 }
 
 struct Run {
@@ -73,6 +100,12 @@ struct Run {
     times: Vec<f64>,
     drawn: u64,
     kept: u64,
+    panel: Option<(crate::ui::Painter, crate::ui::Lab)>,
+    worker: super::live::Worker<()>,
+    /// Timed frames a measurement was still running at the end of.
+    measured: u32,
+    /// The worker's time for each measurement, in milliseconds.
+    measure_ms: Vec<f64>,
 }
 
 impl Run {
@@ -84,7 +117,62 @@ impl Run {
         app.resize(width, height);
         app.set_time(2.0);
         let renderer = Renderer::new(gpu, HEADLESS_FORMAT)?;
-        Ok(Run { scenario, app, renderer, times: Vec::new(), drawn: 0, kept: 0 })
+        let panel = (scenario.lab == Lab::Panel).then(|| {
+            (crate::ui::Painter::new(gpu, HEADLESS_FORMAT), crate::ui::Lab { panel: true, ..Default::default() })
+        });
+        let worker = super::live::Worker::default();
+        Ok(Run {
+            scenario,
+            app,
+            renderer,
+            times: Vec::new(),
+            drawn: 0,
+            kept: 0,
+            panel,
+            worker,
+            measured: 0,
+            measure_ms: Vec::new(),
+        })
+    }
+
+    /// Starts a measurement (not timed: in the window it is one extra frame, once).
+    fn start_measuring(&mut self, gpu: &Gpu, size: (u32, u32)) -> Result<(), RenderError> {
+        if self.scenario.lab == Lab::Measuring {
+            let half = ((size.0 / 2).max(1), (size.1 / 2).max(1));
+            let truth = super::measure::TruthSettings::default();
+            let shot = super::live::snapshot(gpu, &mut self.renderer, &mut self.app, half, truth)?;
+            self.worker.start((), shot);
+        }
+        Ok(())
+    }
+
+    /// Waits for the measurement started for this frame; true if it was still running when the
+    /// frame was done.
+    fn finish_measuring(&mut self) -> bool {
+        let mut taken = self.worker.take();
+        let still = matches!(taken, super::live::Taken::Nothing) && self.worker.busy();
+        if still {
+            taken = self.worker.wait();
+        }
+        if let super::live::Taken::Done(_, report) = taken {
+            self.measure_ms.push(report.took.as_secs_f64() * 1e3);
+        }
+        still
+    }
+
+    /// Lays out and paints the panel over `target`, as the window does.
+    fn paint_panel(&mut self, gpu: &Gpu, target: &wgpu::TextureView, size: (u32, u32)) {
+        let Some((painter, lab)) = self.panel.as_mut() else { return };
+        let (history, stats) = (crate::ui::History::default(), self.app.world.resource::<ShadowStats>().clone());
+        let live =
+            crate::ui::Live { history: &history, stats: &stats, measured: None, status: "", camera: "", adapter: "" };
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(size.0 as f32, size.1 as f32))),
+            ..Default::default()
+        };
+        let world = &mut self.app.world;
+        let (painted, _) = painter.run(input, |ui| crate::ui::panel(ui, world, lab, &live));
+        painter.paint(gpu, &[target], size, painted);
     }
 
     fn advance(&mut self) {
@@ -106,11 +194,16 @@ impl Run {
         record: bool,
     ) -> Result<(), RenderError> {
         self.advance();
+        self.start_measuring(gpu, size)?;
         let start = Instant::now();
         self.renderer.render(gpu, &mut self.app.world, target, size.0, size.1)?;
+        self.paint_panel(gpu, target, size);
         gpu.wait()?;
+        let elapsed = start.elapsed();
+        let overlapped = self.finish_measuring();
         if record {
-            self.times.push(start.elapsed().as_secs_f64() * 1e3);
+            self.measured += overlapped as u32;
+            self.times.push(elapsed.as_secs_f64() * 1e3);
             let stats = self.app.world.resource::<ShadowStats>();
             self.drawn += stats.drawn() as u64;
             self.kept += stats.kept() as u64;
@@ -123,13 +216,21 @@ impl Run {
         let n = self.times.len().max(1) as f64;
         BenchRow {
             scenario: self.scenario,
-            median_ms: self.times.get(self.times.len() / 2).copied().unwrap_or(f64::NAN),
+            median_ms: median(&mut self.times),
             min_ms: self.times.first().copied().unwrap_or(f64::NAN),
             max_ms: self.times.last().copied().unwrap_or(f64::NAN),
             drawn_per_frame: self.drawn as f64 / n,
             kept_per_frame: self.kept as f64 / n,
+            measured: self.measured,
+            measure_ms: median(&mut self.measure_ms),
         }
     }
+}
+
+/// The median of `values` (NaN when empty).
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values.get(values.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
 /// Stops every animated cube but the first, and the walking character, so exactly one caster
@@ -146,11 +247,12 @@ fn freeze_all_but_one_cube(world: &mut World) {
     }
 }
 
-/// Runs every scenario for `frames` measured frames (after a few unmeasured ones), interleaved
-/// frame by frame, at `width` x `height`; `progress` hears each finished round.
+/// Runs every scenario of `scenarios` for `frames` measured frames (after a few unmeasured ones),
+/// interleaved frame by frame, at `width` x `height`; `progress` hears each finished round.
 pub fn run(
     gpu: &Gpu,
     settings: &Settings,
+    scenarios: &[Scenario],
     frames: u32,
     width: u32,
     height: u32,
@@ -159,7 +261,7 @@ pub fn run(
     let target = gpu.target("bench frame", (width, height), HEADLESS_FORMAT)?;
     let view = target.create_view(&Default::default());
     let mut runs =
-        SCENARIOS.iter().map(|s| Run::new(gpu, *s, settings, width, height)).collect::<Result<Vec<_>, _>>()?;
+        scenarios.iter().map(|s| Run::new(gpu, *s, settings, width, height)).collect::<Result<Vec<_>, _>>()?;
     const WARM_UP: u32 = 5;
     for round in 0..WARM_UP + frames {
         for run in &mut runs {
@@ -175,12 +277,20 @@ pub fn run(
 /// The results as a Markdown table, each median also given as a ratio to the first row's.
 pub fn table(rows: &[BenchRow]) -> String {
     let base = rows.first().map_or(f64::NAN, |r| r.median_ms);
-    let mut out = String::from(
-        "| scenario | median ms | min–max ms | × still, shadows off | layers drawn / kept per frame |\n| --- | --- | --- | --- | --- |\n",
+    let first = rows.first().map_or("the first row", |r| r.scenario.name);
+    let mut out = format!(
+        "| scenario | median ms | min–max ms | × {first} | layers drawn / kept per frame |\n| --- | --- | --- | --- | --- |\n"
     );
     for r in rows {
+        let measured = match r.scenario.lab {
+            Lab::Measuring => format!(
+                " (one takes {:.0} ms on the worker; still running at the end of {} frames)",
+                r.measure_ms, r.measured
+            ),
+            _ => String::new(),
+        };
         out += &format!(
-            "| {} | {:.2} | {:.2}–{:.2} | {:.3} | {:.2} / {:.2} |\n",
+            "| {}{measured} | {:.2} | {:.2}–{:.2} | {:.3} | {:.2} / {:.2} |\n",
             r.scenario.name,
             r.median_ms,
             r.min_ms,
@@ -208,12 +318,14 @@ mod tests {
     #[test]
     fn the_table_gives_ratios_to_the_first_row() {
         let row = |name, median_ms| BenchRow {
-            scenario: Scenario { name, shadows: true, motion: Motion::Still },
+            scenario: Scenario { name, shadows: true, motion: Motion::Still, lab: Lab::Off },
             median_ms,
             min_ms: 1.0,
             max_ms: 9.0,
             drawn_per_frame: 0.0,
             kept_per_frame: 6.0,
+            measured: 0,
+            measure_ms: f64::NAN,
         };
         let t = table(&[row("a", 2.0), row("b", 3.0)]);
         assert!(t.contains("| a | 2.00 | 1.00–9.00 | 1.000 | 0.00 / 6.00 |"), "{t}");

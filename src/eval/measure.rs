@@ -4,11 +4,8 @@
 
 use super::truth::{SizeOverride, Truth, truth_of};
 use crate::App;
-use crate::components::{Camera, FlyCamera, Transform};
 use crate::render::{DebugFrame, Gpu, HEADLESS_FORMAT, RenderError, Renderer, render_debug_frame};
 use crate::settings::{Settings, SettingsError};
-use bevy_ecs::prelude::*;
-use glam::Vec3;
 use std::collections::HashMap;
 
 /// How the truth is taken.
@@ -188,14 +185,4 @@ pub fn apply_settings(app: &mut App, settings: &Settings) {
     }
 }
 
-/// Points the app's camera from `eye` at `target` (turning its fly camera to match, so the
-/// update does not turn it back).
-pub fn place_camera(world: &mut World, eye: Vec3, target: Vec3) {
-    let (_, fly, transform) = crate::scene::camera_looking(eye, target);
-    for (mut t, f) in world.query_filtered::<(&mut Transform, Option<&mut FlyCamera>), With<Camera>>().iter_mut(world) {
-        *t = transform;
-        if let Some(mut f) = f {
-            (f.yaw, f.pitch) = (fly.yaw, fly.pitch);
-        }
-    }
-}
+pub use crate::scene::place_camera;

@@ -9,6 +9,9 @@ use crate::render::DebugFrame;
 /// A pixel counts as shadowed when its rendered visibility is below this.
 pub const DARK: f32 = 0.5;
 
+/// Pixels either side of a true shadow boundary that count as its edge band.
+pub const EDGE_RADIUS: u32 = 2;
+
 /// Upper ends of the view-distance bands, in metres (the last takes everything beyond).
 pub const DISTANCE_BANDS: [f32; 6] = [5.0, 10.0, 20.0, 40.0, 60.0, f32::INFINITY];
 

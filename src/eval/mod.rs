@@ -1,11 +1,12 @@
-//! Measuring the shadows: ground truth by ray casting, metrics, benchmarks and charts. Never
-//! used while playing.
+//! Measuring the shadows: ground truth by ray casting, metrics, benchmarks and charts. Play uses
+//! it only off the frame loop: [`live`] measures on a worker thread for the error overlay.
 
 pub mod bench;
 pub mod cases;
 pub mod chart;
 pub mod cost;
 pub mod gallery;
+pub mod live;
 pub mod measure;
 pub mod metrics;
 pub mod results;

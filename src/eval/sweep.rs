@@ -387,7 +387,7 @@ impl SweepOptions {
 }
 
 /// Accuracy of `settings` on its scene, per light, over `views`, with the lights' names.
-fn scene_accuracy(
+pub fn scene_accuracy(
     m: &mut Measurer<'_>,
     settings: &Settings,
     views: &[View],
@@ -400,7 +400,7 @@ fn scene_accuracy(
         place_camera(&mut app.world, v.eye, v.target);
         app.set_time(v.time);
         let measured = m.measure(SubjectId::Accuracy, v.name)?;
-        let reports = report(&measured.frame, &measured.truth, 2);
+        let reports = report(&measured.frame, &measured.truth, super::metrics::EDGE_RADIUS);
         total.resize(reports.len().max(total.len()), LightReport::default());
         for (t, r) in total.iter_mut().zip(&reports) {
             t.merge(r);

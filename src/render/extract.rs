@@ -287,8 +287,18 @@ pub fn extract(world: &mut World) -> FrameData {
         depth_bias_metres: settings.depth_bias_metres,
         pcss_search: settings.pcss_blocker_search as u32,
         toon_bands: settings.toon_bands,
+        texel_view: settings
+            .texel_density
+            .as_ref()
+            .and_then(|name| scene_lights.iter().position(|l| l.label.to_string() == *name))
+            .map_or(0, |i| i as u32 + 1),
         ..Frame::zeroed()
     };
+    if settings.ground_grid
+        && let Some(g) = ground(&items)
+    {
+        items[g].0.object.ground_grid = 1;
+    }
     let planar =
         if settings.shadows { planar_draws(&scene_lights, &items, settings.planar_ground) } else { Vec::new() };
     // With planar shadows on the ground for lights that keep their maps, the ground leaves

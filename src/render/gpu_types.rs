@@ -45,7 +45,8 @@ gpu_struct! {
         pub first_joint: u32,
         /// 1 on the ground when lights draw planar shadows onto it in place of their maps.
         pub planar_receiver: u32,
-        pub _pad1: u32,
+        /// 1 on the ground when it shows its checker.
+        pub ground_grid: u32,
         pub _pad2: u32,
     }
 }
@@ -87,6 +88,11 @@ gpu_struct! {
         pub pcss_search: u32,
         /// Bands of toon shading (0: Phong).
         pub toon_bands: u32,
+        /// 1 + the index of the light whose texel density is shown (0: the shading).
+        pub texel_view: u32,
+        pub _pad_frame0: u32,
+        pub _pad_frame1: u32,
+        pub _pad_frame2: u32,
     }
 }
 

@@ -8,7 +8,9 @@
 mod extract;
 mod gpu;
 pub mod gpu_types;
+pub mod lines;
 mod main_pass;
+pub mod map_view;
 mod mesh;
 mod moments;
 mod planar;
@@ -21,11 +23,11 @@ mod timing;
 mod uniform_array;
 
 pub use extract::{DrawItem, FrameData, LayerDraw, SHADOW_FADE, extract};
-pub use gpu::{Gpu, instance};
+pub use gpu::{Gpu, colour_pass, instance};
 pub use readback::{
-    DebugFrame, HEADLESS_FORMAT, Image, probe_visibility, render_debug_frame, render_headless, render_png,
+    DebugFrame, HEADLESS_FORMAT, Image, probe_visibility, read_picture, render_debug_frame, render_headless, render_png,
 };
-pub use renderer::Renderer;
+pub use renderer::{MapAtlas, Renderer};
 pub use shadow_pass::{LightPasses, ShadowStats};
 pub use timing::PassTimes;
 

@@ -92,6 +92,23 @@ pub fn render_headless(
     Ok(Image { width, height, pixels })
 }
 
+/// The picture in `texture` (`width` x `height`, an 8-bit RGBA or BGRA format, a window's frame
+/// say), read back as RGBA8; the texture must allow copies out of it.
+pub fn read_picture(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Image, RenderError> {
+    use wgpu::TextureFormat as F;
+    let (width, height) = (texture.width(), texture.height());
+    let bgra = match texture.format() {
+        F::Rgba8Unorm | F::Rgba8UnormSrgb => false,
+        F::Bgra8Unorm | F::Bgra8UnormSrgb => true,
+        _ => return Err(RenderError::Unsupported("reading back a picture that is not 8-bit RGBA or BGRA")),
+    };
+    let mut pixels = read_texture(gpu, texture, width, height, 4)?;
+    if bgra {
+        pixels.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
+    }
+    Ok(Image { width, height, pixels })
+}
+
 /// One measured frame: for each pixel (rows top to bottom), the visible surface and what each
 /// light's shadow test gave there.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,8 +1,11 @@
 //! The renderer: uploads meshes, then each frame extracts, runs the shadow pass and the main pass.
 
 use super::extract::extract;
+use super::gpu_types::GpuLayer;
 use super::gpu_types::Object;
+use super::lines::{LinePass, volume_lines};
 use super::main_pass::MainPass;
+use super::map_view::MapView;
 use super::mesh::{Drawables, GpuMesh, JointPalette};
 use super::moments;
 use super::shadow_pass::{ShadowPass, ShadowStats};
@@ -12,6 +15,7 @@ use super::uniform_array::UniformArray;
 use super::{Gpu, RenderError};
 use crate::assets::{MeshLibrary, TextureLibrary};
 use crate::settings::Settings;
+use crate::systems::LightLabel;
 use bevy_ecs::prelude::*;
 
 /// Where a frame goes: a picture, or the measuring targets.
@@ -24,6 +28,17 @@ enum Output<'a> {
     Probes(&'a wgpu::TextureView, (u32, u32), &'a wgpu::Buffer, u32, usize),
 }
 
+/// The shadow-map viewer's picture: its view, a number that changes whenever the texture behind
+/// it is made anew, and whose each tile is.
+pub struct MapAtlas<'a> {
+    /// The atlas.
+    pub view: &'a wgpu::TextureView,
+    /// Changes when the atlas texture is replaced (a texture shown elsewhere must be rebound).
+    pub generation: u64,
+    /// The light of each tile, in tile order.
+    pub tiles: Vec<LightLabel>,
+}
+
 /// GPU state that lives across frames: pipelines, meshes, shadow maps and the depth buffer.
 pub struct Renderer {
     objects: UniformArray,
@@ -34,6 +49,15 @@ pub struct Renderer {
     main: MainPass,
     depth: Option<(wgpu::TextureView, u32, u32)>,
     timer: Option<PassTimer>,
+    /// The picture's format, and the light volumes' lines, made the first time they are shown.
+    format: wgpu::TextureFormat,
+    lines: Option<LinePass>,
+    /// The shadow-map viewer, made the first time it is asked for, and the last picture's
+    /// layers and whose they are.
+    map_view: Option<MapView>,
+    last_layers: Vec<(GpuLayer, LightLabel)>,
+    /// A map was drawn or the layers changed since the viewer's atlas was last drawn.
+    atlas_stale: bool,
 }
 
 impl Renderer {
@@ -56,7 +80,21 @@ impl Renderer {
         let shadow = ShadowPass::new(device, &objects.layout, &joints, &textures, 16);
         let main = MainPass::new(device, &objects.layout, &joints, &textures, format, &shadow.maps);
         gpu.check_errors()?;
-        Ok(Renderer { objects, joints, textures, meshes: Vec::new(), shadow, main, depth: None, timer: None })
+        Ok(Renderer {
+            objects,
+            joints,
+            textures,
+            meshes: Vec::new(),
+            shadow,
+            main,
+            depth: None,
+            timer: None,
+            format,
+            lines: None,
+            map_view: None,
+            last_layers: Vec::new(),
+            atlas_stale: true,
+        })
     }
 
     /// Renders the world as it is now into `target` (`width` x `height` pixels), drawing only the
@@ -103,6 +141,20 @@ impl Renderer {
         self.draw(gpu, world, grid, Output::Probes(target, grid, points, count, first_light))
     }
 
+    /// The shadow-map viewer's atlas of every layer the last picture used, drawn again only when
+    /// a map was drawn or the layers changed since; with whose each tile is (in tile order, rows
+    /// of [`super::map_view::COLUMNS`]).
+    pub fn shadow_map_atlas(&mut self, gpu: &Gpu) -> MapAtlas<'_> {
+        let view = self.map_view.get_or_insert_with(|| MapView::new(&gpu.device));
+        if std::mem::take(&mut self.atlas_stale) || view.atlas().is_none() {
+            let layers: Vec<GpuLayer> = self.last_layers.iter().map(|(l, _)| *l).collect();
+            let maps = (&self.shadow.maps.array_view, &self.shadow.maps.moments.array_view);
+            view.draw(&gpu.device, &gpu.queue, maps, &layers);
+        }
+        let (atlas, generation) = view.atlas().expect("drawn above");
+        MapAtlas { view: atlas, generation, tiles: self.last_layers.iter().map(|(_, l)| *l).collect() }
+    }
+
     /// Stamps every later frame's shadow and main passes with GPU timestamps, where the device
     /// can; false where it cannot (then time the frame on the CPU instead).
     pub fn enable_timing(&mut self, gpu: &Gpu) -> bool {
@@ -111,8 +163,14 @@ impl Renderer {
     }
 
     /// The GPU time of the last frame's passes, if timing is on (waits for the GPU).
-    pub fn pass_times(&self, gpu: &Gpu) -> Option<Result<PassTimes, RenderError>> {
-        self.timer.as_ref().map(|t| t.read(gpu))
+    pub fn pass_times(&mut self, gpu: &Gpu) -> Option<Result<PassTimes, RenderError>> {
+        self.timer.as_mut().map(|t| t.read(gpu))
+    }
+
+    /// The GPU time of the passes of a frame or two ago, when it has come back, without waiting:
+    /// for a live graph (call once a frame, after rendering).
+    pub fn poll_pass_times(&mut self, gpu: &Gpu) -> Option<PassTimes> {
+        self.timer.as_mut()?.poll(gpu)
     }
 
     fn draw(
@@ -160,9 +218,21 @@ impl Renderer {
         } else {
             ShadowStats::default()
         };
+        self.atlas_stale |= stats.drawn() > 0 || stats.blurred() > 0;
         let timer = self.timer.as_ref();
         match output {
-            Output::Picture(target) => self.main.encode(queue, &mut encoder, (target, &depth), &data, drawables, timer),
+            Output::Picture(target) => {
+                let layers: Vec<_> = data.layers.iter().copied().zip(data.draws.iter().map(|d| d.light)).collect();
+                if layers != self.last_layers {
+                    (self.last_layers, self.atlas_stale) = (layers, true);
+                }
+                self.main.encode(queue, &mut encoder, (target, &depth), &data, drawables, timer);
+                if settings.light_volumes {
+                    let lines = self.lines.get_or_insert_with(|| LinePass::new(device, self.format));
+                    let vertices = volume_lines(&data.draws);
+                    lines.encode(device, queue, &mut encoder, target, &data.clip_from_world, &vertices);
+                }
+            }
             Output::Measure(targets, first) => {
                 data.measure_from(first);
                 self.main.encode_debug(queue, &mut encoder, (targets, &depth), &data, drawables, timer)
@@ -173,7 +243,7 @@ impl Renderer {
                 self.main.encode_probes(queue, &mut encoder, target, &data, (points, count));
             }
         }
-        if let Some(timer) = timer {
+        if let Some(timer) = self.timer.as_mut() {
             timer.resolve(&mut encoder);
         }
         queue.submit([encoder.finish()]);

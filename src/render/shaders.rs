@@ -37,6 +37,10 @@ pub const LIGHTS: ShaderFile = shader_file!("lights.wgsl");
 pub const MAIN: ShaderFile = shader_file!("main.wgsl");
 /// Planar shadows drawn over the ground.
 pub const PLANAR: ShaderFile = shader_file!("planar.wgsl");
+/// Lines in the world over the picture (the light volumes).
+pub const LINES: ShaderFile = shader_file!("lines.wgsl");
+/// The shadow-map viewer's atlas.
+pub const MAP_VIEW: ShaderFile = shader_file!("map_view.wgsl");
 
 /// The shadow pass's files, in dependency order.
 pub const SHADOW_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, SHADOW];
@@ -153,8 +157,18 @@ mod tests {
     }
 
     #[test]
-    fn the_blur_parses_and_validates() {
+    fn the_blur_and_the_lines_parse_and_validate() {
         check(&Composed::new(BLUR_MODULE)).unwrap();
+        check(&Composed::new(&[LINES])).unwrap();
+        let (module, _) = check(&Composed::new(&[MAP_VIEW])).unwrap();
+        // The viewer's uniform holds two vectors for every layer there can be.
+        let terms = module.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some("view_layers")).unwrap().1;
+        match module.types[terms.ty].inner {
+            naga::TypeInner::Array { size: naga::ArraySize::Constant(n), .. } => {
+                assert_eq!(n.get() as usize, 2 * gpu_types::MAX_LAYERS)
+            }
+            ref other => panic!("view_layers is {other:?}"),
+        }
     }
 
     #[test]

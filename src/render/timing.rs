@@ -1,5 +1,6 @@
 //! GPU time of the shadow pass and the main pass, from timestamp queries written at the start
-//! and end of each (for measuring only; play never turns them on).
+//! and end of each: read at once by the measuring tools, or a frame or two later without waiting
+//! by the window's live graph.
 
 use super::{Gpu, RenderError};
 
@@ -16,8 +17,14 @@ pub struct PassTimer {
     read: wgpu::Buffer,
     /// Nanoseconds per timestamp tick.
     period: f64,
-    /// Whether the last frame drew any shadow layer (otherwise its shadow time is zero).
+    /// Whether the frame being encoded draws any shadow layer (otherwise its shadow time is zero).
     shadow_written: bool,
+    /// Whether the frame whose stamps `read` holds drew any shadow layer.
+    copied_shadow: bool,
+    /// `read` holds the stamps of a submitted frame that nobody has asked for yet.
+    copied: bool,
+    /// `read` is being mapped for [`PassTimer::poll`]; frames go unstamped into it meanwhile.
+    mapping: Option<std::sync::mpsc::Receiver<Result<(), wgpu::BufferAsyncError>>>,
 }
 
 /// What the passes of the last frame cost on the GPU.
@@ -53,7 +60,16 @@ impl PassTimer {
         let resolved = buffer("pass times", 2 * wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT, usage);
         let read = buffer("pass times read", 32, wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ);
         let period = gpu.queue.get_timestamp_period() as f64;
-        Some(PassTimer { queries, resolved, read, period, shadow_written: false })
+        Some(PassTimer {
+            queries,
+            resolved,
+            read,
+            period,
+            shadow_written: false,
+            copied_shadow: false,
+            copied: false,
+            mapping: None,
+        })
     }
 
     /// Writes for shadow-layer pass `i` of `n`: the first marks the start, the last the end.
@@ -81,8 +97,12 @@ impl PassTimer {
         self.shadow_written = false;
     }
 
-    /// Copies the frame's timestamps out; call after both passes are encoded.
-    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+    /// Copies the frame's timestamps out; call after both passes are encoded. While an earlier
+    /// frame's stamps are still being mapped, this frame's are not kept.
+    pub fn resolve(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        if self.mapping.is_some() {
+            return;
+        }
         let second = wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT;
         if self.shadow_written {
             encoder.resolve_query_set(&self.queries, SHADOW_START..SHADOW_END + 1, &self.resolved, 0);
@@ -90,25 +110,58 @@ impl PassTimer {
         }
         encoder.resolve_query_set(&self.queries, MAIN_START..MAIN_END + 1, &self.resolved, second);
         encoder.copy_buffer_to_buffer(&self.resolved, second, &self.read, 16, 16);
+        (self.copied, self.copied_shadow) = (true, self.shadow_written);
     }
 
     /// The pass times of the frame last submitted (waits for the GPU).
-    pub fn read(&self, gpu: &Gpu) -> Result<PassTimes, RenderError> {
-        let (tx, rx) = std::sync::mpsc::channel();
-        self.read.map_async(wgpu::MapMode::Read, .., move |r| {
-            let _ = tx.send(r);
-        });
+    pub fn read(&mut self, gpu: &Gpu) -> Result<PassTimes, RenderError> {
+        let rx = match self.mapping.take() {
+            Some(rx) => rx,
+            None => self.start_mapping(),
+        };
         gpu.wait()?;
         rx.recv()
             .map_err(|e| RenderError::Wgpu(format!("timestamps never arrived: {e}")))?
             .map_err(|e| RenderError::Wgpu(format!("timestamps could not be read: {e}")))?;
+        self.take_mapped()
+    }
+
+    /// The pass times of a frame submitted a little earlier, once the GPU has them; never waits.
+    /// Call once a frame after submitting it: each call starts reading the newest stamps when
+    /// none are on their way.
+    pub fn poll(&mut self, gpu: &Gpu) -> Option<PassTimes> {
+        if self.mapping.is_none() && self.copied {
+            self.mapping = Some(self.start_mapping());
+        }
+        let _ = gpu.device.poll(wgpu::PollType::Poll);
+        match self.mapping.as_ref()?.try_recv() {
+            Err(std::sync::mpsc::TryRecvError::Empty) => None,
+            done => {
+                self.mapping = None;
+                done.ok()?.ok()?;
+                self.take_mapped().ok()
+            }
+        }
+    }
+
+    fn start_mapping(&mut self) -> std::sync::mpsc::Receiver<Result<(), wgpu::BufferAsyncError>> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        self.read.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        self.copied = false;
+        rx
+    }
+
+    /// The times in the mapped `read` buffer, which it unmaps.
+    fn take_mapped(&self) -> Result<PassTimes, RenderError> {
         let ticks: [u64; 4] = {
             let mapped = self.read.get_mapped_range(..).map_err(|e| RenderError::Wgpu(e.to_string()))?;
             bytemuck::pod_read_unaligned(&mapped[..32])
         };
         self.read.unmap();
         let ms = |a: u64, b: u64| b.saturating_sub(a) as f64 * self.period / 1e6;
-        let shadow_ms = if self.shadow_written { ms(ticks[0], ticks[1]) } else { 0.0 };
+        let shadow_ms = if self.copied_shadow { ms(ticks[0], ticks[1]) } else { 0.0 };
         Ok(PassTimes { shadow_ms, main_ms: ms(ticks[2], ticks[3]) })
     }
 }

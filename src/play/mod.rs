@@ -1,13 +1,24 @@
-//! Playing the scene in a window: winit events in, fixed steps of the app, frames presented.
+//! Playing the scene in a window: winit events in, fixed steps of the app, frames presented,
+//! with the lab's panel and error overlay (see [`crate::ui`]) painted over them.
 
-use crate::components::{Input, Key};
+mod desk;
+mod keys;
+mod measuring;
+mod screenshot;
+
+pub use keys::{change_lab, change_setting, key_for, settings_line};
+pub use measuring::{Measuring, ViewStamp, stamp};
+
+use crate::components::Input;
 use crate::render::{Gpu, RenderError, Renderer, ShadowStats};
+use crate::ui::{Gui, Lab};
 use crate::{App, Settings};
+use desk::Desk;
 use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
-use winit::event::{DeviceEvent, DeviceId, ElementState, MouseButton, WindowEvent};
+use winit::event::{DeviceEvent, DeviceId, ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
@@ -35,6 +46,7 @@ struct Shown {
     config: wgpu::SurfaceConfiguration,
     gpu: Gpu,
     renderer: Renderer,
+    gui: Gui,
 }
 
 struct Player {
@@ -42,26 +54,31 @@ struct Player {
     shown: Option<Shown>,
     error: Option<PlayError>,
     looking: bool,
+    /// Where the pointer was last, while the left button drags.
+    dragging: Option<(f64, f64)>,
     last: Option<Instant>,
     behind: f64,
     frames: u32,
     since: Instant,
     shown_frames: u32,
     max_frames: Option<u32>,
+    lab: Lab,
+    desk: Desk,
+    frame_started: Option<Instant>,
 }
 
 /// Opens a window and plays `app` until the window is closed, Esc is pressed, or `frames` frames
-/// (if given) have been shown.
-pub fn play(app: App, frames: Option<u32>) -> Result<(), PlayError> {
+/// (if given) have been shown; the window starts in the state `lab` describes.
+pub fn play(app: App, frames: Option<u32>, lab: Lab) -> Result<(), PlayError> {
     let event_loop = EventLoop::new().map_err(|e| PlayError::NoDisplay(e.to_string()))?;
-    run(event_loop, app, frames)
+    run(event_loop, app, frames, lab)
 }
 
 /// Plays `app` in a window like [`play`]; where no display can be opened, says so in one line
 /// and renders the scene headless to `fallback` instead, so the command always does something useful.
-pub fn play_or_render(mut app: App, frames: Option<u32>, fallback: &Path) -> Result<(), PlayError> {
+pub fn play_or_render(mut app: App, frames: Option<u32>, lab: Lab, fallback: &Path) -> Result<(), PlayError> {
     match EventLoop::new() {
-        Ok(event_loop) => run(event_loop, app, frames),
+        Ok(event_loop) => run(event_loop, app, frames, lab),
         Err(e) => {
             println!("no display ({e}); rendering the scene headless to {} instead", fallback.display());
             let (gpu, _, _) = crate::render::render_png(&mut app, 1280, 720, FALLBACK_TIME, fallback)?;
@@ -75,79 +92,28 @@ pub fn play_or_render(mut app: App, frames: Option<u32>, fallback: &Path) -> Res
 /// Scene time of the picture rendered when there is no display.
 pub const FALLBACK_TIME: f64 = 6.0;
 
-fn run(event_loop: EventLoop<()>, app: App, frames: Option<u32>) -> Result<(), PlayError> {
+fn run(event_loop: EventLoop<()>, app: App, frames: Option<u32>, lab: Lab) -> Result<(), PlayError> {
     let mut player = Player {
         app,
         shown: None,
         error: None,
         looking: false,
+        dragging: None,
         last: None,
         behind: 0.0,
         frames: 0,
         since: Instant::now(),
         shown_frames: 0,
         max_frames: frames,
+        lab,
+        desk: Desk::default(),
+        frame_started: None,
     };
     event_loop.run_app(&mut player).map_err(|e| PlayError::Window(e.to_string()))?;
     if frames.is_some() {
         println!("played {} frames", player.shown_frames);
     }
     player.error.map_or(Ok(()), Err)
-}
-
-/// Changes the setting a key stands for (F: fit mode, C: cascade tints, 1-4: cascades, P:
-/// filter, R: receiver plane, K: caster culling, T: toon shading, G: planar shadows on the
-/// ground); false for any other key.
-pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
-    match code {
-        KeyCode::KeyF => settings.fit_mode = settings.fit_mode.next(),
-        KeyCode::KeyC => settings.cascade_debug = !settings.cascade_debug,
-        KeyCode::KeyP => settings.method = settings.method.next(),
-        KeyCode::KeyR => settings.receiver_plane = !settings.receiver_plane,
-        KeyCode::KeyK => settings.caster_culling = settings.caster_culling.next(),
-        KeyCode::KeyG => settings.planar_ground = !settings.planar_ground,
-        KeyCode::KeyT => {
-            settings.toon_bands = if settings.toon_bands == 0 { crate::settings::DEFAULT_TOON_BANDS } else { 0 }
-        }
-        KeyCode::Digit1 => settings.cascades = 1,
-        KeyCode::Digit2 => settings.cascades = 2,
-        KeyCode::Digit3 => settings.cascades = 3,
-        KeyCode::Digit4 => settings.cascades = 4,
-        _ => return false,
-    }
-    true
-}
-
-/// The shadow settings the keys change, in a few words.
-fn settings_line(settings: &Settings) -> String {
-    let tints = if settings.cascade_debug { ", tinted" } else { "" };
-    let flat = if settings.receiver_plane { "" } else { " without receiver plane" };
-    let culling = match settings.caster_culling {
-        crate::settings::CasterCulling::LightVolume => "",
-        crate::settings::CasterCulling::CameraView => ", culling to the camera view",
-    };
-    let toon = if settings.toon_bands > 0 { format!(", toon {}", settings.toon_bands) } else { String::new() };
-    let planar = if settings.planar_ground { ", planar ground" } else { "" };
-    format!(
-        "{} cascades, {} fit, {} filter{flat}{culling}{tints}{toon}{planar}",
-        settings.cascades,
-        settings.fit_mode.name(),
-        settings.method.name()
-    )
-}
-
-/// The sample's key for a physical key, if it has one.
-fn key_for(code: KeyCode) -> Option<Key> {
-    Some(match code {
-        KeyCode::KeyW | KeyCode::ArrowUp => Key::Forward,
-        KeyCode::KeyS | KeyCode::ArrowDown => Key::Back,
-        KeyCode::KeyA | KeyCode::ArrowLeft => Key::Left,
-        KeyCode::KeyD | KeyCode::ArrowRight => Key::Right,
-        KeyCode::KeyE | KeyCode::Space => Key::Up,
-        KeyCode::KeyQ | KeyCode::ControlLeft => Key::Down,
-        KeyCode::ShiftLeft | KeyCode::ShiftRight => Key::Fast,
-        _ => return None,
-    })
 }
 
 impl Player {
@@ -176,18 +142,29 @@ impl Player {
             .ok_or_else(|| RenderError::Surface("the adapter cannot present to this window".into()))?;
         config.format = format;
         config.present_mode = wgpu::PresentMode::AutoVsync;
+        // Screenshots copy the frame out where the surface allows it.
+        if caps.usages.contains(wgpu::TextureUsages::COPY_SRC) {
+            config.usage |= wgpu::TextureUsages::COPY_SRC;
+        }
         surface.configure(&gpu.device, &config);
-        let renderer = Renderer::new(&gpu, format)?;
+        let mut renderer = Renderer::new(&gpu, format)?;
+        renderer.enable_timing(&gpu);
+        let gui = Gui::new(&window, &gpu, format);
         self.app.resize(config.width, config.height);
-        Ok(Shown { window, surface, config, gpu, renderer })
+        Ok(Shown { window, surface, config, gpu, renderer, gui })
     }
 
-    /// Catches the simulation up with the wall clock in fixed steps.
+    /// Catches the simulation up with the wall clock in fixed steps (while the clock is held,
+    /// one step that moves only the camera).
     fn advance(&mut self) {
         let now = Instant::now();
         let dt = self.app.settings().dt as f64;
         self.behind += self.last.map_or(dt, |last| (now - last).as_secs_f64());
         self.last = Some(now);
+        if self.lab.hold {
+            self.behind = 0.0;
+            self.app.step_held();
+        }
         let mut steps = 0;
         while self.behind >= dt && steps < MAX_STEPS_PER_FRAME {
             self.app.step();
@@ -202,29 +179,34 @@ impl Player {
         }
     }
 
-    fn redraw(&mut self) -> Result<(), PlayError> {
-        self.advance();
-        let Some(shown) = self.shown.as_mut() else { return Ok(()) };
-        let frame = match shown.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
-            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => return Ok(()),
+    /// Whether egui runs this frame: only while it has something to show.
+    fn gui_shown(&self) -> bool {
+        self.desk.shows_anything(&self.lab)
+    }
+
+    /// The next frame to draw into, or `None` when there is none this time (the surface is
+    /// being remade, or the window is hidden).
+    fn acquire(shown: &mut Shown) -> Result<Option<wgpu::SurfaceTexture>, PlayError> {
+        Ok(match shown.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => Some(f),
+            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => None,
             wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
                 shown.surface.configure(&shown.gpu.device, &shown.config);
-                return Ok(());
+                None
             }
             wgpu::CurrentSurfaceTexture::Validation => {
                 shown.gpu.check_errors()?;
                 return Err(RenderError::Surface("validation error acquiring a frame".into()).into());
             }
-        };
-        let view = frame.texture.create_view(&Default::default());
-        let (w, h) = (shown.config.width, shown.config.height);
-        shown.renderer.render(&shown.gpu, &mut self.app.world, &view, w, h)?;
-        shown.window.pre_present_notify();
-        shown.gpu.queue.present(frame);
+        })
+    }
+
+    /// Once a second: frames per second, layers drawn and kept, the settings and the adapter.
+    fn update_title(&mut self) {
         self.frames += 1;
         self.shown_frames += 1;
         let elapsed = self.since.elapsed();
+        let Some(shown) = &self.shown else { return };
         if elapsed >= Duration::from_secs(1) {
             let fps = self.frames as f64 / elapsed.as_secs_f64();
             let passes = self.app.world.get_resource::<ShadowStats>().cloned().unwrap_or_default();
@@ -236,6 +218,50 @@ impl Player {
             shown.window.set_title(&title);
             (self.frames, self.since) = (0, Instant::now());
         }
+    }
+
+    fn redraw(&mut self) -> Result<(), PlayError> {
+        if let Some(started) = self.frame_started.replace(Instant::now()) {
+            self.desk.history.frame(started.elapsed().as_secs_f32() * 1e3);
+        }
+        if std::mem::take(&mut self.lab.asked.camera) {
+            self.desk.camera = crate::systems::switch_camera(&mut self.app.world);
+            println!("{}", self.desk.camera);
+        }
+        self.advance();
+        let gui_shown = self.gui_shown();
+        let Some(shown) = self.shown.as_mut() else { return Ok(()) };
+        self.desk.measuring.update(&mut self.app.world, shown.gui.ctx());
+        let Some(frame) = Self::acquire(shown)? else { return Ok(()) };
+        let view = frame.texture.create_view(&Default::default());
+        let (w, h) = (shown.config.width, shown.config.height);
+        // A frame that cannot be copied from is drawn twice for a screenshot: once into a copy.
+        let shot = std::mem::take(&mut self.lab.asked.screenshot);
+        let copy = shot.then(|| screenshot::copy_target(&shown.gpu, &frame.texture)).flatten();
+        let copy_view = copy.as_ref().map(|t| t.create_view(&Default::default()));
+        let mut targets = vec![&view];
+        targets.extend(copy_view.as_ref());
+        for target in &targets {
+            shown.renderer.render(&shown.gpu, &mut self.app.world, target, w, h)?;
+        }
+        if gui_shown {
+            self.desk.paint(shown, &mut self.app.world, &mut self.lab, (&targets, (w, h)));
+        }
+        if shot {
+            screenshot::save(&shown.gpu, copy.as_ref().unwrap_or(&frame.texture));
+        }
+        shown.window.pre_present_notify();
+        shown.gpu.queue.present(frame);
+        if let Some(times) = shown.renderer.poll_pass_times(&shown.gpu) {
+            self.desk.history.passes(times);
+        }
+        if self.desk.measuring.wanted(&self.lab) {
+            self.lab.asked.measure = false;
+            // A measurement is of one still moment: the clock waits while it runs and is shown.
+            self.lab.hold = true;
+            self.desk.measuring.start(&shown.gpu, &mut shown.renderer, &mut self.app, self.lab.measure_scale)?;
+        }
+        self.update_title();
         Ok(())
     }
 
@@ -250,6 +276,24 @@ impl Player {
         shown.surface.configure(&shown.gpu.device, &shown.config);
         self.app.resize(width, height);
     }
+
+    /// A key pressed or let go (not taken by the panel).
+    fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode, down: bool, repeat: bool) {
+        if code == KeyCode::Escape && down {
+            event_loop.exit();
+        } else if down && !repeat && change_setting(code, &mut self.app.world.resource_mut::<Settings>()) {
+            println!("{}", settings_line(self.app.settings()));
+        } else if down && !repeat && change_lab(code, &mut self.lab) {
+        } else if down && !repeat && code == KeyCode::KeyB {
+            let names: Vec<String> =
+                crate::systems::light_list(&mut self.app.world).iter().map(|l| l.label.to_string()).collect();
+            let mut settings = self.app.world.resource_mut::<Settings>();
+            settings.texel_density = keys::next_texel_view(&settings.texel_density, &names);
+            println!("texel density: {}", settings.texel_density.as_deref().unwrap_or("off"));
+        } else if let Some(key) = key_for(code) {
+            self.app.world.resource_mut::<Input>().set(key, down);
+        }
+    }
 }
 
 impl ApplicationHandler for Player {
@@ -263,33 +307,43 @@ impl ApplicationHandler for Player {
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let gui_shown = self.gui_shown();
+        let Some(shown) = self.shown.as_mut() else { return };
+        // egui hears every event while it is shown; what it takes, the scene does not.
+        let taken = gui_shown && shown.gui.on_event(&shown.window, &event);
+        let over_panel = gui_shown && shown.gui.wants_pointer();
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(size) => self.resize(size.width, size.height),
-            WindowEvent::KeyboardInput { event, .. } => {
-                let down = event.state == ElementState::Pressed;
+            WindowEvent::KeyboardInput { event, .. } if !(taken && shown.gui.wants_keyboard()) => {
                 if let PhysicalKey::Code(code) = event.physical_key {
-                    if code == KeyCode::Escape && down {
-                        event_loop.exit();
-                    } else if down
-                        && !event.repeat
-                        && change_setting(code, &mut self.app.world.resource_mut::<Settings>())
-                    {
-                        let settings = self.app.settings();
-                        println!("{}", settings_line(settings));
-                    } else if let Some(key) = key_for(code) {
-                        self.app.world.resource_mut::<Input>().set(key, down);
-                    }
+                    self.key(event_loop, code, event.state == ElementState::Pressed, event.repeat);
                 }
             }
             WindowEvent::MouseInput { state, button: MouseButton::Right, .. } => {
-                self.looking = state == ElementState::Pressed;
-                if let Some(shown) = &self.shown {
-                    shown.window.set_cursor_visible(!self.looking);
+                self.looking = state == ElementState::Pressed && !over_panel;
+                shown.window.set_cursor_visible(!self.looking);
+            }
+            WindowEvent::MouseInput { state, button: MouseButton::Left, .. } => {
+                self.dragging = (state == ElementState::Pressed && !over_panel).then_some((f64::NAN, f64::NAN));
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                if let Some((x, y)) = self.dragging.replace((position.x, position.y))
+                    && x.is_finite()
+                {
+                    let delta = glam::Vec2::new((position.x - x) as f32, (position.y - y) as f32);
+                    self.app.world.resource_mut::<Input>().drag_delta += delta;
                 }
             }
+            WindowEvent::MouseWheel { delta, .. } if !over_panel => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+                };
+                self.app.world.resource_mut::<Input>().zoom += steps;
+            }
             WindowEvent::Focused(false) => {
-                self.looking = false;
+                (self.looking, self.dragging) = (false, None);
                 self.app.world.resource_mut::<Input>().held.clear();
             }
             WindowEvent::RedrawRequested => {
@@ -315,36 +369,5 @@ impl ApplicationHandler for Player {
         if let Some(shown) = &self.shown {
             shown.window.request_redraw();
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::components::ShadowMethod;
-    use crate::settings::CasterCulling;
-    use crate::shadow::FitMode;
-
-    #[test]
-    fn setting_keys_toggle_and_choose_and_others_do_nothing() {
-        let mut s = Settings::default();
-        assert!(change_setting(KeyCode::KeyF, &mut s));
-        assert_eq!(s.fit_mode, FitMode::Unsnapped);
-        assert!(change_setting(KeyCode::KeyC, &mut s) && s.cascade_debug);
-        assert!(change_setting(KeyCode::Digit2, &mut s));
-        assert_eq!(s.cascades, 2);
-        assert!(change_setting(KeyCode::KeyP, &mut s));
-        assert_eq!(s.method, ShadowMethod::Pcf3);
-        assert!(change_setting(KeyCode::KeyK, &mut s));
-        assert_eq!(s.caster_culling, CasterCulling::CameraView);
-        assert_eq!(settings_line(&s), "2 cascades, unsnapped fit, pcf3 filter, culling to the camera view, tinted");
-        assert!(change_setting(KeyCode::KeyR, &mut s) && !s.receiver_plane);
-        assert!(change_setting(KeyCode::KeyT, &mut s) && s.toon_bands == crate::settings::DEFAULT_TOON_BANDS);
-        assert!(change_setting(KeyCode::KeyT, &mut s) && s.toon_bands == 0);
-        assert!(change_setting(KeyCode::KeyG, &mut s) && s.planar_ground);
-        assert!(settings_line(&s).contains("pcf3 filter without receiver plane"));
-        let before = s.clone();
-        assert!(!change_setting(KeyCode::KeyW, &mut s));
-        assert_eq!(s, before);
     }
 }

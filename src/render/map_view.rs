@@ -1,0 +1,203 @@
+//! The shadow-map viewer: every layer of every light's depth map drawn side by side into one
+//! picture (an atlas), depth remapped to grey, for the window's panel to show.
+
+use super::gpu_types::{GpuLayer, MAX_LAYERS};
+use super::shaders::{Composed, MAP_VIEW};
+use crate::shadow::view_distance;
+
+/// Side of one layer's tile in the atlas, in pixels.
+pub const TILE: u32 = 192;
+/// Tiles across the atlas.
+pub const COLUMNS: u32 = 4;
+/// The atlas's format, as egui shows textures.
+pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// What the shader needs of layer `layer` to turn what it keeps back into distance and spread it
+/// over grey: its depth terms, its near and far distances, whether it is a perspective one, its
+/// light's method (which says which map to read) and EVSM's positive exponent.
+#[must_use]
+pub fn view_terms(layer: &GpuLayer) -> [[f32; 4]; 2] {
+    let terms = glam::Vec2::from(layer.depth_terms);
+    let perspective = layer.perspective == 1;
+    let (near, far) = (view_distance(terms, 0.0, perspective), view_distance(terms, 1.0, perspective));
+    [[terms.x, terms.y, near, far], [perspective as u32 as f32, layer.method as f32, layer.warp[0], 0.0]]
+}
+
+/// The size of the atlas for `layers` layers, in pixels.
+#[must_use]
+pub fn atlas_size(layers: u32) -> (u32, u32) {
+    let layers = layers.max(1);
+    (COLUMNS.min(layers) * TILE, layers.div_ceil(COLUMNS) * TILE)
+}
+
+/// The viewer's pipeline, its uniform and the atlas it draws.
+pub struct MapView {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    terms: wgpu::Buffer,
+    atlas: Option<(wgpu::Texture, wgpu::TextureView)>,
+    /// Atlases made so far.
+    generation: u64,
+}
+
+impl MapView {
+    /// The viewer's pipeline.
+    pub fn new(device: &wgpu::Device) -> MapView {
+        let module = Composed::new(&[MAP_VIEW]).module(device);
+        let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty,
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("map view"),
+            entries: &[
+                entry(
+                    0,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                ),
+                entry(
+                    1,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                ),
+                entry(
+                    2,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                ),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("map view"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("map view"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_tile"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_tile"),
+                compilation_options: Default::default(),
+                targets: &[Some(ATLAS_FORMAT.into())],
+            }),
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        });
+        let terms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("map view terms"),
+            size: (MAX_LAYERS * 2 * 16) as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        MapView { pipeline, layout, terms, atlas: None, generation: 0 }
+    }
+
+    /// The atlas as last drawn, and how many atlases have been made (none before the first draw).
+    pub fn atlas(&self) -> Option<(&wgpu::TextureView, u64)> {
+        self.atlas.as_ref().map(|(_, view)| (view, self.generation))
+    }
+
+    /// Draws `layers` of `maps` (the depth array and the colour maps' array) into the atlas and
+    /// gives it back.
+    pub fn draw(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        (maps, colours): (&wgpu::TextureView, &wgpu::TextureView),
+        layers: &[GpuLayer],
+    ) -> &wgpu::TextureView {
+        let count = layers.len().min(MAX_LAYERS) as u32;
+        let (w, h) = atlas_size(count);
+        if self.atlas.as_ref().is_none_or(|(t, _)| (t.width(), t.height()) != (w, h)) {
+            let texture = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("shadow-map atlas"),
+                size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: ATLAS_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            });
+            let view = texture.create_view(&Default::default());
+            self.atlas = Some((texture, view));
+            self.generation += 1;
+        }
+        let terms: Vec<[[f32; 4]; 2]> = layers.iter().take(count as usize).map(view_terms).collect();
+        queue.write_buffer(&self.terms, 0, bytemuck::cast_slice(&terms));
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("map view"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: self.terms.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(maps) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(colours) },
+            ],
+        });
+        let (_, view) = self.atlas.as_ref().expect("made above");
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("map view") });
+        {
+            let mut pass = super::colour_pass(&mut encoder, "map view", view, Some(wgpu::Color::BLACK));
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            for layer in 0..count {
+                let (x, y) = ((layer % COLUMNS) * TILE, (layer / COLUMNS) * TILE);
+                pass.set_viewport(x as f32, y as f32, TILE as f32, TILE as f32, 0.0, 1.0);
+                pass.draw(0..3, layer..layer + 1);
+            }
+        }
+        queue.submit([encoder.finish()]);
+        view
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::components::ShadowMethod;
+    use bytemuck::Zeroable;
+
+    #[test]
+    fn the_atlas_holds_every_layer_in_rows_of_four() {
+        assert_eq!(atlas_size(12), (4 * TILE, 3 * TILE));
+        assert_eq!(atlas_size(1), (TILE, TILE));
+        assert_eq!(atlas_size(0), (TILE, TILE), "an empty atlas still exists");
+        assert_eq!(atlas_size(5), (4 * TILE, 2 * TILE));
+    }
+
+    #[test]
+    fn view_terms_give_the_layers_near_and_far() {
+        let proj = glam::camera::rh::proj::directx::perspective(1.0, 1.0, 0.5, 20.0);
+        let layer = GpuLayer {
+            depth_terms: crate::shadow::depth_terms(&proj).to_array(),
+            perspective: 1,
+            ..GpuLayer::zeroed()
+        };
+        let [[_, _, near, far], [p, ..]] = view_terms(&layer);
+        assert!((near - 0.5).abs() < 1e-4 && (far - 20.0).abs() < 1e-2 && p == 1.0, "{near} {far}");
+        let evsm = GpuLayer { method: ShadowMethod::Evsm as u32, warp: [5.0, 3.0], ..layer };
+        assert_eq!(view_terms(&evsm)[1][1..3], [ShadowMethod::Evsm as u32 as f32, 5.0], "the method says which map");
+    }
+}

@@ -1,0 +1,306 @@
+//! A window's state as a command line: each light's own settings by its name (`"spot 1=pcss"`),
+//! read from and written as the options `--light-method`, `--light-bias`, `--light-size` and
+//! `--no-light-shadow`, and [`command_line`], every option that rebuilds what the window shows
+//! now, so `umbra render` draws the same picture headless.
+
+use crate::components::{
+    Camera, DirectionalLight, PointLight, ShadowBias, ShadowMap, ShadowMethod, SpotLight, Time, Transform,
+};
+use crate::settings::{MAX_BIAS_SCALE, Settings};
+use crate::systems::{LightKind, SceneLight, light_list};
+use crate::{App, AppError};
+use bevy_ecs::prelude::*;
+
+/// One of a light's own settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightSetting {
+    /// Its own sampling method.
+    Method(ShadowMethod),
+    /// Its own bias.
+    Bias(ShadowBias),
+    /// Its size: a sun's disc radius in degrees, a spot's or point light's radius in metres.
+    Size(f32),
+    /// It casts no shadow.
+    NoShadow,
+}
+
+/// Splits `"LIGHT=VALUE"` at its last `=`; `form` and `example` say what was wanted.
+fn named<'a>(s: &'a str, form: &str, example: &str) -> Result<(String, &'a str), String> {
+    let (light, value) = s.rsplit_once('=').ok_or(format!("`{s}` is not {form} (such as \"{example}\")"))?;
+    Ok((light.trim().to_string(), value.trim()))
+}
+
+/// Reads `"LIGHT=METHOD"`.
+pub fn parse_method(s: &str) -> Result<(String, LightSetting), String> {
+    let (light, value) = named(s, "LIGHT=METHOD", "spot 1=pcss")?;
+    Ok((light, LightSetting::Method(value.parse()?)))
+}
+
+/// Reads `"LIGHT=CONSTANT,SLOPE,NORMAL[,SCALE][,flat]"`: texels, then the multiplicative offset
+/// (default 0), then `flat` to turn the receiver plane off.
+pub fn parse_bias(s: &str) -> Result<(String, LightSetting), String> {
+    let (light, value) = named(s, "LIGHT=CONSTANT,SLOPE,NORMAL", "spot 1=0.5,1,0.5")?;
+    let why = || format!("`{value}` is not CONSTANT,SLOPE,NORMAL[,SCALE][,flat] (texels 0..100, scale 0..0.5)");
+    let mut parts: Vec<&str> = value.split(',').map(str::trim).collect();
+    let receiver_plane = parts.last() != Some(&"flat");
+    if !receiver_plane {
+        parts.pop();
+    }
+    let numbers: Vec<f32> = parts.iter().map(|p| p.parse::<f32>()).collect::<Result<_, _>>().map_err(|_| why())?;
+    let texels = |x: f32| x.is_finite() && (0.0..=100.0).contains(&x);
+    let bias = match numbers[..] {
+        [constant, slope, normal] => ShadowBias { constant, slope, normal, scale: 0.0, receiver_plane },
+        [constant, slope, normal, scale] => ShadowBias { constant, slope, normal, scale, receiver_plane },
+        _ => return Err(why()),
+    };
+    if ![bias.constant, bias.slope, bias.normal].into_iter().all(texels)
+        || !(0.0..=MAX_BIAS_SCALE).contains(&bias.scale)
+    {
+        return Err(why());
+    }
+    Ok((light, LightSetting::Bias(bias)))
+}
+
+/// Reads `"LIGHT=SIZE"`: degrees of disc radius for a sun (0..10), metres of radius for others (0..10).
+pub fn parse_size(s: &str) -> Result<(String, LightSetting), String> {
+    let (light, value) = named(s, "LIGHT=SIZE", "sun=0.5")?;
+    match value.parse::<f32>() {
+        Ok(x) if (0.0..=10.0).contains(&x) => Ok((light, LightSetting::Size(x))),
+        _ => Err(format!("`{value}` is not a size: degrees for a sun, metres for other lights, 0 to 10")),
+    }
+}
+
+/// The light called `name`; a name no light has is an error that lists the lights.
+pub fn light_named(world: &mut World, name: &str) -> Result<SceneLight, AppError> {
+    let lights = light_list(world);
+    lights.iter().find(|l| l.label.to_string() == name).copied().ok_or_else(|| {
+        let known: Vec<String> = lights.iter().map(|l| format!("`{}`", l.label)).collect();
+        AppError::UnknownLight { name: name.to_string(), known: known.join(", ") }
+    })
+}
+
+/// Gives each light named in `settings` its own setting, in order (a later one wins); a name no
+/// light has is an error that lists the lights.
+pub fn apply(world: &mut World, settings: &[(String, LightSetting)]) -> Result<(), AppError> {
+    for (name, setting) in settings {
+        let light = &light_named(world, name)?;
+        let e = light.entity;
+        match *setting {
+            LightSetting::Method(m) => {
+                world.entity_mut(e).insert(m);
+            }
+            LightSetting::Bias(b) => {
+                world.entity_mut(e).insert(b);
+            }
+            LightSetting::NoShadow => {
+                world.entity_mut(e).remove::<ShadowMap>();
+            }
+            LightSetting::Size(x) => set_size(world, light, x),
+        }
+    }
+    Ok(())
+}
+
+/// Sets a light's size as [`LightSetting::Size`] gives it.
+pub fn set_size(world: &mut World, light: &SceneLight, size: f32) {
+    let e = light.entity;
+    if let Some(mut sun) = world.get_mut::<DirectionalLight>(e) {
+        sun.angular_radius = size.to_radians();
+    } else if let Some(mut spot) = world.get_mut::<SpotLight>(e) {
+        spot.radius = size;
+    } else if let Some(mut point) = world.get_mut::<PointLight>(e) {
+        point.radius = size;
+    }
+}
+
+/// A light's size as [`LightSetting::Size`] gives it.
+#[must_use]
+pub fn size_of(kind: &LightKind) -> f32 {
+    match *kind {
+        LightKind::Sun { angular_radius, .. } => angular_radius.to_degrees(),
+        LightKind::Spot { radius, .. } | LightKind::Point { radius, .. } => radius,
+    }
+}
+
+/// `args` as one line a shell reads back as them, each quoted where it needs it.
+#[must_use]
+pub fn shell_line(args: &[String]) -> String {
+    args.iter().map(|a| quoted(a)).collect::<Vec<_>>().join(" ")
+}
+
+/// Quotes `s` for a shell when it needs it.
+fn quoted(s: &str) -> String {
+    if s.chars().all(|c| c.is_ascii_alphanumeric() || "-_.,/:=".contains(c)) {
+        s.to_string()
+    } else {
+        format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
+    }
+}
+
+/// The options that rebuild what `world` shows now: every setting that differs from the
+/// defaults, each light's own settings where they differ from what those options alone would
+/// build, the camera (`--eye`, `--target`) and the scene's time (`--time`). Read by `umbra
+/// render` and `umbra play`; the per-light options need the same scene, so a scene that cannot
+/// be built again (a file gone since) gives them without comparing.
+pub fn command_line(world: &mut World) -> Vec<String> {
+    let settings = world.resource::<Settings>().clone();
+    let mut out = settings_options(&settings);
+    let base = Settings { light_settings: Vec::new(), biases: None, ..settings.clone() };
+    let mut fresh = App::new(base).ok();
+    let lights = light_list(world);
+    let before = fresh.as_mut().map(|f| light_list(&mut f.world)).unwrap_or_default();
+    let mut push = |flag: &str, value: String| out.extend([flag.to_string(), value]);
+    for light in &lights {
+        let was = before.iter().find(|b| b.label == light.label);
+        let name = light.label.to_string();
+        let own_method = world.get::<ShadowMethod>(light.entity).copied();
+        if own_method.is_some() && own_method != was.map(|w| w.method) {
+            push("--light-method", format!("{name}={}", light.method.name()));
+        }
+        if was.is_none_or(|w| w.bias != light.bias) {
+            let b = light.bias;
+            let flat = if b.receiver_plane { "" } else { ",flat" };
+            push("--light-bias", format!("{name}={},{},{},{}{flat}", b.constant, b.slope, b.normal, b.scale));
+        }
+        if was.is_none_or(|w| size_of(&w.kind) != size_of(&light.kind)) {
+            push("--light-size", format!("{name}={}", size_of(&light.kind)));
+        }
+        if !light.shadowed && was.is_none_or(|w| w.shadowed) {
+            push("--no-light-shadow", name);
+        }
+    }
+    let camera = world.query_filtered::<&Transform, With<Camera>>().iter(world).next().copied();
+    if let Some(t) = camera {
+        // A target far along the view keeps the direction's rounding far below a pixel.
+        let (eye, target) = (t.translation, t.translation + t.forward() * 100.0);
+        push("--eye", format!("{},{},{}", eye.x, eye.y, eye.z));
+        push("--target", format!("{},{},{}", target.x, target.y, target.z));
+    }
+    push("--time", world.resource::<Time>().t.to_string());
+    out
+}
+
+/// The options for every setting of `s` that differs from the defaults (per-light ones aside).
+fn settings_options(s: &Settings) -> Vec<String> {
+    let d = Settings::default();
+    let mut out = Vec::new();
+    let mut flag = |on: bool, name: &str| {
+        if on {
+            out.push(format!("--{name}"));
+        }
+    };
+    flag(!s.shadows, "no-shadows");
+    flag(s.cascade_debug, "cascade-debug");
+    flag(s.planar_ground, "planar-ground");
+    flag(!s.receiver_plane, "no-receiver-plane");
+    flag(!s.reuse_shadow_maps, "redraw-shadows");
+    flag(!s.character, "no-character");
+    flag(!s.ground_grid, "no-ground-grid");
+    flag(s.light_volumes, "light-volumes");
+    let mut value = |differs: bool, name: &str, v: String| {
+        if differs {
+            out.extend([format!("--{name}"), v]);
+        }
+    };
+    value(s.shadow_map_size != d.shadow_map_size, "shadow-map-size", s.shadow_map_size.to_string());
+    value(s.shadow_strength != d.shadow_strength, "shadow-strength", s.shadow_strength.to_string());
+    value(s.depth_bias != d.depth_bias, "depth-bias", s.depth_bias.to_string());
+    value(s.slope_bias != d.slope_bias, "slope-bias", s.slope_bias.to_string());
+    value(s.normal_bias != d.normal_bias, "normal-bias", s.normal_bias.to_string());
+    value(s.bias_scale != d.bias_scale, "bias-scale", s.bias_scale.to_string());
+    value(s.cubes != d.cubes, "cubes", s.cubes.to_string());
+    value(s.cascades != d.cascades, "cascades", s.cascades.to_string());
+    value(s.split_lambda != d.split_lambda, "split-lambda", s.split_lambda.to_string());
+    value(s.cascade_blend != d.cascade_blend, "cascade-blend", s.cascade_blend.to_string());
+    value(s.shadow_distance != d.shadow_distance, "shadow-distance", s.shadow_distance.to_string());
+    value(s.fit_mode != d.fit_mode, "fit", s.fit_mode.name().into());
+    value(s.method != d.method, "method", s.method.name().into());
+    value(s.moment_blur != d.moment_blur, "moment-blur", s.moment_blur.to_string());
+    value(s.light_bleeding != d.light_bleeding, "light-bleeding", s.light_bleeding.to_string());
+    value(s.moment_bits != d.moment_bits, "moment-bits", s.moment_bits.name().into());
+    value(s.shadow_depth != d.shadow_depth, "shadow-depth", s.shadow_depth.name().into());
+    value(s.toon_bands != d.toon_bands, "toon", s.toon_bands.to_string());
+    value(s.caster_culling != d.caster_culling, "culling", s.caster_culling.name().into());
+    value(s.shadow_faces != d.shadow_faces, "shadow-faces", s.shadow_faces.name().into());
+    value(s.exposure != d.exposure, "exposure", s.exposure.to_string());
+    if let Some(light) = &s.texel_density {
+        value(true, "texel-density", light.clone());
+    }
+    if let Some(p) = &s.model {
+        value(true, "model", p.display().to_string());
+    }
+    if let Some(p) = &s.scene {
+        value(true, "scene", p.display().to_string());
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn light_options_read_what_they_write_and_name_what_is_wrong() {
+        assert_eq!(parse_method("spot 1=pcss"), Ok(("spot 1".into(), LightSetting::Method(ShadowMethod::Pcss))));
+        let bias = ShadowBias { constant: 1.5, slope: 0.0, normal: 2.0, scale: 0.05, receiver_plane: false };
+        assert_eq!(parse_bias("sun=1.5,0,2,0.05,flat"), Ok(("sun".into(), LightSetting::Bias(bias))));
+        let plain = ShadowBias { scale: 0.0, receiver_plane: true, ..bias };
+        assert_eq!(parse_bias(" sun = 1.5, 0, 2 "), Ok(("sun".into(), LightSetting::Bias(plain))));
+        assert_eq!(parse_size("point 1=0.25"), Ok(("point 1".into(), LightSetting::Size(0.25))));
+        for bad in [
+            "sun",
+            "sun=1,2",
+            "sun=1,2,3,4,5",
+            "sun=a,b,c",
+            "sun=1,2,-3",
+            "sun=1,2,3,0.9",
+            "sun=NaN,1,1",
+            "sun=1,1,1,flat,flat",
+        ] {
+            assert!(parse_bias(bad).is_err(), "{bad}");
+        }
+        for bad in ["sun=-1", "sun=11", "sun=inf", "sun=NaN", "sun="] {
+            assert!(parse_size(bad).is_err(), "{bad}");
+        }
+        assert!(parse_method("sun=blur").unwrap_err().contains("not a shadow method"));
+        assert_eq!(quoted("spot 1=pcss"), "\"spot 1=pcss\"");
+        assert_eq!(quoted("1.5,2,3"), "1.5,2,3");
+    }
+
+    #[test]
+    fn the_default_scene_needs_only_its_camera_and_time() {
+        let mut app = App::new(Settings::default()).unwrap();
+        app.set_time(2.0);
+        let line = command_line(&mut app.world);
+        assert_eq!(line.iter().filter(|a| a.starts_with("--")).collect::<Vec<_>>(), ["--eye", "--target", "--time"]);
+        assert_eq!(line.last().map(String::as_str), Some("2"));
+    }
+
+    #[test]
+    fn changed_lights_and_settings_are_written() {
+        let mut app = App::new(Settings { cascades: 2, method: ShadowMethod::Pcf5, ..Settings::default() }).unwrap();
+        let lights = light_list(&mut app.world);
+        let own = [
+            ("spot 1".to_string(), LightSetting::Method(ShadowMethod::Vsm)),
+            ("sun".to_string(), LightSetting::Bias(ShadowBias { constant: 2.0, ..Default::default() })),
+            ("point 1".to_string(), LightSetting::Size(0.3)),
+            ("spot 2".to_string(), LightSetting::NoShadow),
+        ];
+        apply(&mut app.world, &own).unwrap();
+        assert!(app.world.get::<ShadowMap>(lights[2].entity).is_none());
+        let line = shell_line(&command_line(&mut app.world));
+        for part in [
+            "--cascades 2",
+            "--method pcf5",
+            "--light-method \"spot 1=vsm\"",
+            "--light-bias sun=2,0.5,0.5,0",
+            "--light-size \"point 1=0.3\"",
+            "--no-light-shadow \"spot 2\"",
+        ] {
+            assert!(line.contains(part), "{part} in {line}");
+        }
+        assert!(!line.contains("spot 1=0.1"), "unchanged sizes are not written: {line}");
+        let unknown = apply(&mut app.world, &[("moon".into(), LightSetting::NoShadow)]).unwrap_err();
+        assert!(unknown.to_string().contains("moon") && unknown.to_string().contains("`spot 1`"));
+    }
+}

@@ -1,0 +1,245 @@
+//! The `umbra` command's scene options, shared by every command, and the checks on their values.
+
+use anyhow::Result;
+use clap::Args;
+use std::path::PathBuf;
+use umbra::Settings;
+use umbra::components::ShadowMethod;
+use umbra::reproduce::{LightSetting, parse_bias, parse_method, parse_size as parse_light_size};
+use umbra::settings::{CasterCulling, MomentBits, ShadowDepth, ShadowFaces};
+use umbra::shadow::FitMode;
+
+/// Settings shared by every command.
+#[derive(Args, Clone, Default)]
+pub struct SceneArgs {
+    /// Turn shadows off.
+    #[arg(long)]
+    pub no_shadows: bool,
+    /// Shadow-map layer size in texels.
+    #[arg(long, value_name = "TEXELS")]
+    pub shadow_map_size: Option<u32>,
+    /// How dark shadows are, 0..1.
+    #[arg(long, value_name = "0..1", allow_negative_numbers = true)]
+    pub shadow_strength: Option<f32>,
+    /// Constant depth bias in texels.
+    #[arg(long, value_name = "TEXELS", allow_negative_numbers = true)]
+    pub depth_bias: Option<f32>,
+    /// Slope-scaled depth bias in texels.
+    #[arg(long, value_name = "TEXELS", allow_negative_numbers = true)]
+    pub slope_bias: Option<f32>,
+    /// Normal-offset bias in texels.
+    #[arg(long, value_name = "TEXELS", allow_negative_numbers = true)]
+    pub normal_bias: Option<f32>,
+    /// Multiplicative depth offset: the share of the distance to the light a receiver is pulled
+    /// towards it before the test, 0..0.5 (the source article's `depth × 0.95` is 0.05).
+    #[arg(long, value_name = "SHARE", allow_negative_numbers = true)]
+    pub bias_scale: Option<f32>,
+    /// Number of animated cubes.
+    #[arg(long)]
+    pub cubes: Option<u32>,
+    /// Cascades of the sun's shadow, 1..4.
+    #[arg(long, value_name = "N")]
+    pub cascades: Option<u32>,
+    /// Cascade split scheme: 0 uniform .. 1 logarithmic.
+    #[arg(long, value_name = "0..1", allow_negative_numbers = true)]
+    pub split_lambda: Option<f32>,
+    /// Fraction of each cascade that blends into the next, 0..0.5.
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
+    pub cascade_blend: Option<f32>,
+    /// How cascades are fitted: stable (no shimmer), unsnapped or tight (sharper, shimmers).
+    #[arg(long, value_name = "MODE")]
+    pub fit: Option<FitMode>,
+    /// Tint each cascade in its own colour.
+    #[arg(long)]
+    pub cascade_debug: bool,
+    /// How shadow maps are sampled, for every light without a method of its own: nearest,
+    /// bilinear, pcf3, pcf5, gauss5, poisson16, poisson32, pcss, vsm, evsm, msm, r32f (depth in an R32F colour target) or r16f-radial (distance from the light in R16F).
+    #[arg(long, alias = "filter", value_name = "METHOD")]
+    pub method: Option<ShadowMethod>,
+    /// Blur radius of moment maps (vsm, evsm, msm) in texels, 0..16 (0: none).
+    #[arg(long, value_name = "TEXELS")]
+    pub moment_blur: Option<u32>,
+    /// Light-bleeding reduction of moment maps, 0..0.9: the share of their bound cut away.
+    #[arg(long, value_name = "0..0.9")]
+    pub light_bleeding: Option<f32>,
+    /// Float bits per moment: auto (each method's own choice), 16 or 32.
+    #[arg(long, value_name = "BITS")]
+    pub moment_bits: Option<MomentBits>,
+    /// Format of the depth maps: d32 (32-bit float) or d16 (16-bit fixed point, half the memory).
+    #[arg(long, value_name = "FORMAT")]
+    pub shadow_depth: Option<ShadowDepth>,
+    /// Filters compare every tap with the lookup's centre, not with the receiver's plane (for
+    /// every light without a bias of its own; key R in play).
+    #[arg(long)]
+    pub no_receiver_plane: bool,
+    /// Every shadowed light also draws planar shadows onto the ground, which takes those in
+    /// place of its maps (other surfaces keep the maps).
+    #[arg(long)]
+    pub planar_ground: bool,
+    /// Toon shading with this many bands, 2..16 (key T in play).
+    #[arg(long, value_name = "BANDS")]
+    pub toon: Option<u32>,
+    /// Which casters shadow maps take: light (all in the light's volume) or camera (only those
+    /// the camera sees, a shortcut that loses off-screen casters).
+    #[arg(long, value_name = "MODE")]
+    pub culling: Option<CasterCulling>,
+    /// Which caster faces shadow maps take: both, or back (only those turned away from the light).
+    #[arg(long, value_name = "FACES")]
+    pub shadow_faces: Option<ShadowFaces>,
+    /// Draw every shadow map every frame instead of only those of dirty lights.
+    #[arg(long)]
+    pub redraw_shadows: bool,
+    /// Leave the walking character out.
+    #[arg(long)]
+    pub no_character: bool,
+    /// Place this glTF model (.gltf or .glb) in the middle of the scene, playing its first clip.
+    #[arg(long, value_name = "PATH")]
+    pub model: Option<PathBuf>,
+    /// Play this glTF scene (.gltf or .glb) instead of the sample: its meshes, its lights
+    /// (KHR_lights_punctual) with shadows, its first camera (or one that frames it); a sun is
+    /// added when it has no light.
+    #[arg(long, value_name = "PATH", conflicts_with = "model")]
+    pub scene: Option<PathBuf>,
+    /// What one lux (or one candela at 1 m) of a scene file's lights is worth on screen; files
+    /// with physical values (a 100000 lux sun) want about 0.00001.
+    #[arg(long, value_name = "FACTOR")]
+    pub exposure: Option<f32>,
+    /// Per-light shadow biases from a file written by `umbra tune` (and per-light methods, if it
+    /// has `"methods": {"spot 1": "pcss"}`).
+    #[arg(long, value_name = "FILE")]
+    pub biases: Option<PathBuf>,
+    /// One light's shadow method, by its name: `--light-method "spot 1=pcss"` (repeat for more
+    /// lights; the others take --method).
+    #[arg(long, value_name = "LIGHT=METHOD", value_parser = parse_method)]
+    pub light_method: Vec<(String, LightSetting)>,
+    /// One light's own bias: `--light-bias "spot 1=CONSTANT,SLOPE,NORMAL[,SCALE][,flat]"` (texels;
+    /// the multiplicative offset; `flat` turns its receiver plane off).
+    #[arg(long, value_name = "LIGHT=BIAS", value_parser = parse_bias)]
+    pub light_bias: Vec<(String, LightSetting)>,
+    /// One light's size, for PCSS and the soft truth: `--light-size "sun=0.5"` (a sun's disc
+    /// radius in degrees; a spot's or point light's radius in metres).
+    #[arg(long, value_name = "LIGHT=SIZE", value_parser = parse_light_size)]
+    pub light_size: Vec<(String, LightSetting)>,
+    /// This light casts no shadow (repeat for more lights).
+    #[arg(long, value_name = "LIGHT")]
+    pub no_light_shadow: Vec<String>,
+    /// A plain ground, without the faint checker that shows stair-steps and shimmer.
+    #[arg(long)]
+    pub no_ground_grid: bool,
+    /// Show, in place of the shading, how many shadow-map texels of this light fall on each
+    /// pixel: red a texel over several pixels, green one each, blue many a pixel.
+    #[arg(long, value_name = "LIGHT")]
+    pub texel_density: Option<String>,
+    /// Draw each shadowed light's layers (cascade boxes, spot and cube-face frusta) as lines.
+    #[arg(long)]
+    pub light_volumes: bool,
+    /// Beyond this view distance (metres) the sun casts no shadow.
+    #[arg(long, value_name = "METRES")]
+    pub shadow_distance: Option<f32>,
+    /// Where the camera starts: X,Y,Z in metres (with --target).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_point, requires = "target", allow_hyphen_values = true)]
+    pub eye: Option<glam::Vec3>,
+    /// What the camera looks at: X,Y,Z in metres (with --eye).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_point, requires = "eye", allow_hyphen_values = true)]
+    pub target: Option<glam::Vec3>,
+}
+
+pub fn parse_size(s: &str) -> Result<u32, String> {
+    match s.parse::<i64>() {
+        Ok(v) if (1..=16384).contains(&v) => Ok(v as u32),
+        _ => Err(format!("`{s}` is not a size: give a whole number of pixels from 1 to 16384")),
+    }
+}
+
+pub fn parse_angle(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(a) if (0.0..=10.0).contains(&a) => Ok(a),
+        _ => Err(format!("`{s}` is not an angle: give degrees from 0 to 10")),
+    }
+}
+
+pub fn parse_radius(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(r) if (0.0..=10.0).contains(&r) => Ok(r),
+        _ => Err(format!("`{s}` is not a radius: give metres from 0 to 10")),
+    }
+}
+
+pub fn parse_time(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(t) if t.is_finite() && t >= 0.0 => Ok(t),
+        _ => Err(format!("`{s}` is not a time: give seconds, 0 or more")),
+    }
+}
+
+/// Reads `X,Y,Z`.
+pub fn parse_point(s: &str) -> Result<glam::Vec3, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("`{s}` is not a point: give X,Y,Z in metres"))?;
+    match v[..] {
+        [x, y, z] if v.iter().all(|c| c.is_finite() && c.abs() <= 1e6) => Ok(glam::Vec3::new(x, y, z)),
+        _ => Err(format!("`{s}` is not a point: give X,Y,Z in metres, each finite")),
+    }
+}
+
+impl SceneArgs {
+    pub fn settings(&self) -> Result<Settings> {
+        let d = Settings::default();
+        let (biases, file_methods) = match self.biases.as_deref() {
+            Some(path) => {
+                let (biases, methods) = umbra::biases::LightBiases::load_with_methods(path)?;
+                (Some(biases), methods)
+            }
+            None => (None, Vec::new()),
+        };
+        Ok(Settings {
+            shadows: !self.no_shadows,
+            shadow_map_size: self.shadow_map_size.unwrap_or(d.shadow_map_size),
+            shadow_strength: self.shadow_strength.unwrap_or(d.shadow_strength),
+            depth_bias: self.depth_bias.unwrap_or(d.depth_bias),
+            slope_bias: self.slope_bias.unwrap_or(d.slope_bias),
+            normal_bias: self.normal_bias.unwrap_or(d.normal_bias),
+            bias_scale: self.bias_scale.unwrap_or(d.bias_scale),
+            cubes: self.cubes.unwrap_or(d.cubes),
+            cascades: self.cascades.unwrap_or(d.cascades),
+            split_lambda: self.split_lambda.unwrap_or(d.split_lambda),
+            cascade_blend: self.cascade_blend.unwrap_or(d.cascade_blend),
+            fit_mode: self.fit.unwrap_or(d.fit_mode),
+            cascade_debug: self.cascade_debug,
+            method: self.method.unwrap_or(d.method),
+            moment_blur: self.moment_blur.unwrap_or(d.moment_blur),
+            light_bleeding: self.light_bleeding.unwrap_or(d.light_bleeding),
+            moment_bits: self.moment_bits.unwrap_or(d.moment_bits),
+            shadow_depth: self.shadow_depth.unwrap_or(d.shadow_depth),
+            planar_ground: self.planar_ground,
+            receiver_plane: !self.no_receiver_plane,
+            toon_bands: self.toon.unwrap_or(d.toon_bands),
+            // The file's first, so the command line's win.
+            light_settings: file_methods
+                .into_iter()
+                .map(|(light, m)| (light, LightSetting::Method(m)))
+                .chain(self.light_method.iter().cloned())
+                .chain(self.light_bias.iter().cloned())
+                .chain(self.light_size.iter().cloned())
+                .chain(self.no_light_shadow.iter().map(|l| (l.clone(), LightSetting::NoShadow)))
+                .collect(),
+            shadow_distance: self.shadow_distance.unwrap_or(d.shadow_distance),
+            ground_grid: !self.no_ground_grid,
+            texel_density: self.texel_density.clone(),
+            light_volumes: self.light_volumes,
+            camera: self.eye.zip(self.target),
+            caster_culling: self.culling.unwrap_or(d.caster_culling),
+            shadow_faces: self.shadow_faces.unwrap_or(d.shadow_faces),
+            reuse_shadow_maps: !self.redraw_shadows,
+            character: !self.no_character,
+            model: self.model.clone(),
+            scene: self.scene.clone(),
+            exposure: self.exposure.unwrap_or(d.exposure),
+            biases,
+            ..d
+        })
+    }
+}

@@ -1,0 +1,482 @@
+//! The panel: live numbers, every shadow setting, each light's own method, bias, size and
+//! shadow, the error overlay's controls and numbers, and the debug views. It writes the
+//! [`Settings`] resource and the lights' components, and only where a value really changed, so
+//! an untouched panel dirties nothing.
+
+use super::History;
+use crate::components::{DirectionalLight, PointLight, ShadowBias, ShadowMap, ShadowMethod, SpotLight};
+use crate::eval::live::LiveReport;
+use crate::eval::metrics::Tally;
+use crate::render::ShadowStats;
+use crate::settings::{CasterCulling, MAX_BIAS_SCALE, MomentBits, Settings, ShadowDepth, ShadowFaces};
+use crate::shadow::FitMode;
+use crate::systems::{LightKind, SceneLight, light_list};
+use bevy_ecs::prelude::*;
+use egui::{CollapsingHeader, Color32, ComboBox, Slider, Ui};
+
+/// The window's own state beside the settings: what is shown, and what was asked for this frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lab {
+    /// The panel is open.
+    pub panel: bool,
+    /// The scene's clock is held (the animation stops; the camera still moves).
+    pub hold: bool,
+    /// The last measurement's error picture is laid over the view.
+    pub overlay: bool,
+    /// Measure again whenever the view has been still for [`STILL_FOR`] seconds.
+    pub auto_measure: bool,
+    /// The measured frame is the window's size divided by this (1, 2 or 4).
+    pub measure_scale: u32,
+    /// The shadow-map viewer is open.
+    pub map_viewer: bool,
+    /// What the user asked for this frame; the window does it and clears it.
+    pub asked: Asked,
+    /// The command line that draws the view headless, once asked for.
+    pub command: Option<String>,
+}
+
+/// Seconds the view must stay still before an automatic measurement.
+pub const STILL_FOR: f32 = 0.5;
+
+impl Default for Lab {
+    fn default() -> Self {
+        Lab {
+            panel: false,
+            hold: false,
+            overlay: true,
+            auto_measure: false,
+            measure_scale: 2,
+            map_viewer: false,
+            asked: Asked::default(),
+            command: None,
+        }
+    }
+}
+
+/// One-off requests from the panel or the keys.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Asked {
+    /// Measure the view on screen now.
+    pub measure: bool,
+    /// Save a screenshot of the window.
+    pub screenshot: bool,
+    /// Switch to the next camera.
+    pub camera: bool,
+}
+
+/// What the panel shows but does not change.
+pub struct Live<'a> {
+    /// Frame and pass times.
+    pub history: &'a History,
+    /// The last frame's shadow layers, drawn and kept, per light.
+    pub stats: &'a ShadowStats,
+    /// The measurement laid over the view, if any.
+    pub measured: Option<&'a LiveReport>,
+    /// What the measuring is doing, in a few words.
+    pub status: &'a str,
+    /// The camera mode, in a few words.
+    pub camera: &'a str,
+    /// The adapter, in a few words.
+    pub adapter: &'a str,
+}
+
+/// Draws the panel on the left of the window and applies what the user changed to `world`.
+pub fn panel(ui: &mut Ui, world: &mut World, lab: &mut Lab, live: &Live<'_>) {
+    egui::Panel::left("umbra panel").default_size(330.0).show(ui, |ui| {
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            live_numbers(ui, live);
+            section(ui, "Error against the ray-traced truth", true, |ui| overlay_section(ui, lab, live));
+            let mut settings = world.resource::<Settings>().clone();
+            let names: Vec<String> = light_list(world).iter().map(|l| l.label.to_string()).collect();
+            section(ui, "Shadows", false, |ui| shadow_settings(ui, &mut settings));
+            section(ui, "Sun cascades", false, |ui| cascade_settings(ui, &mut settings));
+            section(ui, "Shading and views", false, |ui| {
+                view_settings(ui, &mut settings, lab, live.camera);
+                texel_density(ui, &mut settings, &names);
+            });
+            if settings != *world.resource::<Settings>() && settings.validate().is_ok() {
+                *world.resource_mut::<Settings>() = settings;
+            }
+            section(ui, "Lights", true, |ui| lights(ui, world));
+            section(ui, "This view, headless", false, |ui| reproduce(ui, world, lab));
+        });
+    });
+}
+
+fn section(ui: &mut Ui, title: &str, open: bool, body: impl FnOnce(&mut Ui)) {
+    CollapsingHeader::new(title).default_open(open).show(ui, body);
+}
+
+fn live_numbers(ui: &mut Ui, live: &Live<'_>) {
+    let h = live.history;
+    let gpu = |i: usize| History::median(h.passes.iter().map(|p| if i == 0 { p.0 } else { p.1 }), 30);
+    ui.label(format!("{:.0} fps · {}", h.fps(), live.adapter));
+    match (gpu(0), gpu(1)) {
+        (Some(shadow), Some(main)) => {
+            ui.label(format!("GPU: shadow pass {shadow:.2} ms · main pass {main:.2} ms (median of 30)"));
+        }
+        _ => {
+            ui.label("GPU pass times: no timestamps on this adapter");
+        }
+    }
+    graph(ui, h);
+    ui.label("shadow layers drawn / kept this frame:");
+    ui.horizontal_wrapped(|ui| {
+        for l in &live.stats.lights {
+            let colour = if l.drawn > 0 { Color32::from_rgb(255, 170, 60) } else { ui.visuals().text_color() };
+            ui.colored_label(colour, format!("{} {}/{}", l.light, l.drawn, l.kept));
+        }
+    });
+    ui.separator();
+}
+
+/// The frame time (grey), and the shadow (orange) and main (cyan) pass times, oldest on the left.
+fn graph(ui: &mut Ui, h: &History) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 56.0), egui::Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 2.0, Color32::from_black_alpha(90));
+    let top = h.frames.iter().copied().chain(h.passes.iter().map(|p| p.0 + p.1)).fold(1.0f32, f32::max);
+    let line = |values: Vec<f32>, colour: Color32| {
+        let n = super::history::KEPT as f32;
+        let points = values
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let x = rect.right() - (values.len() - i) as f32 / n * rect.width();
+                egui::pos2(x, rect.bottom() - v / top * rect.height())
+            })
+            .collect();
+        painter.line(points, egui::Stroke::new(1.5, colour));
+    };
+    line(h.frames.iter().copied().collect(), Color32::GRAY);
+    line(h.passes.iter().map(|p| p.0).collect(), Color32::from_rgb(255, 150, 40));
+    line(h.passes.iter().map(|p| p.1).collect(), Color32::from_rgb(60, 200, 230));
+    painter.text(
+        rect.left_top(),
+        egui::Align2::LEFT_TOP,
+        format!("{top:.0} ms"),
+        egui::FontId::monospace(10.0),
+        Color32::WHITE,
+    );
+}
+
+/// A slider that keeps a value set outside its range (from the command line, say) until it is
+/// dragged: showing the panel must change nothing.
+fn slide<'a, N: egui::emath::Numeric>(value: &'a mut N, range: std::ops::RangeInclusive<N>) -> Slider<'a> {
+    Slider::new(value, range).clamping(egui::SliderClamping::Edits)
+}
+
+fn choice<T: Copy + PartialEq>(ui: &mut Ui, label: &str, value: &mut T, all: &[T], name: fn(T) -> &'static str) {
+    ComboBox::from_label(label).selected_text(name(*value)).show_ui(ui, |ui| {
+        for c in all {
+            ui.selectable_value(value, *c, name(*c));
+        }
+    });
+}
+
+/// Shadow-map sizes the panel offers.
+pub const MAP_SIZES: [u32; 6] = [256, 512, 1024, 2048, 4096, 8192];
+
+fn shadow_settings(ui: &mut Ui, s: &mut Settings) {
+    ui.checkbox(&mut s.shadows, "shadows");
+    ui.checkbox(&mut s.reuse_shadow_maps, "keep clean lights' maps (the cache)");
+    choice(ui, "method (lights without their own)", &mut s.method, ShadowMethod::ALL, ShadowMethod::name);
+    ComboBox::from_label("map size").selected_text(format!("{}²", s.shadow_map_size)).show_ui(ui, |ui| {
+        for size in MAP_SIZES {
+            ui.selectable_value(&mut s.shadow_map_size, size, format!("{size}²"));
+        }
+    });
+    choice(ui, "depth format", &mut s.shadow_depth, ShadowDepth::ALL, ShadowDepth::name);
+    ui.add(slide(&mut s.shadow_strength, 0.0..=1.0).text("shadow strength"));
+    ui.label("bias of lights without their own (texels):");
+    bias_sliders(ui, &mut s.depth_bias, &mut s.slope_bias, &mut s.normal_bias, &mut s.bias_scale);
+    ui.checkbox(&mut s.receiver_plane, "receiver-plane bias (filters)");
+    ui.checkbox(&mut s.planar_ground, "planar shadows on the ground");
+    choice(ui, "casters culled to", &mut s.caster_culling, CasterCulling::ALL, CasterCulling::name);
+    choice(ui, "caster faces", &mut s.shadow_faces, ShadowFaces::ALL, ShadowFaces::name);
+    ui.add(slide(&mut s.moment_blur, 0..=crate::settings::MAX_MOMENT_BLUR).text("moment blur (texels)"));
+    ui.add(slide(&mut s.light_bleeding, 0.0..=0.9).text("light-bleeding cut"));
+    choice(ui, "moment bits", &mut s.moment_bits, MomentBits::ALL, MomentBits::name);
+}
+
+fn bias_sliders(ui: &mut Ui, constant: &mut f32, slope: &mut f32, normal: &mut f32, scale: &mut f32) {
+    ui.add(slide(constant, 0.0..=8.0).text("constant"));
+    ui.add(slide(slope, 0.0..=8.0).text("slope"));
+    ui.add(slide(normal, 0.0..=8.0).text("normal"));
+    ui.add(slide(scale, 0.0..=MAX_BIAS_SCALE).text("scale (share of distance)"));
+}
+
+fn cascade_settings(ui: &mut Ui, s: &mut Settings) {
+    ui.add(slide(&mut s.cascades, 1..=crate::shadow::MAX_CASCADES as u32).text("cascades"));
+    ui.add(slide(&mut s.split_lambda, 0.0..=1.0).text("split λ (0 uniform, 1 log)"));
+    choice(ui, "fit", &mut s.fit_mode, FitMode::ALL, FitMode::name);
+    ui.add(slide(&mut s.cascade_blend, 0.0..=0.5).text("blend band"));
+    ui.add(slide(&mut s.shadow_distance, 5.0..=200.0).logarithmic(true).text("shadow distance (m)"));
+    ui.checkbox(&mut s.cascade_debug, "tint each cascade");
+}
+
+fn view_settings(ui: &mut Ui, s: &mut Settings, lab: &mut Lab, camera: &str) {
+    let mut toon = s.toon_bands > 0;
+    ui.horizontal(|ui| {
+        ui.radio_value(&mut toon, false, "Phong");
+        ui.radio_value(&mut toon, true, "toon");
+    });
+    s.toon_bands = match (toon, s.toon_bands) {
+        (false, _) => 0,
+        (true, 0) => crate::settings::DEFAULT_TOON_BANDS,
+        (true, n) => n,
+    };
+    if toon {
+        ui.add(slide(&mut s.toon_bands, 2..=crate::settings::MAX_TOON_BANDS).text("bands"));
+    }
+    ui.checkbox(&mut s.ground_grid, "checker on the ground");
+    ui.checkbox(&mut s.light_volumes, "light volumes (L)");
+    ui.checkbox(&mut lab.hold, "hold the scene's clock (H)");
+    ui.horizontal(|ui| {
+        ui.label(format!("camera: {camera}"));
+        lab.asked.camera |= ui.button("next (O)").clicked();
+    });
+    ui.checkbox(&mut lab.map_viewer, "shadow-map viewer (V)");
+    lab.asked.screenshot |= ui.button("save a screenshot (F12)").clicked();
+}
+
+/// The texel-density view: which light's, or the shading.
+fn texel_density(ui: &mut Ui, s: &mut Settings, lights: &[String]) {
+    let shown = s.texel_density.clone().unwrap_or_else(|| "off (the shading)".into());
+    ComboBox::from_label("texel density of (B)").selected_text(shown).show_ui(ui, |ui| {
+        ui.selectable_value(&mut s.texel_density, None, "off (the shading)");
+        for name in lights {
+            ui.selectable_value(&mut s.texel_density, Some(name.clone()), name);
+        }
+    });
+    if s.texel_density.is_some() {
+        ui.horizontal(|ui| {
+            ui.colored_label(Color32::from_rgb(230, 40, 25), "■ a texel over pixels");
+            ui.colored_label(Color32::from_rgb(50, 200, 50), "■ one a pixel");
+            ui.colored_label(Color32::from_rgb(40, 90, 240), "■ many a pixel");
+        });
+    }
+}
+
+/// Each light: its shadow on or off, its own method, bias and size (or the settings').
+fn lights(ui: &mut Ui, world: &mut World) {
+    let settings = world.resource::<Settings>().clone();
+    for light in light_list(world) {
+        ui.push_id(light.entity, |ui| {
+            CollapsingHeader::new(light.label.to_string()).show(ui, |ui| one_light(ui, world, &light, &settings));
+        });
+    }
+}
+
+fn one_light(ui: &mut Ui, world: &mut World, light: &SceneLight, settings: &Settings) {
+    let e = light.entity;
+    let mut shadowed = light.shadowed;
+    ui.checkbox(&mut shadowed, "casts a shadow");
+    if shadowed != light.shadowed {
+        if shadowed {
+            world.entity_mut(e).insert(ShadowMap::default());
+        } else {
+            world.entity_mut(e).remove::<ShadowMap>();
+        }
+    }
+    let own = world.get::<ShadowMethod>(e).copied();
+    let mut method = own;
+    let default = format!("the settings' ({})", settings.method.name());
+    ComboBox::from_label("method").selected_text(method.map_or(default.clone(), |m| m.name().to_string())).show_ui(
+        ui,
+        |ui| {
+            ui.selectable_value(&mut method, None, default);
+            for m in ShadowMethod::ALL {
+                ui.selectable_value(&mut method, Some(*m), m.name());
+            }
+        },
+    );
+    if method != own {
+        match method {
+            Some(m) => world.entity_mut(e).insert(m),
+            None => world.entity_mut(e).remove::<ShadowMethod>(),
+        };
+    }
+    let own = world.get::<ShadowBias>(e).copied();
+    let mut bias = own.unwrap_or_else(|| settings.shadow_bias());
+    ui.label(if own.is_some() { "its own bias (texels):" } else { "the settings' bias (texels):" });
+    bias_sliders(ui, &mut bias.constant, &mut bias.slope, &mut bias.normal, &mut bias.scale);
+    ui.checkbox(&mut bias.receiver_plane, "receiver-plane bias");
+    if Some(bias) != own && bias != settings.shadow_bias() {
+        world.entity_mut(e).insert(bias);
+    }
+    if own.is_some() && ui.button("use the settings' bias").clicked() {
+        world.entity_mut(e).remove::<ShadowBias>();
+    }
+    light_size(ui, world, light);
+}
+
+/// The light's size, which PCSS and the soft truth take.
+fn light_size(ui: &mut Ui, world: &mut World, light: &SceneLight) {
+    let e = light.entity;
+    match light.kind {
+        LightKind::Sun { angular_radius, .. } => {
+            let mut degrees = angular_radius.to_degrees();
+            ui.add(slide(&mut degrees, 0.0..=5.0).text("disc radius (°)"));
+            if degrees != angular_radius.to_degrees()
+                && let Some(mut sun) = world.get_mut::<DirectionalLight>(e)
+            {
+                sun.angular_radius = degrees.to_radians();
+            }
+        }
+        LightKind::Spot { radius, .. } | LightKind::Point { radius, .. } => {
+            let mut r = radius;
+            ui.add(slide(&mut r, 0.0..=1.0).text("radius (m)"));
+            if r != radius {
+                if let Some(mut spot) = world.get_mut::<SpotLight>(e) {
+                    spot.radius = r;
+                } else if let Some(mut point) = world.get_mut::<PointLight>(e) {
+                    point.radius = r;
+                }
+            }
+        }
+    }
+}
+
+/// The shadow-map viewer: every layer of the last frame's maps, tile by tile, named.
+pub fn map_viewer(ui: &mut Ui, lab: &mut Lab, atlas: egui::TextureId, tiles: &[crate::systems::LightLabel]) {
+    use crate::render::map_view::{COLUMNS, TILE, atlas_size};
+    let mut open = lab.map_viewer;
+    let right = ui.ctx().content_rect().right();
+    let window = egui::Window::new("shadow maps (V)").open(&mut open).default_width(480.0);
+    window.default_pos(egui::pos2(right - 500.0, 10.0)).show(ui.ctx(), |ui| {
+        ui.label("depth as distance from the light: black at a layer's near plane, white at its far one");
+        let (w, h) = atlas_size(tiles.len() as u32);
+        let width = ui.available_width().min(w as f32);
+        let size = egui::vec2(width, width * h as f32 / w as f32);
+        let response = ui.image(egui::load::SizedTexture::new(atlas, size));
+        let scale = width / w as f32;
+        let mut count = std::collections::HashMap::new();
+        for (i, light) in tiles.iter().enumerate() {
+            let n = count.entry(*light).and_modify(|n| *n += 1).or_insert(1);
+            let at = response.rect.min
+                + egui::vec2(((i as u32 % COLUMNS) * TILE) as f32, ((i as u32 / COLUMNS) * TILE) as f32) * scale;
+            let text = format!("{light} · {n}");
+            ui.painter().text(
+                at + egui::vec2(3.0, 2.0),
+                egui::Align2::LEFT_TOP,
+                text,
+                egui::FontId::proportional(11.0),
+                Color32::from_rgb(255, 120, 40),
+            );
+        }
+    });
+    lab.map_viewer = open;
+}
+
+/// The command line that renders what the window shows, for a bug report or a picture.
+fn reproduce(ui: &mut Ui, world: &mut World, lab: &mut Lab) {
+    if ui.button("write the command line").clicked() {
+        let line = format!("umbra render {}", crate::reproduce::shell_line(&crate::reproduce::command_line(world)));
+        println!("{line}");
+        lab.command = Some(line);
+    }
+    if let Some(line) = &lab.command {
+        ui.add(egui::Label::new(egui::RichText::new(line).monospace()).selectable(true));
+    }
+}
+
+fn overlay_section(ui: &mut Ui, lab: &mut Lab, live: &Live<'_>) {
+    ui.horizontal(|ui| {
+        lab.asked.measure |= ui.button("measure now (M)").clicked();
+        ui.checkbox(&mut lab.auto_measure, "when still (N)");
+        ui.checkbox(&mut lab.overlay, "show (X)");
+    });
+    ComboBox::from_label("measured size").selected_text(format!("1/{} of the window", lab.measure_scale)).show_ui(
+        ui,
+        |ui| {
+            for k in [1, 2, 4] {
+                ui.selectable_value(&mut lab.measure_scale, k, format!("1/{k} of the window"));
+            }
+        },
+    );
+    ui.label(live.status);
+    ui.horizontal(|ui| {
+        ui.colored_label(Color32::from_rgb(255, 60, 40), "■ false shadow");
+        ui.colored_label(Color32::from_rgb(60, 110, 255), "■ false lit");
+        ui.label("faint: off the soft truth");
+    });
+    let Some(report) = live.measured else { return };
+    egui::Grid::new("errors").striped(true).show(ui, |ui| {
+        for h in ["light", "wrong", "at edges", "mean error"] {
+            ui.strong(h);
+        }
+        ui.end_row();
+        let row = |ui: &mut Ui, name: &str, all: &Tally, edge: &Tally| {
+            ui.label(name);
+            ui.label(format!("{:.3} %", 100.0 * all.misclassified()));
+            ui.label(format!("{:.2} %", 100.0 * edge.misclassified()));
+            ui.label(format!("{:.4}", all.mae_soft()));
+            ui.end_row();
+        };
+        for (name, r) in &report.lights {
+            row(ui, name, &r.all, &r.edge);
+        }
+        let all = report.all();
+        row(ui, "every light", &all.all, &all.edge);
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(world: &mut World, lab: &mut Lab) {
+        let ctx = egui::Context::default();
+        let (history, stats) = (History::default(), ShadowStats::default());
+        let live =
+            Live { history: &history, stats: &stats, measured: None, status: "", camera: "fly", adapter: "test" };
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1280.0, 720.0))),
+            ..Default::default()
+        };
+        // Two passes: egui lays out on the first and settles on the second.
+        for _ in 0..2 {
+            ctx.run_ui(input.clone(), |ui| panel(ui, world, lab, &live)).drop_without_applying_deltas();
+        }
+    }
+
+    fn dirty_layers(world: &mut World) -> usize {
+        world.query::<&ShadowMap>().iter(world).map(|m| m.layers.iter().filter(|l| l.dirty).count()).sum()
+    }
+
+    #[test]
+    fn an_untouched_panel_dirties_nothing() {
+        let mut app = crate::App::new(Settings::default()).unwrap();
+        // Values beyond the sliders' ranges, as the command line may set them.
+        app.world.resource_mut::<Settings>().shadow_distance = 400.0;
+        let spot = light_list(&mut app.world)[1].entity;
+        app.world.entity_mut(spot).insert(ShadowBias { constant: 20.0, ..Default::default() });
+        app.world.get_mut::<SpotLight>(spot).unwrap().radius = 3.0;
+        app.set_time(1.0);
+        app.set_time(1.0);
+        assert_eq!(dirty_layers(&mut app.world), 0, "a still scene is clean");
+        let before = app.world.resource::<Settings>().clone();
+        let mut lab = Lab { panel: true, ..Default::default() };
+        run(&mut app.world, &mut lab);
+        assert_eq!(*app.world.resource::<Settings>(), before);
+        assert_eq!(lab, Lab { panel: true, ..Default::default() });
+        // The sections the panel opens only on a click, drawn open.
+        let ctx = egui::Context::default();
+        let settings = app.world.resource::<Settings>().clone();
+        for light in light_list(&mut app.world) {
+            ctx.run_ui(egui::RawInput::default(), |ui| one_light(ui, &mut app.world, &light, &settings))
+                .drop_without_applying_deltas();
+        }
+        let mut edited = settings.clone();
+        ctx.run_ui(egui::RawInput::default(), |ui| {
+            shadow_settings(ui, &mut edited);
+            cascade_settings(ui, &mut edited);
+            view_settings(ui, &mut edited, &mut lab, "fly");
+        })
+        .drop_without_applying_deltas();
+        assert_eq!(edited, settings);
+        app.set_time(1.0);
+        assert_eq!(dirty_layers(&mut app.world), 0, "the panel wrote nothing that a light's maps depend on");
+    }
+}
