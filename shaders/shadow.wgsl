@@ -22,6 +22,20 @@ fn vs_shadow(v: VertexIn) -> ShadowOut {
     return shadow_out(object.world_from_local * vec4<f32>(v.position, 1.0), v);
 }
 
+// The same for a rigid mesh drawn as one of many instances: its placement comes with the
+// instance (the columns of its world_from_local), not from the object's uniform.
+struct Placement {
+    @location(6) x: vec4<f32>,
+    @location(7) y: vec4<f32>,
+    @location(8) z: vec4<f32>,
+    @location(9) w: vec4<f32>,
+};
+
+@vertex
+fn vs_shadow_instanced(v: VertexIn, p: Placement) -> ShadowOut {
+    return shadow_out(mat4x4<f32>(p.x, p.y, p.z, p.w) * vec4<f32>(v.position, 1.0), v);
+}
+
 // The same for a skinned mesh: the shadow follows the pose.
 @vertex
 fn vs_shadow_skinned(v: VertexIn, s: SkinIn) -> ShadowOut {

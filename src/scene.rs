@@ -50,8 +50,12 @@ pub fn spawn_sample_scene(world: &mut World, settings: &Settings) -> Result<(), 
     let ball_material = Material { specular: 0.6, shininess: 64.0, ..Material::color(0.75, 0.72, 0.68) };
     world.spawn((ball, Transform::from_translation(BALL.0), ball_material, ShadowCaster, ShadowReceiver));
 
-    for i in 0..settings.cubes {
-        world.spawn(animated_cube(i, settings.cubes, unit_cube));
+    let ring = settings.cubes.min(RING_CUBES);
+    for i in 0..ring {
+        world.spawn(animated_cube(i, ring, unit_cube));
+    }
+    for (i, spot) in (ring..settings.cubes).zip(field_spots((settings.cubes - ring) as usize)) {
+        world.spawn(field_cube(i, spot, unit_cube));
     }
 
     let sun = DirectionalLight {
@@ -183,8 +187,52 @@ pub fn camera_looking(eye: Vec3, target: Vec3) -> (Camera, FlyCamera, Transform)
     (Camera::default(), fly, Transform { translation: eye, rotation: fly.rotation(), ..Default::default() })
 }
 
+/// Most cubes the sample's ring holds; more (`--cubes N`, the stress scene) stand in a field
+/// round it.
+pub const RING_CUBES: u32 = 64;
+
+/// Spacing of the field's grid, in metres.
+pub const FIELD_SPACING: f32 = 0.75;
+
+/// Nearest to the scene's middle a field cube stands, in metres: outside the ring, the pillars
+/// and the wall, so the sample's shadows stay as they are.
+pub const FIELD_INNER_RADIUS: f32 = 10.0;
+
+/// Where the first `n` field cubes stand on the ground: the grid's points outside
+/// [`FIELD_INNER_RADIUS`], nearest first, so a bigger field adds cubes only at its rim (beyond
+/// the 80 m ground once it holds about 10,000).
+#[must_use]
+pub fn field_spots(n: usize) -> Vec<glam::Vec2> {
+    let mut spots = Vec::with_capacity(n);
+    let mut reach = FIELD_INNER_RADIUS + 4.0;
+    while spots.len() < n {
+        let cells = (reach / FIELD_SPACING).ceil() as i32;
+        spots = (-cells..=cells)
+            .flat_map(|x| (-cells..=cells).map(move |z| glam::Vec2::new(x as f32, z as f32) * FIELD_SPACING))
+            .filter(|p| (FIELD_INNER_RADIUS..=reach).contains(&p.length()))
+            .collect();
+        reach *= 1.5;
+    }
+    // Ties in distance are broken by position, so the order is the same on every machine.
+    spots.sort_by(|a, b| a.length().total_cmp(&b.length()).then(a.x.total_cmp(&b.x)).then(a.y.total_cmp(&b.y)));
+    spots.truncate(n);
+    spots
+}
+
+/// Field cube `i` standing at `spot`: small, spinning and bobbing like the ring's.
+fn field_cube(i: u32, spot: glam::Vec2, mesh: Mesh) -> impl Bundle {
+    let (_, mut transform, material, mut spin, bob, caster, receiver) = animated_cube(i, RING_CUBES, mesh);
+    let g = (i as f32 * 0.618_034).fract();
+    let base_y = 0.5 + 0.4 * g;
+    transform.translation = glam::Vec3::new(spot.x, base_y, spot.y);
+    transform.scale = glam::Vec3::splat(0.3 + 0.15 * g);
+    spin.base = Quat::from_rotation_y(spot.x + spot.y);
+    let bob = Bob { base_y, amplitude: 0.15 * bob.amplitude, ..bob };
+    (mesh, transform, material, spin, bob, caster, receiver)
+}
+
 /// Cube `i` of `n`: placed on a ring, spinning and bobbing at its own rates (as in seed 000).
-fn animated_cube(i: u32, n: u32, mesh: Mesh) -> impl Bundle {
+fn animated_cube(i: u32, n: u32, mesh: Mesh) -> (Mesh, Transform, Material, Spin, Bob, ShadowCaster, ShadowReceiver) {
     // The golden ratio spreads rates and phases so no two cubes move in step.
     let g = (i as f32 * 0.618_034).fract();
     let angle = i as f32 / n.max(1) as f32 * std::f32::consts::TAU;
@@ -245,6 +293,43 @@ mod tests {
         let t = stand_at(&big, Vec3::ZERO);
         let b = big.rest_bounds().transformed(&t.matrix());
         assert!(((b.max - b.min).max_element() - 3.0).abs() < 1e-3, "{b:?}");
+    }
+
+    #[test]
+    fn a_field_of_cubes_grows_at_its_rim_and_keeps_clear_of_the_ring() {
+        let small = field_spots(500);
+        let big = field_spots(10_000);
+        assert_eq!((small.len(), big.len()), (500, 10_000));
+        assert_eq!(small[..], big[..500], "adding cubes leaves the first ones where they were");
+        assert!(big.iter().all(|p| p.length() >= FIELD_INNER_RADIUS));
+        let mut unique: Vec<(i32, i32)> =
+            big.iter().map(|p| ((p.x / FIELD_SPACING).round() as i32, (p.y / FIELD_SPACING).round() as i32)).collect();
+        unique.sort();
+        unique.dedup();
+        assert_eq!(unique.len(), 10_000, "no two cubes share a spot");
+        assert!(big.windows(2).all(|w| w[0].length() <= w[1].length()), "nearest first");
+        assert!(field_spots(0).is_empty());
+    }
+
+    #[test]
+    fn more_cubes_than_the_ring_holds_leave_the_ring_as_it_was() {
+        let cubes = |n: u32| {
+            let mut world = World::new();
+            world.insert_resource(MeshLibrary::default());
+            let settings = Settings { cubes: n, character: false, ..Settings::default() };
+            spawn_sample_scene(&mut world, &settings).unwrap();
+            let mut spots: Vec<[f32; 3]> = world
+                .query_filtered::<&Transform, With<Spin>>()
+                .iter(&world)
+                .map(|t| t.translation.to_array())
+                .collect();
+            spots.sort_by(|a, b| a.partial_cmp(b).unwrap());
+            spots
+        };
+        let ring = cubes(RING_CUBES);
+        let stress = cubes(RING_CUBES + 2000);
+        assert_eq!(stress.len(), ring.len() + 2000);
+        assert!(ring.iter().all(|c| stress.contains(c)), "the ring is kept");
     }
 
     #[test]

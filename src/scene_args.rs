@@ -89,6 +89,9 @@ pub struct SceneArgs {
     /// Draw every shadow map every frame instead of only those of dirty lights.
     #[arg(long)]
     pub redraw_shadows: bool,
+    /// Draw every caster into shadow maps with a call of its own, not instanced by mesh.
+    #[arg(long)]
+    pub no_instancing: bool,
     /// Leave the walking character out.
     #[arg(long)]
     pub no_character: bool,
@@ -234,6 +237,7 @@ impl SceneArgs {
             caster_culling: self.culling.unwrap_or(d.caster_culling),
             shadow_faces: self.shadow_faces.unwrap_or(d.shadow_faces),
             reuse_shadow_maps: !self.redraw_shadows,
+            instancing: !self.no_instancing,
             character: !self.no_character,
             model: self.model.clone(),
             scene: self.scene.clone(),

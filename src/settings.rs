@@ -53,6 +53,9 @@ pub struct Settings {
     pub shadow_faces: ShadowFaces,
     /// Keep a light's shadow maps until it is dirty (true), or draw every map every frame.
     pub reuse_shadow_maps: bool,
+    /// In a depth-only layer, the opaque rigid casters that share a mesh are drawn in one
+    /// instanced call (false: one call per caster, as skinned and cut-out casters always are).
+    pub instancing: bool,
     /// Widest spot cone (half angle, radians) one perspective map shadows; a wider spot is
     /// shadowed through a cube.
     pub spot_map_limit: f32,
@@ -134,6 +137,7 @@ impl Default for Settings {
             caster_culling: CasterCulling::LightVolume,
             shadow_faces: ShadowFaces::Both,
             reuse_shadow_maps: true,
+            instancing: true,
             cube_seams: true,
             receiver_plane: true,
             pcss_blocker_search: true,
@@ -275,6 +279,9 @@ pub const CUBE_MARGIN: u32 = 4;
 /// Largest shadow-map layer accepted (the device may allow less; the renderer checks again).
 pub const MAX_SHADOW_MAP_SIZE: u32 = 8192;
 
+/// Most animated cubes a scene may hold (the stress scene's ten thousand, with room to spare).
+pub const MAX_CUBES: u32 = 100_000;
+
 impl Settings {
     /// The bias every light gets from these settings.
     pub fn shadow_bias(&self) -> crate::components::ShadowBias {
@@ -362,8 +369,8 @@ impl Settings {
         {
             return bad("camera", format!("{eye} looking at {target}"), "must be two finite points apart");
         }
-        if self.cubes > 1000 {
-            return bad("cubes", self.cubes, "must be at most 1000");
+        if self.cubes > MAX_CUBES {
+            return bad("cubes", self.cubes, "must be at most 100000");
         }
         if !(self.dt.is_finite() && self.dt > 0.0 && self.dt <= 1.0) {
             return bad("dt", self.dt, "must be a step above 0 and at most 1 second");
@@ -402,7 +409,8 @@ mod tests {
     #[test]
     fn nonsense_is_named() {
         type Case = (fn(&mut Settings), &'static str);
-        let cases: [Case; 16] = [
+        let cases: [Case; 17] = [
+            (|s| s.cubes = MAX_CUBES + 1, "cubes"),
             (|s| s.camera = Some((glam::Vec3::ONE, glam::Vec3::ONE)), "camera"),
             (|s| s.bias_scale = 0.9, "bias_scale"),
             (|s| s.toon_bands = 1, "toon_bands"),
@@ -427,5 +435,9 @@ mod tests {
             assert_eq!(err.name, name);
             assert!(err.to_string().contains(name));
         }
+        let mut s = Settings { cubes: MAX_CUBES + 1, ..Settings::default() };
+        assert!(s.validate().unwrap_err().to_string().contains(&MAX_CUBES.to_string()), "the limit is named");
+        s.cubes = MAX_CUBES;
+        assert_eq!(s.validate(), Ok(()));
     }
 }

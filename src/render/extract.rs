@@ -8,7 +8,7 @@ use super::gpu_types::{Frame, GpuLayer, GpuLight, GpuPlanar, MAX_LAYERS, Object,
 use super::planar::{draws_planar, ground, planar_draws};
 use crate::components::*;
 use crate::settings::{CasterCulling, Settings};
-use crate::shadow::{Aabb, intersects_clip_volume, spot_projection};
+use crate::shadow::{Aabb, CasterIndex, intersects_clip_volume, spot_projection};
 use crate::systems::{LightKind, LightLabel, SceneLight, ShadowShape, light_list};
 use bevy_ecs::prelude::*;
 use bytemuck::Zeroable;
@@ -156,12 +156,11 @@ fn layer_draws(
     (light, method): (LightLabel, ShadowMethod),
     map: &ShadowMap,
     first_slot: usize,
-    items: &[(DrawItem, Aabb)],
+    (items, index): (&[(DrawItem, Aabb)], &CasterIndex),
     camera: Option<&Mat4>,
 ) -> Vec<LayerDraw> {
-    let keep = |l: &ShadowLayer, (item, bounds): &(DrawItem, Aabb)| {
+    let keep = |(item, bounds): &(DrawItem, Aabb)| {
         (item.caster || (method.moments() && item.object.receives_shadows == 1))
-            && intersects_clip_volume(&l.clip_from_world, bounds)
             && camera.is_none_or(|vp| intersects_clip_volume(vp, bounds))
     };
     map.layers
@@ -173,7 +172,7 @@ fn layer_draws(
             clip_from_world: l.clip_from_world,
             version: l.version,
             method,
-            casters: (0..items.len()).filter(|&i| keep(l, &items[i])).collect(),
+            casters: index.inside(&l.clip_from_world).into_iter().filter(|&i| keep(&items[i])).collect(),
         })
         .collect()
 }
@@ -237,6 +236,7 @@ pub fn extract(world: &mut World) -> FrameData {
     let draw_order = draw_order(&items, eye);
 
     let cull_to = (settings.caster_culling == CasterCulling::CameraView).then_some(&clip_from_world);
+    let index = CasterIndex::new(&items.iter().map(|(_, b)| *b).collect::<Vec<_>>());
     let no_map = ShadowMap::default();
     let scene_lights = light_list(world);
     let (mut lights, mut labels, mut layers, mut draws, mut methods) =
@@ -256,7 +256,7 @@ pub fn extract(world: &mut World) -> FrameData {
             if settings.shadows {
                 methods |= 1 << light.method as u32;
             }
-            draws.extend(layer_draws((light.label, light.method), map, layers.len(), &items, cull_to));
+            draws.extend(layer_draws((light.label, light.method), map, layers.len(), (&items, &index), cull_to));
             layers.extend(map.layers.iter().map(|l| GpuLayer {
                 clip_from_world: l.clip_from_world,
                 texel_base: l.texel.x,

@@ -65,7 +65,7 @@ fn main_variant(item: &DrawItem, methods: u32, measuring: bool) -> Variant {
         AlphaMode::Blend => AlphaClass::Blend,
     };
     let cull = (!item.double_sided).then_some(wgpu::Face::Back);
-    Variant { skinned: item.skinned, cull, alpha, textured: item.texture.is_some(), methods }
+    Variant { skinned: item.skinned, cull, alpha, textured: item.texture.is_some(), methods, instanced: false }
 }
 
 /// Format of the measuring pass's three targets (world position, normal, visibility): 32-bit

@@ -36,17 +36,21 @@ impl GpuMesh {
     }
 }
 
-/// How the shaders read a [`Vertex`] (locations 0, 1, 4, 5) and a [`SkinVertex`] (locations 2, 3).
-fn vertex_layouts(skinned: bool) -> Vec<Option<wgpu::VertexBufferLayout<'static>>> {
+/// How the shaders read a [`Vertex`] (locations 0, 1, 4, 5), a [`SkinVertex`] (locations 2, 3)
+/// and an instance's placement (a matrix by columns, locations 6 to 9), in buffer slot 1.
+fn vertex_layouts(v: Variant) -> Vec<Option<wgpu::VertexBufferLayout<'static>>> {
     const VERTEX: [wgpu::VertexAttribute; 4] =
         wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 4 => Float32x2, 5 => Float32x4];
     const SKIN: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![2 => Uint16x4, 3 => Float32x4];
-    let layout = |stride, attributes| {
-        Some(wgpu::VertexBufferLayout { array_stride: stride, step_mode: wgpu::VertexStepMode::Vertex, attributes })
-    };
-    let mut layouts = vec![layout(size_of::<Vertex>() as u64, &VERTEX[..])];
-    if skinned {
-        layouts.push(layout(size_of::<SkinVertex>() as u64, &SKIN[..]));
+    const PLACEMENT: [wgpu::VertexAttribute; 4] =
+        wgpu::vertex_attr_array![6 => Float32x4, 7 => Float32x4, 8 => Float32x4, 9 => Float32x4];
+    let layout =
+        |stride, step_mode, attributes| Some(wgpu::VertexBufferLayout { array_stride: stride, step_mode, attributes });
+    let mut layouts = vec![layout(size_of::<Vertex>() as u64, wgpu::VertexStepMode::Vertex, &VERTEX[..])];
+    if v.skinned {
+        layouts.push(layout(size_of::<SkinVertex>() as u64, wgpu::VertexStepMode::Vertex, &SKIN[..]));
+    } else if v.instanced {
+        layouts.push(layout(size_of::<Mat4>() as u64, wgpu::VertexStepMode::Instance, &PLACEMENT[..]));
     }
     layouts
 }
@@ -151,6 +155,9 @@ pub struct Variant {
     /// The shadow methods the frame's lights use, a bit (1 << method) each: the pipeline holds
     /// only their sampling code (passes that look no shadows up leave it 0).
     pub methods: u32,
+    /// Rigid, its placements read per instance (the `_instanced` vertex entry point and the
+    /// instance buffer; see [`super::instances`]).
+    pub instanced: bool,
 }
 
 /// What every pipeline of a pass shares: one shader module with a vertex entry point `vertex`
@@ -221,7 +228,11 @@ impl Pipelines {
 
     fn build(&self, device: &wgpu::Device, v: Variant) -> wgpu::RenderPipeline {
         let r = &self.recipe;
-        let entry = if v.skinned { format!("{}_skinned", r.vertex) } else { r.vertex.to_string() };
+        let entry = match (v.skinned, v.instanced) {
+            (true, _) => format!("{}_skinned", r.vertex),
+            (false, true) => format!("{}_instanced", r.vertex),
+            (false, false) => r.vertex.to_string(),
+        };
         let blend = v.alpha == AlphaClass::Blend;
         let mut constants = vec![
             ("TEXTURED", v.textured as u32 as f64),
@@ -256,7 +267,7 @@ impl Pipelines {
         });
         let writes = r.depth.depth_write_enabled != Some(false) && !blend;
         let depth = wgpu::DepthStencilState { depth_write_enabled: Some(writes), ..r.depth.clone() };
-        let buffers = vertex_layouts(v.skinned);
+        let buffers = vertex_layouts(v);
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(r.label),
             layout: Some(&self.layouts[v.skinned as usize]),
@@ -320,6 +331,33 @@ impl Pipelines {
                 buffers = Some((item.mesh.0, variant.skinned));
             }
             pass.draw_indexed(0..mesh.index_count, 0, 0..1);
+        }
+    }
+
+    /// Draws `batches` (built by [`Pipelines::prepare`]), each one call for all its instances,
+    /// their placements read from `instances`; bind group 0 must already be set.
+    pub fn draw_batches(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        with: Drawables<'_>,
+        batches: &[super::instances::Batch],
+        instances: &wgpu::Buffer,
+    ) {
+        if batches.is_empty() {
+            return;
+        }
+        // The layout holds the per-object and texture groups; an instanced caster reads neither.
+        pass.set_bind_group(1, &with.objects.bind_group, &[with.objects.offset(0)]);
+        pass.set_bind_group(2, with.textures.bind_group(None), &[]);
+        pass.set_vertex_buffer(1, instances.slice(..));
+        for b in batches {
+            let (Some(pipeline), Some(Some(mesh))) = (self.built.get(&b.variant), with.meshes.get(b.mesh)) else {
+                continue;
+            };
+            pass.set_pipeline(pipeline);
+            pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+            pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..mesh.index_count, 0, b.instances.clone());
         }
     }
 }

@@ -8,6 +8,7 @@
 mod extract;
 mod gpu;
 pub mod gpu_types;
+mod instances;
 pub mod lines;
 mod main_pass;
 pub mod map_view;

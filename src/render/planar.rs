@@ -204,7 +204,14 @@ impl PlanarPass {
     /// How a caster is drawn flattened: rigid or skinned, both faces (flattening turns some
     /// over), with no texture or cut-out.
     fn variant(item: &DrawItem) -> Variant {
-        Variant { skinned: item.skinned, cull: None, alpha: AlphaClass::Opaque, textured: false, methods: 0 }
+        Variant {
+            skinned: item.skinned,
+            cull: None,
+            alpha: AlphaClass::Opaque,
+            textured: false,
+            methods: 0,
+            instanced: false,
+        }
     }
 
     /// Uploads the planar uniforms of `data` and builds the pipelines its casters need (the

@@ -213,7 +213,7 @@ impl Renderer {
             timer.begin();
         }
         let stats = if settings.shadows {
-            let how = (settings.reuse_shadow_maps, settings.shadow_faces, settings.moment_blur);
+            let how = (settings.reuse_shadow_maps, settings.shadow_faces, settings.moment_blur, settings.instancing);
             self.shadow.encode(device, queue, &mut encoder, &data, drawables, how, self.timer.as_mut())
         } else {
             ShadowStats::default()

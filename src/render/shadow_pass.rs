@@ -7,6 +7,7 @@
 
 use super::extract::{DrawItem, FrameData, LayerDraw};
 use super::gpu_types::GpuLayer;
+use super::instances::{InstanceBuffer, LayerCalls, layer_calls};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
 use super::moments::{ColourFormat, ColourMaps, MomentBlur, far_moments};
 use super::shaders::{Composed, SHADOW_MODULE};
@@ -69,6 +70,8 @@ pub struct ShadowPass {
     sets: [PipelineSet; 2],
     blur: Option<MomentBlur>,
     layer_uniforms: UniformArray,
+    /// The placements of this frame's instanced casters.
+    instances: InstanceBuffer,
     /// The current shadow maps.
     pub maps: ShadowMaps,
     /// What each layer of `maps` was last drawn as.
@@ -103,6 +106,8 @@ pub struct LightPasses {
     pub kept: u32,
     /// Moment layers blurred this frame.
     pub blurred: u32,
+    /// Draw calls this frame's layers took (an instanced batch is one).
+    pub calls: u32,
 }
 
 impl ShadowStats {
@@ -116,6 +121,11 @@ impl ShadowStats {
         self.lights.iter().map(|l| l.kept).sum()
     }
 
+    /// Draw calls of this frame's layers, all lights together.
+    pub fn calls(&self) -> u32 {
+        self.lights.iter().map(|l| l.calls).sum()
+    }
+
     /// Moment layers blurred this frame, all lights together.
     pub fn blurred(&self) -> u32 {
         self.lights.iter().map(|l| l.blurred).sum()
@@ -123,10 +133,16 @@ impl ShadowStats {
 
     fn count(&mut self, light: LightLabel, drawn: bool) {
         if self.lights.last().is_none_or(|l| l.light != light) {
-            self.lights.push(LightPasses { light, drawn: 0, kept: 0, blurred: 0 });
+            self.lights.push(LightPasses { light, drawn: 0, kept: 0, blurred: 0, calls: 0 });
         }
         let entry = self.lights.last_mut().expect("pushed above");
         if drawn { entry.drawn += 1 } else { entry.kept += 1 }
+    }
+
+    fn count_calls(&mut self, light: LightLabel, calls: usize) {
+        if let Some(entry) = self.lights.iter_mut().find(|l| l.light == light) {
+            entry.calls += calls as u32;
+        }
     }
 
     fn count_blur(&mut self, light: LightLabel) {
@@ -184,7 +200,8 @@ impl ShadowPass {
         };
         let sets = [set(ShadowDepth::Float32), set(ShadowDepth::Unorm16)];
         let maps = ShadowMaps::new(device, size, 2, None, ShadowDepth::default());
-        ShadowPass { sets, blur: None, layer_uniforms, maps, drawn: vec![None; 2] }
+        let instances = InstanceBuffer::new(device);
+        ShadowPass { sets, blur: None, layer_uniforms, instances, maps, drawn: vec![None; 2] }
     }
 
     /// Makes sure the maps are `size` texels of `depth`, hold `layers` and have colour maps of
@@ -234,8 +251,9 @@ impl ShadowPass {
     }
 
     /// Draws the layers that need it (all of them unless `reuse`), each cleared to far and then
-    /// given the casters inside its volume, and blurs the moment layers among them by
-    /// `blur` texels; the others keep their maps. Returns what it did.
+    /// given the casters inside its volume (with `instancing`, a depth-only layer's rigid opaque
+    /// casters in one call per mesh), and blurs the moment layers among them by `blur` texels;
+    /// the others keep their maps. Returns what it did.
     #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &mut self,
@@ -244,7 +262,7 @@ impl ShadowPass {
         encoder: &mut wgpu::CommandEncoder,
         data: &FrameData,
         with: Drawables<'_>,
-        (reuse, faces, blur): (bool, ShadowFaces, u32),
+        (reuse, faces, blur, instancing): (bool, ShadowFaces, u32, bool),
         mut timer: Option<&mut PassTimer>,
     ) -> ShadowStats {
         let mut stats = ShadowStats::default();
@@ -260,11 +278,20 @@ impl ShadowPass {
             .collect();
         let uniforms: Vec<GpuLayer> = todo.iter().map(|l| data.layers[l.slot as usize]).collect();
         self.layer_uniforms.write(device, queue, &uniforms);
-        let variant = |i: usize| (i, shadow_variant(&data.items[i], faces));
-        for layer in &todo {
+        let mut placements = Vec::new();
+        let calls: Vec<LayerCalls> = todo
+            .iter()
+            .map(|l| {
+                let batch = instancing && self.colour_format(l).is_none();
+                layer_calls(&data.items, &l.casters, |item| shadow_variant(item, faces), batch, &mut placements)
+            })
+            .collect();
+        self.instances.write(device, queue, &placements);
+        for (layer, calls) in todo.iter().zip(&calls) {
             let format = self.colour_format(layer);
             let pipelines = self.sets[self.maps.depth as usize].get_mut(format);
-            pipelines.prepare(device, layer.casters.iter().map(|&i| variant(i).1));
+            pipelines.prepare(device, calls.singles.iter().map(|s| s.1).chain(calls.batches.iter().map(|b| b.variant)));
+            stats.count_calls(layer.light, calls.calls());
         }
         let blurred: Vec<&LayerDraw> = todo
             .iter()
@@ -272,7 +299,7 @@ impl ShadowPass {
             .filter(|l| blur > 0 && l.method.moments() && self.colour_format(l).is_some())
             .collect();
         let passes = todo.len() + 2 * blurred.len();
-        for (slot, layer) in todo.iter().enumerate() {
+        for (slot, (layer, calls)) in todo.iter().zip(&calls).enumerate() {
             let view = &self.maps.layer_views[layer.slot as usize];
             let color = self.colour_format(layer).map(|_| wgpu::RenderPassColorAttachment {
                 view: &self.maps.moments.layer_views[layer.slot as usize],
@@ -296,7 +323,9 @@ impl ShadowPass {
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &self.layer_uniforms.bind_group, &[self.layer_uniforms.offset(slot)]);
-            self.pipelines(layer).draw(&mut pass, with, &data.items, layer.casters.iter().map(|&i| variant(i)));
+            let pipelines = self.pipelines(layer);
+            pipelines.draw(&mut pass, with, &data.items, calls.singles.iter().copied());
+            pipelines.draw_batches(&mut pass, with, &calls.batches, self.instances.buffer());
             drop(pass);
             let done = self.drawn_as(layer, blur);
             if let Some(drawn) = self.drawn.get_mut(layer.slot as usize) {
@@ -326,7 +355,7 @@ fn shadow_variant(item: &DrawItem, faces: ShadowFaces) -> Variant {
     let alpha = if item.alpha == AlphaMode::Opaque { AlphaClass::Opaque } else { AlphaClass::Mask };
     // Opaque casters have no fragment stage, so whether they have a texture does not matter.
     let textured = alpha == AlphaClass::Mask && item.texture.is_some();
-    Variant { skinned: item.skinned, cull, alpha, textured, methods: 0 }
+    Variant { skinned: item.skinned, cull, alpha, textured, methods: 0, instanced: false }
 }
 
 /// Layers to allocate for `needed`: at least 2 (GL cannot view a single-layer texture as an

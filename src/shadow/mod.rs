@@ -5,6 +5,7 @@
 
 mod bounds;
 mod cascade;
+mod cull;
 mod fit;
 mod planar;
 mod poisson;
@@ -14,6 +15,7 @@ pub use cascade::{
     FitMode, MAX_CASCADES, SceneBounds, ViewFrustum, blend_bands, depth_step, fit_cascade, geometric_splits,
     split_depths,
 };
+pub use cull::CasterIndex;
 pub use fit::{
     CUBE_FACES, LightProjection, MAX_MAP_HALF_ANGLE, MAX_SPOT_HALF_ANGLE, MIN_SPOT_HALF_ANGLE, cube_face,
     cube_projections, depth_terms, light_range, light_view, near_plane, spot_cone, spot_projection, view_distance,

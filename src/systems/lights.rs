@@ -9,8 +9,8 @@ use crate::components::{
 };
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{
-    Aabb, LightProjection, SceneBounds, ViewFrustum, blend_bands, cube_projections, fit_cascade, geometric_splits,
-    intersects_clip_volume, split_depths, spot_cone, spot_projection,
+    Aabb, LightProjection, SceneBounds, ViewFrustum, blend_bands, cube_projections, fit_cascade, frustum_corners,
+    geometric_splits, intersects_clip_volume, split_depths, spot_cone, spot_projection,
 };
 use bevy_ecs::prelude::*;
 use glam::Vec3;
@@ -239,6 +239,18 @@ fn next_version() -> u64 {
     NEXT.fetch_add(1, Ordering::Relaxed)
 }
 
+/// True when one of `changes` lies inside the clip volume of `clip_from_world`.
+///
+/// Boxes that miss the volume's world box are passed over first with six comparisons: with ten
+/// thousand moving cubes that is most of them for most layers, and the full clip-space test
+/// (eight corners through the matrix) would otherwise be most of the update's time. A box
+/// outside the world box is outside the volume, so no layer a change reaches is missed.
+fn touches(clip_from_world: &glam::Mat4, changes: &[Aabb]) -> bool {
+    let reach = Aabb::from_points(frustum_corners(clip_from_world));
+    let near = |b: &Aabb| !reach.is_usable() || reach.intersects(b);
+    changes.iter().any(|b| near(b) && intersects_clip_volume(clip_from_world, b))
+}
+
 /// Replaces a light's layers with `fits`; each layer keeps its version unless it is dirty.
 fn refresh_layers(map: &mut ShadowMap, fits: &[(LightProjection, f32, f32)], forced: bool, changes: &[Aabb]) {
     let layers = fits
@@ -246,7 +258,7 @@ fn refresh_layers(map: &mut ShadowMap, fits: &[(LightProjection, f32, f32)], for
         .enumerate()
         .map(|(i, (fit, far, blend))| {
             let old = map.layers.get(i).filter(|o| o.clip_from_world == fit.view_proj);
-            let touched = changes.iter().any(|b| intersects_clip_volume(&fit.view_proj, b));
+            let touched = touches(&fit.view_proj, changes);
             let dirty = forced || touched || old.is_none();
             let version = match old {
                 Some(o) if !dirty => o.version,
@@ -293,6 +305,20 @@ mod tests {
         world.run_system_once(update_bounds).unwrap();
         let b = world.get::<WorldBounds>(e).unwrap().0;
         assert_eq!(b, Aabb::new(Vec3::new(1.5, 0.5, -0.5), Vec3::new(2.5, 1.5, 0.5)));
+    }
+
+    #[test]
+    fn a_change_beside_a_layer_leaves_it_clean_and_one_inside_dirties_it() {
+        let spot = glam::camera::rh::proj::directx::perspective(std::f32::consts::FRAC_PI_2, 1.0, 0.1, 10.0);
+        // Past the cone's far edge: no clip plane alone separates it, but it is outside all the same.
+        let beside = Aabb::new(Vec3::new(10.5, -0.5, -11.0), Vec3::new(11.5, 0.5, -9.0));
+        assert!(intersects_clip_volume(&spot, &beside), "the clip-space test alone passes it");
+        assert!(!touches(&spot, &[beside]));
+        let inside = Aabb::new(Vec3::new(-0.5, -0.5, -5.0), Vec3::new(0.5, 0.5, -4.0));
+        assert!(touches(&spot, &[beside, inside]));
+        assert!(!touches(&spot, &[]));
+        // A volume with no world box to speak of is left to the clip-space test.
+        assert_eq!(touches(&Mat4::ZERO, &[inside]), intersects_clip_volume(&Mat4::ZERO, &inside));
     }
 
     #[test]

@@ -1,0 +1,57 @@
+//! Instanced drawing is invisible: the sample scene with a field of cubes, rendered with every
+//! depth-only layer's rigid casters drawn one call per mesh and with one call per caster, gives
+//! bit-identical frames, in far fewer calls.
+
+mod common;
+
+use common::{SIZE, gpu};
+use umbra::components::ShadowMethod;
+use umbra::render::{HEADLESS_FORMAT, Image, Renderer, ShadowStats, render_headless};
+use umbra::scene::RING_CUBES;
+use umbra::settings::ShadowFaces;
+use umbra::{App, Settings};
+
+/// Frames of the scene at a few times, with the shadow passes each took.
+fn frames(settings: Settings) -> Vec<(Image, ShadowStats)> {
+    let gpu = gpu();
+    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
+    let mut app = App::new(settings).unwrap();
+    app.resize(SIZE, SIZE);
+    [0.0, 0.4, 1.7]
+        .into_iter()
+        .map(|t| {
+            app.set_time(t);
+            let image = render_headless(&gpu, &mut renderer, &mut app, SIZE, SIZE).expect("no wgpu error");
+            (image, app.world.resource::<ShadowStats>().clone())
+        })
+        .collect()
+}
+
+/// Draw calls one by one and instanced, after checking the frames are the same.
+fn compare(base: Settings) -> (u32, u32) {
+    let field = Settings { cubes: RING_CUBES + 600, ..base };
+    let one_by_one = frames(Settings { instancing: false, ..field.clone() });
+    let instanced = frames(Settings { instancing: true, ..field });
+    for (i, ((a, sa), (b, sb))) in one_by_one.iter().zip(&instanced).enumerate() {
+        assert!(a.pixels == b.pixels, "frame {i}: instanced drawing changed the picture");
+        assert_eq!((sa.drawn(), sa.kept()), (sb.drawn(), sb.kept()), "frame {i}: the same layers drawn");
+    }
+    let calls = |f: &[(Image, ShadowStats)]| f.iter().map(|(_, s)| s.calls()).sum::<u32>();
+    (calls(&one_by_one), calls(&instanced))
+}
+
+#[test]
+fn instanced_and_one_by_one_drawing_give_the_same_frames() {
+    let base = Settings::default();
+    let (a, b) = compare(base.clone());
+    assert!(b > 0 && a > 10 * b, "instancing takes far fewer calls: {b} against {a}");
+    // Culling the faces towards the light is part of each batch's pipeline.
+    let (a, b) = compare(Settings { shadow_faces: ShadowFaces::Back, ..base });
+    assert!(b > 0 && a > 10 * b, "{b} against {a}");
+}
+
+#[test]
+fn layers_with_a_colour_map_draw_one_by_one_and_stay_the_same() {
+    let (a, b) = compare(Settings { method: ShadowMethod::DepthR32f, ..Settings::default() });
+    assert_eq!(a, b, "no layer is batched");
+}
