@@ -37,6 +37,17 @@ fn culling(c: &mut Criterion) {
             volumes.iter().map(|v| index.inside(v).len()).sum::<usize>()
         })
     });
+    group.bench_function(BenchmarkId::new("hierarchy, build", bounds.len()), |b| {
+        b.iter(|| CasterIndex::new(black_box(&bounds)).len())
+    });
+    let mut kept = Some(CasterIndex::new(&bounds));
+    group.bench_function(BenchmarkId::new("hierarchy, refit", bounds.len()), |b| {
+        b.iter(|| kept = kept.take().map(|k| k.refitted(black_box(&bounds))))
+    });
+    let index = CasterIndex::new(&bounds);
+    group.bench_function(BenchmarkId::new("hierarchy, walk", bounds.len()), |b| {
+        b.iter(|| volumes.iter().map(|v| index.inside(v).len()).sum::<usize>())
+    });
     group.bench_function(BenchmarkId::new("every box", bounds.len()), |b| {
         b.iter(|| {
             let test = |v| bounds.iter().filter(|bb| intersects_clip_volume(v, bb)).count();

@@ -177,6 +177,11 @@ fn layer_draws(
         .collect()
 }
 
+/// The culling hierarchy of the last frame's objects, kept to be refitted rather than built
+/// afresh (see [`CasterIndex::refitted`]).
+#[derive(Resource)]
+struct KeptIndex(CasterIndex);
+
 /// The objects of the world to draw, with their bounds, and the joint matrices they read.
 fn draw_items(world: &mut World) -> (Vec<(DrawItem, Aabb)>, Vec<Mat4>) {
     let mut joints = Vec::new();
@@ -236,7 +241,11 @@ pub fn extract(world: &mut World) -> FrameData {
     let draw_order = draw_order(&items, eye);
 
     let cull_to = (settings.caster_culling == CasterCulling::CameraView).then_some(&clip_from_world);
-    let index = CasterIndex::new(&items.iter().map(|(_, b)| *b).collect::<Vec<_>>());
+    let bounds: Vec<Aabb> = items.iter().map(|(_, b)| *b).collect();
+    let index = match world.remove_resource::<KeptIndex>() {
+        Some(KeptIndex(kept)) => kept.refitted(&bounds),
+        None => CasterIndex::new(&bounds),
+    };
     let no_map = ShadowMap::default();
     let scene_lights = light_list(world);
     let (mut lights, mut labels, mut layers, mut draws, mut methods) =
@@ -311,6 +320,7 @@ pub fn extract(world: &mut World) -> FrameData {
             items[g].0.object.planar_receiver = 1;
         }
     }
+    world.insert_resource(KeptIndex(index));
     let items = items.into_iter().map(|(item, _)| item).collect();
     FrameData { frame, lights, labels, layers, items, draws, clip_from_world, joints, draw_order, methods, planar }
 }

@@ -1,6 +1,6 @@
 //! Axis-aligned boxes and frustum corners.
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec3, Vec4};
 
 /// Farthest from the origin, in metres, that a box may reach and still be fitted into shadow
 /// maps: beyond it (or not finite at all) the box is a broken object, not part of the scene.
@@ -72,9 +72,18 @@ impl Aabb {
         ]
     }
 
-    /// The box around this box after an affine transform.
+    /// The box around this box after an affine transform: its centre carried over, and its
+    /// half extent through the absolute values of the matrix (two products, not eight corners).
+    #[must_use]
     pub fn transformed(&self, m: &Mat4) -> Aabb {
-        Aabb::from_points(self.corners().map(|c| m.transform_point3(c)))
+        if self.is_empty() {
+            return Aabb::EMPTY;
+        }
+        let centre = m.transform_point3(self.center());
+        let half = (self.max - self.min) * 0.5;
+        let linear = glam::Mat3::from_mat4(*m);
+        let reach = glam::Mat3::from_cols(linear.x_axis.abs(), linear.y_axis.abs(), linear.z_axis.abs()) * half;
+        Aabb { min: centre - reach, max: centre + reach }
     }
 
     /// True when the two boxes share at least one point.
@@ -103,14 +112,41 @@ pub fn frustum_corners(view_proj: &Mat4) -> [Vec3; 8] {
 ///
 /// Works in homogeneous coordinates, so corners behind a perspective light are handled without a
 /// divide. Used to cull casters per shadow-map layer and to find which layers a moved caster dirties.
+#[must_use]
 pub fn intersects_clip_volume(view_proj: &Mat4, b: &Aabb) -> bool {
-    if b.is_empty() {
-        return false;
+    ClipVolume::new(view_proj).intersects(b)
+}
+
+/// The six planes of a clip volume (x and y in -w..w, depth in 0..w) carried back into world
+/// space, for testing many boxes against one volume: each plane costs two dot products per box
+/// (its farthest corner along the plane's normal), where carrying the box's eight corners into
+/// clip space costs eight matrix products.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClipVolume {
+    /// Each plane as (normal, offset): a world point p is on the inside where normal·p + offset ≥ 0.
+    planes: [Vec4; 6],
+}
+
+impl ClipVolume {
+    /// The planes of the clip volume of `clip_from_world`.
+    #[must_use]
+    pub fn new(clip_from_world: &Mat4) -> Self {
+        let [x, y, z, w] = [0, 1, 2, 3].map(|i| clip_from_world.row(i));
+        ClipVolume { planes: [w - x, w + x, w - y, w + y, z, w - z] }
     }
-    let clip = b.corners().map(|c| *view_proj * c.extend(1.0));
-    let planes: [fn(glam::Vec4) -> f32; 6] =
-        [|c| c.w - c.x, |c| c.w + c.x, |c| c.w - c.y, |c| c.w + c.y, |c| c.z, |c| c.w - c.z];
-    planes.iter().all(|plane| clip.iter().any(|c| plane(*c) >= 0.0))
+
+    /// True unless `b` lies wholly outside one of the planes (false for an empty box).
+    #[must_use]
+    pub fn intersects(&self, b: &Aabb) -> bool {
+        if b.is_empty() {
+            return false;
+        }
+        let (centre, half) = (b.center(), (b.max - b.min) * 0.5);
+        self.planes.iter().all(|p| {
+            let n = p.truncate();
+            n.dot(centre) + n.abs().dot(half) + p.w >= 0.0
+        })
+    }
 }
 
 #[cfg(test)]
@@ -173,6 +209,49 @@ mod tests {
         let persp = glam::camera::rh::proj::directx::perspective(1.0, 1.0, 0.1, 10.0);
         assert!(intersects_clip_volume(&persp, &inside));
         assert!(!intersects_clip_volume(&persp, &behind), "behind a perspective light is outside");
+    }
+
+    /// The test as its doc says it: the box's eight corners carried into clip space, one plane
+    /// at a time; with the margin by which the deciding plane decided.
+    fn by_corners(m: &Mat4, b: &Aabb) -> (bool, f32) {
+        let clip = b.corners().map(|c| *m * c.extend(1.0));
+        let planes: [fn(Vec4) -> f32; 6] =
+            [|c| c.w - c.x, |c| c.w + c.x, |c| c.w - c.y, |c| c.w + c.y, |c| c.z, |c| c.w - c.z];
+        let best = planes.map(|p| clip.iter().map(|c| p(*c)).fold(f32::NEG_INFINITY, f32::max));
+        let worst = best.iter().copied().fold(f32::INFINITY, f32::min);
+        (worst >= 0.0, worst.abs())
+    }
+
+    #[test]
+    fn world_planes_decide_as_the_eight_corners_do() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
+        };
+        let (mut inside, mut outside) = (0, 0);
+        for _ in 0..20_000 {
+            let eye = Vec3::new(next(), next(), next()) * 30.0;
+            let view = crate::shadow::light_view(eye, Vec3::new(next(), next() - 0.5, next()));
+            let proj = if next() > 0.0 {
+                glam::camera::rh::proj::directx::perspective(1.0 + next() * 0.9, 1.0, 0.1, 40.0 + next() * 30.0)
+            } else {
+                let h = 5.0 + 20.0 * next().abs();
+                glam::camera::rh::proj::directx::orthographic(-h, h, -h, h, -10.0, 60.0)
+            };
+            let m = proj * view;
+            let c = Vec3::new(next(), next(), next()) * 50.0;
+            let b = Aabb::new(c, c + Vec3::new(next(), next(), next()).abs() * 4.0);
+            let (expected, margin) = by_corners(&m, &b);
+            // Rounding may only decide a box that touches a plane to within a hair.
+            if margin > 1e-3 {
+                assert_eq!(intersects_clip_volume(&m, &b), expected, "{b:?} {m:?}");
+                if expected { inside += 1 } else { outside += 1 }
+            }
+        }
+        assert!(inside > 1000 && outside > 1000, "{inside} / {outside}");
     }
 
     #[test]

@@ -130,7 +130,39 @@ pub fn fit_cascade(
     scene: SceneBounds<'_>,
     resolution: u32,
 ) -> LightProjection {
-    let view = light_view(Vec3::ZERO, direction);
+    fit_slice(&SunScene::new(direction, scene), frustum, (a, b), mode, resolution)
+}
+
+/// The scene's boxes carried once into a sun's light view, for fitting all of its cascades:
+/// with ten thousand casters, carrying them for each cascade was most of a frame's update.
+#[derive(Clone, Debug)]
+pub struct SunScene {
+    view: Mat4,
+    /// Light-space boxes of the casters and of the receivers (empty ones left out).
+    casters: Vec<Aabb>,
+    receivers: Vec<Aabb>,
+}
+
+impl SunScene {
+    /// `scene` seen by a sun shining along `direction`.
+    #[must_use]
+    pub fn new(direction: Vec3, scene: SceneBounds<'_>) -> Self {
+        let view = light_view(Vec3::ZERO, direction);
+        let carry = |boxes: &[Aabb]| boxes.iter().filter(|b| !b.is_empty()).map(|b| b.transformed(&view)).collect();
+        SunScene { view, casters: carry(scene.casters), receivers: carry(scene.receivers) }
+    }
+}
+
+/// [`fit_cascade`] for the slice between view depths `a..b`, from the scene as `sun` sees it.
+#[must_use]
+pub fn fit_slice(
+    sun: &SunScene,
+    frustum: &ViewFrustum,
+    (a, b): (f32, f32),
+    mode: FitMode,
+    resolution: u32,
+) -> LightProjection {
+    let view = sun.view;
     let res = resolution.max(1) as f32;
     let (min, max, slice_far, texel, step) = match mode {
         FitMode::Stable | FitMode::Unsnapped => {
@@ -148,33 +180,17 @@ pub fn fit_cascade(
             (min, max, slice.min.z, extent.max_element() / res, None)
         }
     };
-    let (near_z, far_z) = depth_range(&view, min, max, slice_far, scene, step);
+    let (near_z, far_z) = depth_range(sun, min, max, slice_far, step);
     let proj = directx::orthographic(min.x, max.x, min.y, max.y, -near_z, -far_z);
     LightProjection { view, proj, view_proj: proj * view, texel: Vec2::new(texel, 0.0) }
 }
 
 /// Light-space z of the near and far planes (z grows towards the light) for the footprint
 /// `min..max`; with a `step`, both are rounded outwards to whole steps so they do not creep.
-fn depth_range(
-    view: &Mat4,
-    min: Vec2,
-    max: Vec2,
-    slice_far: f32,
-    scene: SceneBounds<'_>,
-    step: Option<f32>,
-) -> (f32, f32) {
-    let overlapping = |boxes: &'_ [Aabb]| -> Vec<Aabb> {
-        boxes
-            .iter()
-            .filter(|b| !b.is_empty())
-            .map(|b| b.transformed(view))
-            .filter(|l| l.min.x <= max.x && l.max.x >= min.x && l.min.y <= max.y && l.max.y >= min.y)
-            .collect()
-    };
-    let casters = overlapping(scene.casters);
-    let seen = overlapping(scene.receivers);
-    let top = casters.iter().map(|l| l.max.z).fold(f32::NEG_INFINITY, f32::max);
-    let bottom = seen.iter().chain(&casters).map(|l| l.min.z).fold(f32::INFINITY, f32::min);
+fn depth_range(sun: &SunScene, min: Vec2, max: Vec2, slice_far: f32, step: Option<f32>) -> (f32, f32) {
+    let over = |l: &&Aabb| l.min.x <= max.x && l.max.x >= min.x && l.min.y <= max.y && l.max.y >= min.y;
+    let top = sun.casters.iter().filter(over).map(|l| l.max.z).fold(f32::NEG_INFINITY, f32::max);
+    let bottom = sun.receivers.iter().chain(&sun.casters).filter(over).map(|l| l.min.z).fold(f32::INFINITY, f32::min);
     let mut far_z = if bottom.is_finite() { slice_far.max(bottom) } else { slice_far };
     let mut near_z = if top.is_finite() { top } else { far_z };
     // A little slack so geometry lying exactly on a plane is not clipped by rounding.

@@ -3,10 +3,16 @@
 //!
 //! A layer finds its casters in time that grows with the casters inside its volume and with the
 //! log of those outside it: a subtree whose box lies wholly outside one clip plane is skipped
-//! whole. The answer is exactly [`intersects_clip_volume`]'s for each box on its own (tested
+//! whole. The answer is exactly [`super::intersects_clip_volume`]'s for each box on its own (tested
 //! against that brute force), in ascending order, so the draws it feeds do not change.
+//!
+//! Building the hierarchy costs more than walking it, so a frame whose objects are the ones the
+//! last frame had only refits it: each node's box grows or shrinks to hold its objects' new
+//! boxes. The answers stay exact (a node still holds all it holds); only the pruning can grow
+//! worse as objects wander from where the hierarchy was built, so it is built afresh now and
+//! then ([`REBUILD_AFTER`]).
 
-use super::bounds::{Aabb, intersects_clip_volume};
+use super::bounds::{Aabb, ClipVolume};
 use glam::{Mat4, Vec3A};
 use obvhs::bvh2::Bvh2;
 
@@ -20,7 +26,12 @@ pub struct CasterIndex {
     loose: Vec<u32>,
     /// Every object's box, by object index.
     bounds: Vec<Aabb>,
+    /// Times it has been refitted since it was built.
+    refits: u32,
 }
+
+/// Frames a hierarchy is refitted before it is built afresh.
+pub const REBUILD_AFTER: u32 = 60;
 
 /// A box as obvhs takes it.
 fn to_bvh(b: &Aabb) -> obvhs::aabb::Aabb {
@@ -46,19 +57,45 @@ impl CasterIndex {
             let mut build_time = std::time::Duration::ZERO;
             obvhs::bvh2::builder::build_bvh2(&boxes, obvhs::BvhBuildParams::very_fast_build(), &mut build_time)
         });
-        CasterIndex { bvh, objects: usable, loose, bounds: bounds.to_vec() }
+        CasterIndex { bvh, objects: usable, loose, bounds: bounds.to_vec(), refits: 0 }
     }
 
-    /// The objects whose box [`intersects_clip_volume`] of `clip_from_world`, in ascending order.
+    /// This index with its objects' boxes replaced by `bounds`: refitted when they are the same
+    /// objects as far as it can tell (as many, the same ones usable) and it is not due to be
+    /// built afresh, else built afresh.
+    #[must_use]
+    pub fn refitted(mut self, bounds: &[Aabb]) -> Self {
+        let same = bounds.len() == self.bounds.len()
+            && self.objects.iter().all(|&i| bounds[i as usize].is_usable())
+            && self.loose.iter().all(|&i| !bounds[i as usize].is_usable());
+        let Some(bvh) = self.bvh.as_mut().filter(|_| same && self.refits < REBUILD_AFTER) else {
+            return CasterIndex::new(bounds);
+        };
+        self.bounds.copy_from_slice(bounds);
+        for n in 0..bvh.nodes.len() {
+            let node = &bvh.nodes[n];
+            if node.is_leaf() {
+                let prims = &bvh.primitive_indices[node.first_index as usize..][..node.prim_count as usize];
+                let b = prims.iter().fold(Aabb::EMPTY, |b, &p| b.union(bounds[self.objects[p as usize] as usize]));
+                bvh.nodes[n].set_aabb(to_bvh(&b));
+            }
+        }
+        bvh.refit_all();
+        self.refits += 1;
+        self
+    }
+
+    /// The objects whose box [`super::intersects_clip_volume`] of `clip_from_world`, in ascending order.
     #[must_use]
     pub fn inside(&self, clip_from_world: &Mat4) -> Vec<usize> {
-        let hit = |i: u32| intersects_clip_volume(clip_from_world, &self.bounds[i as usize]);
+        let volume = ClipVolume::new(clip_from_world);
+        let hit = |i: u32| volume.intersects(&self.bounds[i as usize]);
         let mut found: Vec<usize> = self.loose.iter().copied().filter(|&i| hit(i)).map(|i| i as usize).collect();
         if let Some(bvh) = &self.bvh {
             let mut stack = vec![0u32];
             while let Some(n) = stack.pop() {
                 let node = &bvh.nodes[n as usize];
-                if !intersects_clip_volume(clip_from_world, &node_box(node.aabb())) {
+                if !volume.intersects(&node_box(node.aabb())) {
                     continue;
                 }
                 if node.is_leaf() {
@@ -90,7 +127,7 @@ impl CasterIndex {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shadow::{light_view, spot_projection};
+    use crate::shadow::{intersects_clip_volume, light_view, spot_projection};
     use glam::Vec3;
 
     /// A small deterministic generator (xorshift), so the random scenes repeat.
@@ -167,6 +204,31 @@ mod tests {
         assert!(CasterIndex::new(&[]).is_empty());
         assert!(CasterIndex::new(&[Aabb::EMPTY, nan]).inside(&clip).is_empty());
         assert!(CasterIndex::new(&[ok]).inside(&Mat4::NAN).is_empty(), "a NaN volume holds nothing");
+    }
+
+    #[test]
+    fn a_refitted_index_answers_as_a_new_one_does_as_the_boxes_wander() {
+        let mut rng = Rng(0x51ab);
+        let mut bounds: Vec<Aabb> = (0..3000)
+            .map(|_| {
+                let c = rng.point(40.0);
+                Aabb::new(c, c + Vec3::ONE)
+            })
+            .collect();
+        let mut index = CasterIndex::new(&bounds);
+        for frame in 0..2 * REBUILD_AFTER {
+            for b in bounds.iter_mut() {
+                let step = rng.point(2.0);
+                *b = Aabb::new(b.min + step, b.max + step);
+            }
+            // Now and then one box breaks and mends: the index is built afresh around it.
+            bounds[7] = if frame % 25 == 3 { Aabb::EMPTY } else { Aabb::new(Vec3::ZERO, Vec3::ONE) };
+            index = index.refitted(&bounds);
+            let clip = random_volume(&mut rng);
+            assert_eq!(index.inside(&clip), brute_force(&bounds, &clip), "frame {frame}");
+        }
+        let fewer = index.refitted(&bounds[..10]);
+        assert_eq!(fewer.len(), 10, "other objects: built afresh");
     }
 
     #[test]

@@ -10,10 +10,10 @@ mod fit;
 mod planar;
 mod poisson;
 
-pub use bounds::{Aabb, MAX_WORLD_EXTENT, frustum_corners, intersects_clip_volume};
+pub use bounds::{Aabb, ClipVolume, MAX_WORLD_EXTENT, frustum_corners, intersects_clip_volume};
 pub use cascade::{
-    FitMode, MAX_CASCADES, SceneBounds, ViewFrustum, blend_bands, depth_step, fit_cascade, geometric_splits,
-    split_depths,
+    FitMode, MAX_CASCADES, SceneBounds, SunScene, ViewFrustum, blend_bands, depth_step, fit_cascade, fit_slice,
+    geometric_splits, split_depths,
 };
 pub use cull::CasterIndex;
 pub use fit::{

@@ -9,12 +9,13 @@ use crate::components::{
 };
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{
-    Aabb, LightProjection, SceneBounds, ViewFrustum, blend_bands, cube_projections, fit_cascade, frustum_corners,
-    geometric_splits, intersects_clip_volume, split_depths, spot_cone, spot_projection,
+    Aabb, ClipVolume, LightProjection, SceneBounds, SunScene, ViewFrustum, blend_bands, cube_projections, fit_slice,
+    frustum_corners, geometric_splits, intersects_clip_volume, split_depths, spot_cone, spot_projection,
 };
+use bevy_ecs::entity::EntityHashMap;
 use bevy_ecs::prelude::*;
 use glam::Vec3;
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Recomputes the world bounds of every rigid mesh entity that moved or changed mesh (skinned
@@ -47,8 +48,9 @@ pub struct CasterState {
 /// A fingerprint of joint matrices, so a new pose counts as a change and a repeated one does not.
 fn pose_hash(joints: Option<&Joints>) -> u64 {
     use std::hash::{Hash, Hasher};
+    let Some(joints) = joints else { return 0 };
     let mut h = std::collections::hash_map::DefaultHasher::new();
-    for m in joints.map_or(&[][..], |j| &j.0) {
+    for m in &joints.0 {
         m.to_cols_array().map(f32::to_bits).hash(&mut h);
     }
     h.finish()
@@ -61,7 +63,7 @@ fn pose_hash(joints: Option<&Joints>) -> u64 {
 /// unchanged time) dirties nothing, while a turn that leaves the bounds as they were still counts.
 #[allow(clippy::type_complexity)]
 pub fn track_casters(
-    mut known: Local<HashMap<Entity, CasterState>>,
+    mut known: Local<EntityHashMap<CasterState>>,
     mut changes: ResMut<CasterChanges>,
     casters: Query<
         (Entity, &WorldBounds, &Transform, &Mesh, Option<&Joints>),
@@ -215,19 +217,12 @@ fn cascades(
         None => split_depths(camera.near, far, settings.cascades as usize, settings.split_lambda),
     };
     let bands = blend_bands(&depths, settings.cascade_blend);
+    let sun = SunScene::new(direction, scene);
     (0..bands.len())
         .map(|i| {
             // A cascade starts inside the previous one's blend band, so both cover the band.
             let start = if i == 0 { depths[0] } else { depths[i] - bands[i - 1] };
-            let fit = fit_cascade(
-                direction,
-                &frustum,
-                start,
-                depths[i + 1],
-                settings.fit_mode,
-                scene,
-                settings.shadow_map_size,
-            );
+            let fit = fit_slice(&sun, &frustum, (start, depths[i + 1]), settings.fit_mode, settings.shadow_map_size);
             (fit, depths[i + 1], bands[i])
         })
         .collect()
@@ -239,16 +234,18 @@ fn next_version() -> u64 {
     NEXT.fetch_add(1, Ordering::Relaxed)
 }
 
-/// True when one of `changes` lies inside the clip volume of `clip_from_world`.
+/// True when one of `changes` lies inside the clip volume of `clip_from_world`: it passes the
+/// clip-space test and meets the volume's world box.
 ///
-/// Boxes that miss the volume's world box are passed over first with six comparisons: with ten
-/// thousand moving cubes that is most of them for most layers, and the full clip-space test
-/// (eight corners through the matrix) would otherwise be most of the update's time. A box
-/// outside the world box is outside the volume, so no layer a change reaches is missed.
+/// The world box is tried first, with six comparisons: with ten thousand moving cubes most
+/// changes miss most layers' boxes, and the clip-space test of each would be most of the
+/// update's time. It also turns away a box beside a cone's far corners, which no clip plane
+/// alone does; a box outside the world box is outside the volume, so no layer a change
+/// reaches is missed.
 fn touches(clip_from_world: &glam::Mat4, changes: &[Aabb]) -> bool {
     let reach = Aabb::from_points(frustum_corners(clip_from_world));
-    let near = |b: &Aabb| !reach.is_usable() || reach.intersects(b);
-    changes.iter().any(|b| near(b) && intersects_clip_volume(clip_from_world, b))
+    let volume = ClipVolume::new(clip_from_world);
+    changes.iter().any(|b| (!reach.is_usable() || reach.intersects(b)) && volume.intersects(b))
 }
 
 /// Replaces a light's layers with `fits`; each layer keeps its version unless it is dirty.
@@ -310,7 +307,7 @@ mod tests {
     #[test]
     fn a_change_beside_a_layer_leaves_it_clean_and_one_inside_dirties_it() {
         let spot = glam::camera::rh::proj::directx::perspective(std::f32::consts::FRAC_PI_2, 1.0, 0.1, 10.0);
-        // Past the cone's far edge: no clip plane alone separates it, but it is outside all the same.
+        // Past the cone's far edge, beside its far corner.
         let beside = Aabb::new(Vec3::new(10.5, -0.5, -11.0), Vec3::new(11.5, 0.5, -9.0));
         assert!(intersects_clip_volume(&spot, &beside), "the clip-space test alone passes it");
         assert!(!touches(&spot, &[beside]));
