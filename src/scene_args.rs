@@ -92,6 +92,10 @@ pub struct SceneArgs {
     /// Draw every caster into shadow maps with a call of its own, not instanced by mesh.
     #[arg(long)]
     pub no_instancing: bool,
+    /// Draw every caster into a dirty shadow map, not only those that moved over a copy of the
+    /// casters at rest.
+    #[arg(long)]
+    pub no_static_cache: bool,
     /// Leave the walking character out.
     #[arg(long)]
     pub no_character: bool,
@@ -238,6 +242,7 @@ impl SceneArgs {
             shadow_faces: self.shadow_faces.unwrap_or(d.shadow_faces),
             reuse_shadow_maps: !self.redraw_shadows,
             instancing: !self.no_instancing,
+            static_cache: !self.no_static_cache,
             character: !self.no_character,
             model: self.model.clone(),
             scene: self.scene.clone(),

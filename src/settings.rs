@@ -56,6 +56,10 @@ pub struct Settings {
     /// In a depth-only layer, the opaque rigid casters that share a mesh are drawn in one
     /// instanced call (false: one call per caster, as skinned and cut-out casters always are).
     pub instancing: bool,
+    /// With the cache, a depth-only layer keeps the casters at rest in a static map of their
+    /// own and, when only others moved, is drawn again from a copy of it (where the device can
+    /// copy depth textures: not on GL, which draws every caster).
+    pub static_cache: bool,
     /// Widest spot cone (half angle, radians) one perspective map shadows; a wider spot is
     /// shadowed through a cube.
     pub spot_map_limit: f32,
@@ -138,6 +142,7 @@ impl Default for Settings {
             shadow_faces: ShadowFaces::Both,
             reuse_shadow_maps: true,
             instancing: true,
+            static_cache: true,
             cube_seams: true,
             receiver_plane: true,
             pcss_blocker_search: true,

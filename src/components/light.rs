@@ -109,6 +109,10 @@ pub struct ShadowLayer {
     /// Identifies the layer's contents: a new number each time it becomes dirty, so a renderer
     /// can tell whether the map it holds is still good, however many updates it missed.
     pub version: u64,
+    /// Identifies what the layer's casters at rest draw (see [`crate::systems::CastersAtRest`]):
+    /// a new number when one of them starts to move or goes, another comes to rest inside it, or
+    /// the layer itself changes. A renderer that keeps their map apart draws it again only then.
+    pub static_version: u64,
 }
 
 /// A light's shadow maps, written by the light-matrix system and read by the renderer: one per

@@ -262,7 +262,8 @@ pub fn run(
     let view = target.create_view(&Default::default());
     let mut runs =
         scenarios.iter().map(|s| Run::new(gpu, *s, settings, width, height)).collect::<Result<Vec<_>, _>>()?;
-    const WARM_UP: u32 = 5;
+    // Long enough for still casters to come to rest, so the static maps are in their steady state.
+    const WARM_UP: u32 = crate::systems::REST_AFTER as u32 + 5;
     for round in 0..WARM_UP + frames {
         for run in &mut runs {
             run.frame(gpu, &view, (width, height), round >= WARM_UP)?;

@@ -9,7 +9,7 @@ use super::planar::{draws_planar, ground, planar_draws};
 use crate::components::*;
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{Aabb, CasterIndex, intersects_clip_volume, spot_projection};
-use crate::systems::{LightKind, LightLabel, SceneLight, ShadowShape, light_list};
+use crate::systems::{CastersAtRest, LightKind, LightLabel, SceneLight, ShadowShape, light_list};
 use bevy_ecs::prelude::*;
 use bytemuck::Zeroable;
 use glam::{Mat4, Vec3};
@@ -31,6 +31,9 @@ pub struct DrawItem {
     pub alpha: AlphaMode,
     /// Drawn from both sides.
     pub double_sided: bool,
+    /// A caster at rest ([`crate::systems::CastersAtRest`]): drawn into the static part of the
+    /// maps it meets.
+    pub at_rest: bool,
 }
 
 /// One shadow-map layer to keep or draw, with the casters inside its volume.
@@ -44,6 +47,8 @@ pub struct LayerDraw {
     pub clip_from_world: Mat4,
     /// Version of its contents (see [`ShadowLayer::version`]).
     pub version: u64,
+    /// Version of what its casters at rest draw (see [`ShadowLayer::static_version`]).
+    pub static_version: u64,
     /// How its light's shadow is sampled (a moment method needs a moment map too).
     pub method: ShadowMethod,
     /// Indices into [`FrameData::items`] of the casters whose bounds meet the layer's volume.
@@ -171,6 +176,7 @@ fn layer_draws(
             slot: (first_slot + k) as u32,
             clip_from_world: l.clip_from_world,
             version: l.version,
+            static_version: l.static_version,
             method,
             casters: index.inside(&l.clip_from_world).into_iter().filter(|&i| keep(&items[i])).collect(),
         })
@@ -186,6 +192,7 @@ struct KeptIndex(CasterIndex);
 fn draw_items(world: &mut World) -> (Vec<(DrawItem, Aabb)>, Vec<Mat4>) {
     let mut joints = Vec::new();
     let mut query = world.query::<(
+        Entity,
         &Mesh,
         &Transform,
         &WorldBounds,
@@ -195,9 +202,10 @@ fn draw_items(world: &mut World) -> (Vec<(DrawItem, Aabb)>, Vec<Mat4>) {
         Has<ShadowReceiver>,
     )>();
     let library = world.resource::<crate::assets::MeshLibrary>();
+    let at_rest = world.get_resource::<CastersAtRest>();
     let items = query
         .iter(world)
-        .map(|(mesh, t, bounds, material, skin, caster, receiver)| {
+        .map(|(entity, mesh, t, bounds, material, skin, caster, receiver)| {
             let m = material.copied().unwrap_or_default();
             let world_from_local = t.matrix();
             let object = Object {
@@ -221,6 +229,7 @@ fn draw_items(world: &mut World) -> (Vec<(DrawItem, Aabb)>, Vec<Mat4>) {
                 texture: m.texture,
                 alpha: m.alpha_mode,
                 double_sided: m.double_sided,
+                at_rest: caster && at_rest.is_some_and(|r| r.0.contains(&entity)),
             };
             (item, bounds.0)
         })
@@ -383,6 +392,7 @@ mod tests {
             texture: None,
             alpha,
             double_sided: false,
+            at_rest: false,
         };
         let at = |z: f32| Aabb::new(Vec3::new(0.0, 0.0, z), Vec3::new(1.0, 1.0, z + 1.0));
         let ground = Aabb::new(Vec3::new(-40.0, 0.0, -40.0), Vec3::new(40.0, 0.0, 40.0));

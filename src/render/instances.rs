@@ -121,7 +121,16 @@ mod tests {
 
     fn item(mesh: usize, x: f32, skinned: bool, alpha: AlphaMode) -> DrawItem {
         let object = Object { world_from_local: Mat4::from_translation(glam::Vec3::X * x), ..Object::zeroed() };
-        DrawItem { mesh: Mesh(mesh), object, caster: true, skinned, texture: None, alpha, double_sided: false }
+        DrawItem {
+            mesh: Mesh(mesh),
+            object,
+            caster: true,
+            skinned,
+            texture: None,
+            alpha,
+            double_sided: false,
+            at_rest: false,
+        }
     }
 
     fn variant(item: &DrawItem) -> Variant {

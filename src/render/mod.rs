@@ -19,6 +19,7 @@ mod readback;
 mod renderer;
 mod shaders;
 mod shadow_pass;
+mod static_maps;
 mod texture;
 mod timing;
 mod uniform_array;

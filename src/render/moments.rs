@@ -173,7 +173,7 @@ impl ColourMaps {
     pub fn new(device: &wgpu::Device, format: Option<ColourFormat>, size: u32, layers: u32) -> Self {
         let (size, layers) = if format.is_some() { (size, layers) } else { (1, 2) };
         let tex_format = format.unwrap_or(ColourFormat::Half).texture();
-        let LayeredTarget { layer_views, array_view } =
+        let LayeredTarget { layer_views, array_view, .. } =
             LayeredTarget::new(device, "moment maps", tex_format, size, layers);
         let scratch_view =
             render_target(device, "moment scratch", tex_format, size, 1).create_view(&Default::default());

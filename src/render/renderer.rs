@@ -8,7 +8,7 @@ use super::main_pass::MainPass;
 use super::map_view::MapView;
 use super::mesh::{Drawables, GpuMesh, JointPalette};
 use super::moments;
-use super::shadow_pass::{ShadowPass, ShadowStats};
+use super::shadow_pass::{DrawOptions, ShadowPass, ShadowStats};
 use super::texture::MaterialTextures;
 use super::timing::{PassTimer, PassTimes};
 use super::uniform_array::UniformArray;
@@ -77,7 +77,8 @@ impl Renderer {
         );
         let joints = JointPalette::new(device);
         let textures = MaterialTextures::new(device, &gpu.queue);
-        let shadow = ShadowPass::new(device, &objects.layout, &joints, &textures, 16);
+        let copies_depth = super::static_maps::copies_depth(&gpu.adapter);
+        let shadow = ShadowPass::new((device, copies_depth), &objects.layout, &joints, &textures, 16);
         let main = MainPass::new(device, &objects.layout, &joints, &textures, format, &shadow.maps);
         gpu.check_errors()?;
         Ok(Renderer {
@@ -213,8 +214,8 @@ impl Renderer {
             timer.begin();
         }
         let stats = if settings.shadows {
-            let how = (settings.reuse_shadow_maps, settings.shadow_faces, settings.moment_blur, settings.instancing);
-            self.shadow.encode(device, queue, &mut encoder, &data, drawables, how, self.timer.as_mut())
+            let how = DrawOptions::from(&settings);
+            self.shadow.encode((device, queue), &mut encoder, &data, drawables, how, self.timer.as_mut())
         } else {
             ShadowStats::default()
         };

@@ -11,6 +11,7 @@ use super::instances::{InstanceBuffer, LayerCalls, layer_calls};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
 use super::moments::{ColourFormat, ColourMaps, MomentBlur, far_moments};
 use super::shaders::{Composed, SHADOW_MODULE};
+use super::static_maps::StaticMaps;
 use super::texture::{LayeredTarget, MaterialTextures};
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
@@ -27,6 +28,8 @@ pub struct ShadowMaps {
     pub layers: u32,
     /// Their depth format.
     pub depth: ShadowDepth,
+    /// The depth texture (a copy destination where depth can be copied).
+    texture: wgpu::Texture,
     /// One render view per layer.
     layer_views: Vec<wgpu::TextureView>,
     /// The whole array, for sampling.
@@ -76,6 +79,10 @@ pub struct ShadowPass {
     pub maps: ShadowMaps,
     /// What each layer of `maps` was last drawn as.
     drawn: Vec<Option<Drawn>>,
+    /// The device can copy depth textures, so the static maps can be used.
+    copies_depth: bool,
+    /// The static part of the depth maps, made when first needed.
+    statics: Option<StaticMaps>,
 }
 
 /// What a layer's maps hold: the version of its light's layer they were drawn at and, for a
@@ -108,6 +115,8 @@ pub struct LightPasses {
     pub blurred: u32,
     /// Draw calls this frame's layers took (an instanced batch is one).
     pub calls: u32,
+    /// Layers drawn over a copy of their static map (only their moving casters drawn).
+    pub from_static: u32,
 }
 
 impl ShadowStats {
@@ -133,10 +142,21 @@ impl ShadowStats {
 
     fn count(&mut self, light: LightLabel, drawn: bool) {
         if self.lights.last().is_none_or(|l| l.light != light) {
-            self.lights.push(LightPasses { light, drawn: 0, kept: 0, blurred: 0, calls: 0 });
+            self.lights.push(LightPasses { light, drawn: 0, kept: 0, blurred: 0, calls: 0, from_static: 0 });
         }
         let entry = self.lights.last_mut().expect("pushed above");
         if drawn { entry.drawn += 1 } else { entry.kept += 1 }
+    }
+
+    /// Layers drawn over a copy of their static map, all lights together.
+    pub fn from_static(&self) -> u32 {
+        self.lights.iter().map(|l| l.from_static).sum()
+    }
+
+    fn count_static(&mut self, light: LightLabel, over_static: bool) {
+        if let Some(entry) = self.lights.iter_mut().find(|l| l.light == light) {
+            entry.from_static += over_static as u32;
+        }
     }
 
     fn count_calls(&mut self, light: LightLabel, calls: usize) {
@@ -165,7 +185,7 @@ impl std::fmt::Display for ShadowStats {
 impl ShadowPass {
     /// Builds the shadow pipelines; `object_layout` is the per-object bind group layout.
     pub fn new(
-        device: &wgpu::Device,
+        (device, copies_depth): (&wgpu::Device, bool),
         object_layout: &wgpu::BindGroupLayout,
         palette: &JointPalette,
         textures: &MaterialTextures,
@@ -199,9 +219,10 @@ impl ShadowPass {
             PipelineSet { depth: pipelines("fs_shadow", Vec::new()), colour }
         };
         let sets = [set(ShadowDepth::Float32), set(ShadowDepth::Unorm16)];
-        let maps = ShadowMaps::new(device, size, 2, None, ShadowDepth::default());
+        let maps = ShadowMaps::new(device, (size, 2, copies_depth), None, ShadowDepth::default());
         let instances = InstanceBuffer::new(device);
-        ShadowPass { sets, blur: None, layer_uniforms, instances, maps, drawn: vec![None; 2] }
+        let drawn = vec![None; 2];
+        ShadowPass { sets, blur: None, layer_uniforms, instances, maps, drawn, copies_depth, statics: None }
     }
 
     /// Makes sure the maps are `size` texels of `depth`, hold `layers` and have colour maps of
@@ -218,8 +239,9 @@ impl ShadowPass {
         if m.size == size && m.layers >= layers && m.moments.format == colour && m.depth == depth {
             return false;
         }
-        self.maps = ShadowMaps::new(device, size, layers, colour, depth);
+        self.maps = ShadowMaps::new(device, (size, layers, self.copies_depth), colour, depth);
         self.drawn = vec![None; layers as usize];
+        self.statics = None;
         if let Some(format) = colour.filter(|f| f.moments())
             && self.blur.as_ref().is_none_or(|b| b.format() != format)
         {
@@ -228,15 +250,19 @@ impl ShadowPass {
         true
     }
 
+    /// Makes the static maps, of the shadow maps' shape, unless they are there.
+    fn ensure_statics(&mut self, device: &wgpu::Device) {
+        let m = &self.maps;
+        let shape = (m.size, m.layers, depth_texture(m.depth));
+        if self.statics.as_ref().is_none_or(|s| !s.fits(shape)) {
+            self.statics = Some(StaticMaps::new(device, shape.0, shape.1, shape.2));
+        }
+    }
+
     /// The colour format layer `layer` is drawn in, if its method reads a colour map and there
     /// are colour maps.
     fn colour_format(&self, layer: &LayerDraw) -> Option<ColourFormat> {
         self.maps.moments.format.filter(|_| layer.method.colour_map())
-    }
-
-    /// The pipelines that draw `layer`.
-    fn pipelines(&self, layer: &LayerDraw) -> &Pipelines {
-        self.sets[self.maps.depth as usize].get(self.colour_format(layer))
     }
 
     /// What `layer` is drawn as with moment maps blurred by `blur` texels.
@@ -252,19 +278,19 @@ impl ShadowPass {
 
     /// Draws the layers that need it (all of them unless `reuse`), each cleared to far and then
     /// given the casters inside its volume (with `instancing`, a depth-only layer's rigid opaque
-    /// casters in one call per mesh), and blurs the moment layers among them by `blur` texels;
-    /// the others keep their maps. Returns what it did.
-    #[allow(clippy::too_many_arguments)]
+    /// casters in one call per mesh; with the static cache, only its moving casters over a copy
+    /// of its static map), and blurs the moment layers among them by `blur` texels; the others
+    /// keep their maps. Returns what it did.
     pub fn encode(
         &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
         encoder: &mut wgpu::CommandEncoder,
         data: &FrameData,
         with: Drawables<'_>,
-        (reuse, faces, blur, instancing): (bool, ShadowFaces, u32, bool),
+        how: DrawOptions,
         mut timer: Option<&mut PassTimer>,
     ) -> ShadowStats {
+        let DrawOptions { reuse, faces, blur, instancing, static_cache } = how;
         let mut stats = ShadowStats::default();
         let todo: Vec<&LayerDraw> = data
             .draws
@@ -278,69 +304,183 @@ impl ShadowPass {
             .collect();
         let uniforms: Vec<GpuLayer> = todo.iter().map(|l| data.layers[l.slot as usize]).collect();
         self.layer_uniforms.write(device, queue, &uniforms);
+        let split = reuse && static_cache && self.copies_depth;
+        if split && todo.iter().any(|l| self.colour_format(l).is_none()) {
+            self.ensure_statics(device);
+        }
         let mut placements = Vec::new();
-        let calls: Vec<LayerCalls> = todo
+        let mut calls_of = |casters: &[usize], batch: bool| {
+            layer_calls(&data.items, casters, |item| shadow_variant(item, faces), batch, &mut placements)
+        };
+        let jobs: Vec<Job> = todo
             .iter()
-            .map(|l| {
-                let batch = instancing && self.colour_format(l).is_none();
-                layer_calls(&data.items, &l.casters, |item| shadow_variant(item, faces), batch, &mut placements)
+            .enumerate()
+            .map(|(uniform, &layer)| {
+                let depth_only = self.colour_format(layer).is_none();
+                let batch = instancing && depth_only;
+                if !(split && depth_only) {
+                    return Job {
+                        layer,
+                        uniform,
+                        statics: None,
+                        over_static: false,
+                        calls: calls_of(&layer.casters, batch),
+                    };
+                }
+                let (rest, moving): (Vec<usize>, Vec<usize>) =
+                    layer.casters.iter().partition(|&&i| data.items[i].at_rest);
+                let held = self.statics.as_ref().is_some_and(|s| s.holds(layer.slot, layer.static_version));
+                let statics = (!held).then(|| calls_of(&rest, batch));
+                Job { layer, uniform, statics, over_static: true, calls: calls_of(&moving, batch) }
             })
             .collect();
         self.instances.write(device, queue, &placements);
-        for (layer, calls) in todo.iter().zip(&calls) {
-            let format = self.colour_format(layer);
+        for job in &jobs {
+            let format = self.colour_format(job.layer);
             let pipelines = self.sets[self.maps.depth as usize].get_mut(format);
-            pipelines.prepare(device, calls.singles.iter().map(|s| s.1).chain(calls.batches.iter().map(|b| b.variant)));
-            stats.count_calls(layer.light, calls.calls());
+            for calls in job.statics.iter().chain([&job.calls]) {
+                pipelines
+                    .prepare(device, calls.singles.iter().map(|s| s.1).chain(calls.batches.iter().map(|b| b.variant)));
+                stats.count_calls(job.layer.light, calls.calls());
+            }
+            stats.count_static(job.layer.light, job.over_static);
         }
         let blurred: Vec<&LayerDraw> = todo
             .iter()
             .copied()
             .filter(|l| blur > 0 && l.method.moments() && self.colour_format(l).is_some())
             .collect();
-        let passes = todo.len() + 2 * blurred.len();
-        for (slot, (layer, calls)) in todo.iter().zip(&calls).enumerate() {
-            let view = &self.maps.layer_views[layer.slot as usize];
-            let color = self.colour_format(layer).map(|_| wgpu::RenderPassColorAttachment {
-                view: &self.maps.moments.layer_views[layer.slot as usize],
+        let passes = jobs.len() + jobs.iter().filter(|j| j.statics.is_some()).count() + 2 * blurred.len();
+        let mut next_pass = 0..;
+        let drawing =
+            Drawing { with, items: &data.items, layers: &self.layer_uniforms, instances: self.instances.buffer() };
+        for job in &jobs {
+            let (layer, slot) = (job.layer, job.layer.slot as usize);
+            let format = self.colour_format(layer);
+            let pipelines = self.sets[self.maps.depth as usize].get(format);
+            if let Some(calls) = &job.statics {
+                let statics = self.statics.as_mut().expect("made above");
+                statics.mark_drawn(layer.slot, layer.static_version);
+                let writes = next_pass.next().and_then(|i| timer.as_deref_mut()?.shadow_writes(i, passes));
+                let depth = (statics.view(layer.slot), wgpu::LoadOp::Clear(1.0));
+                drawing.pass(encoder, depth, None, writes, (job.uniform, pipelines), calls);
+            }
+            let load = if job.over_static {
+                self.statics.as_ref().expect("made above").copy_into(encoder, layer.slot, &self.maps.texture);
+                wgpu::LoadOp::Load
+            } else {
+                wgpu::LoadOp::Clear(1.0)
+            };
+            let colour = format.map(|_| wgpu::RenderPassColorAttachment {
+                view: &self.maps.moments.layer_views[slot],
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(far_moments(&data.layers[layer.slot as usize])),
+                    load: wgpu::LoadOp::Clear(far_moments(&data.layers[slot])),
                     store: wgpu::StoreOp::Store,
                 },
             });
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("shadow pass"),
-                color_attachments: if color.is_some() { std::slice::from_ref(&color) } else { &[] },
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: timer.as_deref_mut().and_then(|t| t.shadow_writes(slot, passes)),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_bind_group(0, &self.layer_uniforms.bind_group, &[self.layer_uniforms.offset(slot)]);
-            let pipelines = self.pipelines(layer);
-            pipelines.draw(&mut pass, with, &data.items, calls.singles.iter().copied());
-            pipelines.draw_batches(&mut pass, with, &calls.batches, self.instances.buffer());
-            drop(pass);
+            let writes = next_pass.next().and_then(|i| timer.as_deref_mut()?.shadow_writes(i, passes));
+            drawing.pass(
+                encoder,
+                (&self.maps.layer_views[slot], load),
+                colour,
+                writes,
+                (job.uniform, pipelines),
+                &job.calls,
+            );
             let done = self.drawn_as(layer, blur);
-            if let Some(drawn) = self.drawn.get_mut(layer.slot as usize) {
+            if let Some(drawn) = self.drawn.get_mut(slot) {
                 *drawn = Some(done);
             }
         }
         if let Some(moment_blur) = self.blur.as_mut().filter(|_| !blurred.is_empty()) {
             let slots: Vec<u32> = blurred.iter().map(|l| l.slot).collect();
-            let stamps = (timer, todo.len(), passes);
+            let stamps = (timer, next_pass.start, passes);
             moment_blur.encode((device, queue), encoder, (&self.maps.moments, &slots, blur), stamps);
             for layer in blurred {
                 stats.count_blur(layer.light);
             }
         }
         stats
+    }
+}
+
+/// How the shadow pass draws, from the settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DrawOptions {
+    /// Keep clean layers' maps (the cache); without it every layer is drawn, whole.
+    pub reuse: bool,
+    /// Which faces casters draw.
+    pub faces: ShadowFaces,
+    /// Blur of moment maps, in texels.
+    pub blur: u32,
+    /// Draw rigid opaque casters of depth-only layers instanced.
+    pub instancing: bool,
+    /// Keep casters at rest in static maps (with the cache, where depth can be copied).
+    pub static_cache: bool,
+}
+
+impl From<&crate::Settings> for DrawOptions {
+    fn from(s: &crate::Settings) -> Self {
+        DrawOptions {
+            reuse: s.reuse_shadow_maps,
+            faces: s.shadow_faces,
+            blur: s.moment_blur,
+            instancing: s.instancing,
+            static_cache: s.static_cache,
+        }
+    }
+}
+
+/// How one layer is drawn this frame.
+struct Job<'a> {
+    layer: &'a LayerDraw,
+    /// Its index in the frame's layer uniforms.
+    uniform: usize,
+    /// The calls that draw its static map first, when that must be drawn again.
+    statics: Option<LayerCalls>,
+    /// Drawn over a copy of its static map (`calls` are then its moving casters only).
+    over_static: bool,
+    /// The calls that draw it.
+    calls: LayerCalls,
+}
+
+/// What every layer pass of a frame draws with.
+struct Drawing<'a> {
+    with: Drawables<'a>,
+    items: &'a [DrawItem],
+    layers: &'a UniformArray,
+    instances: &'a wgpu::Buffer,
+}
+
+impl Drawing<'_> {
+    /// One render pass into `depth` (loaded or cleared as it says) and `colour`, drawing
+    /// `calls` with `pipelines` and layer uniform `uniform`.
+    fn pass(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        (depth, load): (&wgpu::TextureView, wgpu::LoadOp<f32>),
+        colour: Option<wgpu::RenderPassColorAttachment<'_>>,
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        (uniform, pipelines): (usize, &Pipelines),
+        calls: &LayerCalls,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("shadow pass"),
+            color_attachments: if colour.is_some() { std::slice::from_ref(&colour) } else { &[] },
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations { load, store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &self.layers.bind_group, &[self.layers.offset(uniform)]);
+        pipelines.draw(&mut pass, self.with, self.items, calls.singles.iter().copied());
+        pipelines.draw_batches(&mut pass, self.with, &calls.batches, self.instances);
     }
 }
 
@@ -366,11 +506,17 @@ fn array_layers(needed: usize) -> u32 {
 }
 
 impl ShadowMaps {
-    fn new(device: &wgpu::Device, size: u32, layers: u32, colour: Option<ColourFormat>, depth: ShadowDepth) -> Self {
-        let LayeredTarget { layer_views, array_view } =
-            LayeredTarget::new(device, "shadow maps", depth_texture(depth), size, layers);
+    fn new(
+        device: &wgpu::Device,
+        (size, layers, copies): (u32, u32, bool),
+        colour: Option<ColourFormat>,
+        depth: ShadowDepth,
+    ) -> Self {
+        let extra = if copies { wgpu::TextureUsages::COPY_DST } else { wgpu::TextureUsages::empty() };
+        let LayeredTarget { texture, layer_views, array_view } =
+            LayeredTarget::copyable(device, "shadow maps", depth_texture(depth), (size, layers), extra);
         let moments = ColourMaps::new(device, colour, size, layers);
-        ShadowMaps { size, layers, depth, layer_views, array_view, moments }
+        ShadowMaps { size, layers, depth, texture, layer_views, array_view, moments }
     }
 }
 

@@ -162,6 +162,8 @@ fn sampler(device: &wgpu::Device, s: Sampling) -> wgpu::Sampler {
 /// A texture array both drawn into (one view per layer) and sampled (one view of all of them):
 /// the shadow maps and the moment maps.
 pub struct LayeredTarget {
+    /// The texture.
+    pub texture: wgpu::Texture,
     /// One render view per layer.
     pub layer_views: Vec<wgpu::TextureView>,
     /// The whole array, for sampling.
@@ -176,6 +178,18 @@ pub fn render_target(
     size: u32,
     layers: u32,
 ) -> wgpu::Texture {
+    copyable_target(device, label, format, size, layers, wgpu::TextureUsages::empty())
+}
+
+/// [`render_target`] with `extra` usages too (copies).
+pub fn copyable_target(
+    device: &wgpu::Device,
+    label: &str,
+    format: wgpu::TextureFormat,
+    size: u32,
+    layers: u32,
+    extra: wgpu::TextureUsages,
+) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: layers },
@@ -183,7 +197,7 @@ pub fn render_target(
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | extra,
         view_formats: &[],
     })
 }
@@ -191,7 +205,18 @@ pub fn render_target(
 impl LayeredTarget {
     /// `layers` layers of `size`² texels in `format`.
     pub fn new(device: &wgpu::Device, label: &str, format: wgpu::TextureFormat, size: u32, layers: u32) -> Self {
-        let texture = render_target(device, label, format, size, layers);
+        Self::copyable(device, label, format, (size, layers), wgpu::TextureUsages::empty())
+    }
+
+    /// [`LayeredTarget::new`] with `extra` usages too (copies).
+    pub fn copyable(
+        device: &wgpu::Device,
+        label: &str,
+        format: wgpu::TextureFormat,
+        (size, layers): (u32, u32),
+        extra: wgpu::TextureUsages,
+    ) -> Self {
+        let texture = copyable_target(device, label, format, size, layers, extra);
         let layer_views = (0..layers)
             .map(|layer| {
                 texture.create_view(&wgpu::TextureViewDescriptor {
@@ -208,6 +233,6 @@ impl LayeredTarget {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        LayeredTarget { layer_views, array_view }
+        LayeredTarget { texture, layer_views, array_view }
     }
 }

@@ -1,94 +1,22 @@
-//! Light matrices and dirty flags: world bounds of meshes, which casters changed, then each
-//! shadowed light's layers (the sun's cascades, a spot's cone), each marked dirty when its map
-//! must be drawn again.
+//! Light matrices and dirty flags: each shadowed light's layers (the sun's cascades, a spot's
+//! cone, a cube's faces), each marked dirty when its map must be drawn again, and given a new
+//! static version when the part of it drawn from casters at rest changed (see
+//! [`super::casters`]).
 
-use crate::assets::MeshLibrary;
+use super::casters::CasterChanges;
 use crate::components::{
-    Camera, DirectionalLight, Joints, Mesh, Notices, PointLight, ShadowCaster, ShadowLayer, ShadowMap, SpotLight,
-    Transform, Viewport, WorldBounds,
+    Camera, DirectionalLight, Mesh, Notices, PointLight, ShadowCaster, ShadowLayer, ShadowMap, SpotLight, Transform,
+    Viewport, WorldBounds,
 };
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{
     Aabb, ClipVolume, LightProjection, SceneBounds, SunScene, ViewFrustum, blend_bands, cube_projections, fit_slice,
     frustum_corners, geometric_splits, intersects_clip_volume, split_depths, spot_cone, spot_projection,
 };
-use bevy_ecs::entity::EntityHashMap;
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 use std::collections::HashSet;
 use std::sync::atomic::{AtomicU64, Ordering};
-
-/// Recomputes the world bounds of every rigid mesh entity that moved or changed mesh (skinned
-/// ones get theirs from the pose, in [`crate::systems::pose_parts`]).
-#[allow(clippy::type_complexity)]
-pub fn update_bounds(
-    meshes: Res<MeshLibrary>,
-    mut query: Query<(&Transform, &Mesh, &mut WorldBounds), (Without<Joints>, Or<(Changed<Transform>, Changed<Mesh>)>)>,
-) {
-    for (transform, mesh, mut bounds) in &mut query {
-        let local = meshes.get(*mesh).map_or(Aabb::EMPTY, |m| m.bounds);
-        bounds.0 = if local.is_empty() { local } else { local.transformed(&transform.matrix()) };
-    }
-}
-
-/// Bounds of the casters that changed in this update, before and after: a caster that moved,
-/// changed mesh or pose gives both boxes, one added or removed gives its one box.
-#[derive(Resource, Clone, Debug, Default, PartialEq)]
-pub struct CasterChanges(pub Vec<Aabb>);
-
-/// What a caster's shadow depends on: where it is, how it is placed, what it is and its pose.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CasterState {
-    bounds: Aabb,
-    model: glam::Mat4,
-    mesh: Mesh,
-    pose: u64,
-}
-
-/// A fingerprint of joint matrices, so a new pose counts as a change and a repeated one does not.
-fn pose_hash(joints: Option<&Joints>) -> u64 {
-    use std::hash::{Hash, Hasher};
-    let Some(joints) = joints else { return 0 };
-    let mut h = std::collections::hash_map::DefaultHasher::new();
-    for m in &joints.0 {
-        m.to_cols_array().map(f32::to_bits).hash(&mut h);
-    }
-    h.finish()
-}
-
-/// Finds the casters that changed since the last update and lists their old and new bounds.
-///
-/// A caster changed when its bounds, transform, mesh or pose differ by value from the last
-/// update, so a system that rewrites a transform with the same value (an animation at an
-/// unchanged time) dirties nothing, while a turn that leaves the bounds as they were still counts.
-#[allow(clippy::type_complexity)]
-pub fn track_casters(
-    mut known: Local<EntityHashMap<CasterState>>,
-    mut changes: ResMut<CasterChanges>,
-    casters: Query<
-        (Entity, &WorldBounds, &Transform, &Mesh, Option<&Joints>),
-        (
-            With<ShadowCaster>,
-            Or<(Changed<WorldBounds>, Changed<Transform>, Changed<Mesh>, Changed<Joints>, Added<ShadowCaster>)>,
-        ),
-    >,
-    mut removed: RemovedComponents<ShadowCaster>,
-) {
-    changes.0.clear();
-    for entity in removed.read() {
-        changes.0.extend(known.remove(&entity).map(|s| s.bounds));
-    }
-    for (entity, bounds, transform, mesh, joints) in &casters {
-        let state = CasterState { bounds: bounds.0, model: transform.matrix(), mesh: *mesh, pose: pose_hash(joints) };
-        match known.insert(entity, state) {
-            Some(old) if old == state => {}
-            old => changes.0.extend(old.map(|o| o.bounds).into_iter().chain([bounds.0])),
-        }
-    }
-    // A broken box (not finite, or light years away) would dirty every layer; it is left out of
-    // light fitting too (see `usable_boxes`).
-    changes.0.retain(Aabb::is_usable);
-}
 
 /// The boxes of `query` that light fitting can use; each entity whose box is broken (not finite,
 /// or beyond [`crate::shadow::MAX_WORLD_EXTENT`]) is left out and named once in `notices`, so
@@ -182,7 +110,7 @@ pub fn update_light_matrices(
             Some((c, t)) => cascades(sun.direction, &c, &t, viewport.aspect(), &settings, scene),
             None => Vec::new(),
         };
-        refresh_layers(&mut map, &fits, all_dirty || sun.is_changed(), &changes.0);
+        refresh_layers(&mut map, &fits, all_dirty || sun.is_changed(), &changes);
     }
     for (spot, transform, mut map) in &mut spots {
         let (at, forward) = (transform.translation, transform.forward());
@@ -191,11 +119,11 @@ pub fn update_light_matrices(
         } else {
             cube(at, spot.range)
         };
-        refresh_layers(&mut map, &fits, all_dirty || spot.is_changed() || transform.is_changed(), &changes.0);
+        refresh_layers(&mut map, &fits, all_dirty || spot.is_changed() || transform.is_changed(), &changes);
     }
     for (point, transform, mut map) in &mut points {
         let fits = cube(transform.translation, point.range);
-        refresh_layers(&mut map, &fits, all_dirty || point.is_changed() || transform.is_changed(), &changes.0);
+        refresh_layers(&mut map, &fits, all_dirty || point.is_changed() || transform.is_changed(), &changes);
     }
 }
 
@@ -248,18 +176,23 @@ fn touches(clip_from_world: &glam::Mat4, changes: &[Aabb]) -> bool {
     changes.iter().any(|b| (!reach.is_usable() || reach.intersects(b)) && volume.intersects(b))
 }
 
-/// Replaces a light's layers with `fits`; each layer keeps its version unless it is dirty.
-fn refresh_layers(map: &mut ShadowMap, fits: &[(LightProjection, f32, f32)], forced: bool, changes: &[Aabb]) {
+/// Replaces a light's layers with `fits`; each layer keeps its version unless it is dirty, and
+/// its static version unless the casters at rest inside it changed (or the layer itself did).
+fn refresh_layers(map: &mut ShadowMap, fits: &[(LightProjection, f32, f32)], forced: bool, changes: &CasterChanges) {
     let layers = fits
         .iter()
         .enumerate()
         .map(|(i, (fit, far, blend))| {
             let old = map.layers.get(i).filter(|o| o.clip_from_world == fit.view_proj);
-            let touched = touches(&fit.view_proj, changes);
-            let dirty = forced || touched || old.is_none();
-            let version = match old {
-                Some(o) if !dirty => o.version,
-                _ => next_version(),
+            let anew = forced || old.is_none();
+            let dirty = anew || touches(&fit.view_proj, &changes.moved);
+            let resettled = anew || touches(&fit.view_proj, &changes.settled);
+            let (version, static_version) = match old {
+                Some(o) => (
+                    if dirty { next_version() } else { o.version },
+                    if resettled { next_version() } else { o.static_version },
+                ),
+                None => (next_version(), next_version()),
             };
             ShadowLayer {
                 clip_from_world: fit.view_proj,
@@ -269,6 +202,7 @@ fn refresh_layers(map: &mut ShadowMap, fits: &[(LightProjection, f32, f32)], for
                 depth: crate::shadow::depth_terms(&fit.proj),
                 dirty,
                 version,
+                static_version,
             }
         })
         .collect();
@@ -281,7 +215,7 @@ fn refresh_layers(map: &mut ShadowMap, fits: &[(LightProjection, f32, f32)], for
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::assets::cube;
+    use crate::assets::MeshLibrary;
     use bevy_ecs::system::RunSystemOnce;
     use glam::{Mat4, Vec3};
 
@@ -292,16 +226,6 @@ mod tests {
         world.insert_resource(MeshLibrary::default());
         world.insert_resource(CasterChanges::default());
         world
-    }
-
-    #[test]
-    fn bounds_follow_the_transform() {
-        let mut world = world();
-        let mesh = world.resource_mut::<MeshLibrary>().add(cube(Vec3::splat(0.5)));
-        let e = world.spawn((mesh, Transform::from_xyz(2.0, 1.0, 0.0))).id();
-        world.run_system_once(update_bounds).unwrap();
-        let b = world.get::<WorldBounds>(e).unwrap().0;
-        assert_eq!(b, Aabb::new(Vec3::new(1.5, 0.5, -0.5), Vec3::new(2.5, 1.5, 0.5)));
     }
 
     #[test]
@@ -316,52 +240,6 @@ mod tests {
         assert!(!touches(&spot, &[]));
         // A volume with no world box to speak of is left to the clip-space test.
         assert_eq!(touches(&Mat4::ZERO, &[inside]), intersects_clip_volume(&Mat4::ZERO, &inside));
-    }
-
-    #[test]
-    fn caster_changes_hold_old_and_new_bounds_and_removals() {
-        let mut world = world();
-        let mesh = world.resource_mut::<MeshLibrary>().add(cube(Vec3::splat(0.5)));
-        let mut schedule = Schedule::default();
-        schedule.add_systems((update_bounds, track_casters).chain());
-        let e = world.spawn((mesh, Transform::default(), ShadowCaster)).id();
-        let a = Aabb::new(Vec3::splat(-0.5), Vec3::splat(0.5));
-        schedule.run(&mut world);
-        assert_eq!(world.resource::<CasterChanges>().0, vec![a], "an added caster");
-        schedule.run(&mut world);
-        assert!(world.resource::<CasterChanges>().0.is_empty(), "nothing changed");
-        world.get_mut::<Transform>(e).unwrap().translation = Vec3::ZERO; // same value, written again
-        schedule.run(&mut world);
-        assert!(world.resource::<CasterChanges>().0.is_empty(), "rewritten with the same value");
-        world.get_mut::<Transform>(e).unwrap().rotation = glam::Quat::from_rotation_y(std::f32::consts::PI);
-        schedule.run(&mut world);
-        assert_eq!(world.resource::<CasterChanges>().0.len(), 2, "a half turn keeps the box but counts");
-        world.get_mut::<Transform>(e).unwrap().translation = Vec3::ONE;
-        schedule.run(&mut world);
-        // The half turn leaves the box as it was, up to rounding.
-        let near = |x: Aabb, y: Aabb| (x.min - y.min).length() < 1e-5 && (x.max - y.max).length() < 1e-5;
-        let b = Aabb::new(Vec3::splat(0.5), Vec3::splat(1.5));
-        let moved = world.resource::<CasterChanges>().0.clone();
-        assert!(moved.len() == 2 && near(moved[0], a) && near(moved[1], b), "moved: before and after: {moved:?}");
-        world.despawn(e);
-        schedule.run(&mut world);
-        assert_eq!(world.resource::<CasterChanges>().0, vec![moved[1]], "removed");
-    }
-
-    #[test]
-    fn a_new_pose_counts_even_when_bounds_and_transform_stay() {
-        let mut world = world();
-        let mut schedule = Schedule::default();
-        schedule.add_systems(track_casters);
-        let bounds = WorldBounds(Aabb::new(Vec3::ZERO, Vec3::ONE));
-        let e = world.spawn((Mesh(0), Transform::default(), bounds, Joints(vec![Mat4::IDENTITY]), ShadowCaster)).id();
-        schedule.run(&mut world);
-        world.get_mut::<Joints>(e).unwrap().0[0] = Mat4::IDENTITY; // the same pose again
-        schedule.run(&mut world);
-        assert!(world.resource::<CasterChanges>().0.is_empty());
-        world.get_mut::<Joints>(e).unwrap().0[0] = Mat4::from_rotation_z(0.3);
-        schedule.run(&mut world);
-        assert_eq!(world.resource::<CasterChanges>().0, vec![bounds.0, bounds.0], "an arm turned inside the box");
     }
 
     #[test]

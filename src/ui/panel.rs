@@ -180,6 +180,7 @@ pub const MAP_SIZES: [u32; 6] = [256, 512, 1024, 2048, 4096, 8192];
 fn shadow_settings(ui: &mut Ui, s: &mut Settings) {
     ui.checkbox(&mut s.shadows, "shadows");
     ui.checkbox(&mut s.reuse_shadow_maps, "keep clean lights' maps (the cache)");
+    ui.checkbox(&mut s.static_cache, "casters at rest kept in static maps");
     ui.checkbox(&mut s.instancing, "instanced casters (one call per mesh and layer)");
     choice(ui, "method (lights without their own)", &mut s.method, ShadowMethod::ALL, ShadowMethod::name);
     ComboBox::from_label("map size").selected_text(format!("{}²", s.shadow_map_size)).show_ui(ui, |ui| {
