@@ -143,8 +143,12 @@ struct BenchArgs {
     cache: bool,
     /// Instead of the sweep: frame cost of the still scene alone, with the window's panel open,
     /// and with a measurement against the truth running on a worker thread.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "shadow_pass")]
     lab: bool,
+    /// Instead of the sweep: umbra's shadow pass against a bare depth pass drawing the same
+    /// casters, on scenes of 10 to 20,000 cubes; writes shadow-pass.md and the scale chart.
+    #[arg(long, conflicts_with = "cache")]
+    shadow_pass: bool,
     /// Rays over each light's disc for the soft truth (default 32, 8 with --quick).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=4096))]
     soft_rays: Option<u32>,
@@ -230,7 +234,35 @@ fn gallery(args: &GalleryArgs) -> Result<()> {
     Ok(())
 }
 
+/// `bench --shadow-pass`: the table on stdout and in `shadow-pass.md`, the chart beside it.
+fn shadow_pass(args: &BenchArgs) -> Result<()> {
+    use umbra::eval::passes;
+    let settings = args.scene.settings()?;
+    settings.validate()?;
+    let gpu = Gpu::headless()?;
+    let adapter = gpu.describe();
+    println!("adapter: {adapter}");
+    println!(
+        "{} frames per scene, {}² shadow maps, every layer drawn every frame",
+        args.frames, settings.shadow_map_size
+    );
+    let rows = passes::run(&gpu, &settings, &passes::SCENE_SIZES, args.frames, |r| {
+        eprintln!("{} cubes: umbra {:.2} ms, bare {:.2} ms", r.cubes, r.umbra_ms, r.bare_ms);
+    })?;
+    let table = passes::table(&rows);
+    print!("{table}");
+    std::fs::create_dir_all(&args.out)?;
+    std::fs::write(args.out.join("shadow-pass.md"), format!("adapter: {adapter}\n\n{table}"))?;
+    let title = format!("shadow pass against casters inside its layers ({adapter})");
+    passes::chart(&args.out.join("scale"), &title, &rows)?;
+    println!("wrote {}", args.out.join("shadow-pass.md").display());
+    Ok(())
+}
+
 fn bench(args: &BenchArgs) -> Result<()> {
+    if args.shadow_pass {
+        return shadow_pass(args);
+    }
     if !args.cache && !args.lab {
         return sweep(args);
     }

@@ -278,3 +278,63 @@ where
         .map_err(|e| e.to_string())?;
     Ok(())
 }
+
+/// Lines of (x, y) points on linear axes named `axes` (x, then y), each point of every line
+/// labelled with `labels` (by index), as `stem`.png and .svg.
+pub fn line_chart(
+    stem: &Path,
+    title: &str,
+    axes: (&str, &str),
+    lines: &[(String, Vec<(f64, f64)>)],
+    labels: &[String],
+) -> Result<(), ChartError> {
+    both(stem, |a| draw_lines(a, title, axes, lines, labels), |a| draw_lines(a, title, axes, lines, labels))
+}
+
+fn draw_lines<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    (x_desc, y_desc): (&str, &str),
+    lines: &[(String, Vec<(f64, f64)>)],
+    labels: &[String],
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    area.fill(&WHITE).map_err(|e| e.to_string())?;
+    let points = || lines.iter().flat_map(|(_, p)| p.iter().copied()).filter(|(x, y)| x.is_finite() && y.is_finite());
+    let x_max = points().map(|p| p.0).fold(1.0, f64::max) * 1.08;
+    let y_max = points().map(|p| p.1).fold(1e-3, f64::max) * 1.15;
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 22))
+        .margin(16)
+        .x_label_area_size(44)
+        .y_label_area_size(64)
+        .build_cartesian_2d(0.0..x_max, 0.0..y_max)
+        .map_err(|e| e.to_string())?;
+    chart.configure_mesh().x_desc(x_desc).y_desc(y_desc).draw().map_err(|e| e.to_string())?;
+    let palette = [RED, BLUE, RGBColor(0, 150, 0), MAGENTA];
+    for (k, (name, at)) in lines.iter().enumerate() {
+        let colour = palette[k % palette.len()];
+        chart
+            .draw_series(LineSeries::new(at.clone(), colour.stroke_width(2)))
+            .map_err(|e| e.to_string())?
+            .label(name.clone())
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2)));
+        chart.draw_series(at.iter().map(|&p| Circle::new(p, 4, colour.filled()))).map_err(|e| e.to_string())?;
+    }
+    if let Some((_, first)) = lines.first() {
+        let style = ("sans-serif", 13).into_font().color(&BLACK);
+        let marks =
+            first.iter().zip(labels).map(|(&p, l)| EmptyElement::at(p) + Text::new(l.clone(), (6, -16), style.clone()));
+        chart.draw_series(marks).map_err(|e| e.to_string())?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}

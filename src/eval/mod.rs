@@ -9,6 +9,7 @@ pub mod gallery;
 pub mod live;
 pub mod measure;
 pub mod metrics;
+pub mod passes;
 pub mod results;
 pub mod sweep;
 pub mod truth;

@@ -19,6 +19,11 @@ pub struct GpuMesh {
 }
 
 impl GpuMesh {
+    /// Its vertex and index buffers and the number of indices.
+    pub fn buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer, u32) {
+        (&self.vertices, &self.indices, self.index_count)
+    }
+
     /// Uploads `mesh`; `None` for a mesh with nothing to draw.
     pub fn upload(device: &wgpu::Device, mesh: &MeshData) -> Option<GpuMesh> {
         if mesh.vertices.is_empty() || mesh.indices.is_empty() {

@@ -5,6 +5,7 @@
 //! spot, one per sun cascade), [`main_pass`] lights the scene, and [`readback`] brings a frame
 //! back to the CPU for headless use.
 
+mod bare_depth;
 mod extract;
 mod gpu;
 pub mod gpu_types;

@@ -1,5 +1,6 @@
 //! The renderer: uploads meshes, then each frame extracts, runs the shadow pass and the main pass.
 
+use super::bare_depth::BareDepth;
 use super::extract::extract;
 use super::gpu_types::GpuLayer;
 use super::gpu_types::Object;
@@ -26,6 +27,8 @@ enum Output<'a> {
     /// A grid target of the given size, the probe points to draw into it, and the first light
     /// reported.
     Probes(&'a wgpu::TextureView, (u32, u32), &'a wgpu::Buffer, u32, usize),
+    /// Nothing but the shadow maps.
+    ShadowsOnly,
 }
 
 /// The shadow-map viewer's picture: its view, a number that changes whenever the texture behind
@@ -55,6 +58,8 @@ pub struct Renderer {
     /// The shadow-map viewer, made the first time it is asked for, and the last picture's
     /// layers and whose they are.
     map_view: Option<MapView>,
+    /// The bare depth pass the bench compares the shadow pass with, made when first asked for.
+    bare: Option<BareDepth>,
     last_layers: Vec<(GpuLayer, LightLabel)>,
     /// A map was drawn or the layers changed since the viewer's atlas was last drawn.
     atlas_stale: bool,
@@ -93,6 +98,7 @@ impl Renderer {
             format,
             lines: None,
             map_view: None,
+            bare: None,
             last_layers: Vec::new(),
             atlas_stale: true,
         })
@@ -140,6 +146,31 @@ impl Renderer {
     ) -> Result<(), RenderError> {
         self.main.ensure_probe(&gpu.device);
         self.draw(gpu, world, grid, Output::Probes(target, grid, points, count, first_light))
+    }
+
+    /// Draws the shadow maps the world needs now and nothing else (what `umbra bench
+    /// --shadow-pass` times: the extract, culling and bookkeeping they take included).
+    pub fn render_shadow_maps(&mut self, gpu: &Gpu, world: &mut World) -> Result<(), RenderError> {
+        self.draw(gpu, world, (1, 1), Output::ShadowsOnly)
+    }
+
+    /// Draws `data`'s casters into its layers with the bare depth pass (see
+    /// [`super::bare_depth`]), in maps of `size`² texels of `depth`.
+    pub fn render_bare_depth(
+        &mut self,
+        gpu: &Gpu,
+        data: &super::FrameData,
+        (size, depth): (u32, crate::settings::ShadowDepth),
+    ) -> Result<(), RenderError> {
+        let format = super::shadow_pass::depth_texture(depth);
+        if self.bare.as_ref().is_none_or(|b| b.format() != format) {
+            self.bare = Some(BareDepth::new(&gpu.device, format));
+        }
+        let bare = self.bare.as_mut().expect("made above");
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("bare") });
+        bare.encode((&gpu.device, &gpu.queue), &mut encoder, data, &self.meshes, size);
+        gpu.queue.submit([encoder.finish()]);
+        gpu.check_errors()
     }
 
     /// The shadow-map viewer's atlas of every layer the last picture used, drawn again only when
@@ -243,6 +274,7 @@ impl Renderer {
                 data.measure_from(first);
                 self.main.encode_probes(queue, &mut encoder, target, &data, (points, count));
             }
+            Output::ShadowsOnly => {}
         }
         if let Some(timer) = self.timer.as_mut() {
             timer.resolve(&mut encoder);

@@ -41,6 +41,8 @@ pub const PLANAR: ShaderFile = shader_file!("planar.wgsl");
 pub const LINES: ShaderFile = shader_file!("lines.wgsl");
 /// The shadow-map viewer's atlas.
 pub const MAP_VIEW: ShaderFile = shader_file!("map_view.wgsl");
+/// The bare depth pass the bench measures the shadow pass against.
+pub const BARE_DEPTH: ShaderFile = shader_file!("bare_depth.wgsl");
 
 /// The shadow pass's files, in dependency order.
 pub const SHADOW_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, SHADOW];
@@ -160,6 +162,7 @@ mod tests {
     fn the_blur_and_the_lines_parse_and_validate() {
         check(&Composed::new(BLUR_MODULE)).unwrap();
         check(&Composed::new(&[LINES])).unwrap();
+        check(&Composed::new(&[BARE_DEPTH])).unwrap();
         let (module, _) = check(&Composed::new(&[MAP_VIEW])).unwrap();
         // The viewer's uniform holds two vectors for every layer there can be.
         let terms = module.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some("view_layers")).unwrap().1;

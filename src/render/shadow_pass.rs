@@ -39,7 +39,7 @@ pub struct ShadowMaps {
 }
 
 /// The texture format of depth maps of `depth`.
-fn depth_texture(depth: ShadowDepth) -> wgpu::TextureFormat {
+pub(super) fn depth_texture(depth: ShadowDepth) -> wgpu::TextureFormat {
     match depth {
         ShadowDepth::Float32 => wgpu::TextureFormat::Depth32Float,
         ShadowDepth::Unorm16 => wgpu::TextureFormat::Depth16Unorm,

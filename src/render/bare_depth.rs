@@ -1,0 +1,147 @@
+//! The bare depth pass: what drawing a frame's shadow casters into its layers costs with nothing
+//! else. One rigid pipeline with no fragment stage; every caster of a layer drawn at its
+//! placement (a skinned one unposed), one instanced call per mesh and layer; no culling of its
+//! own (it takes the frame's lists as given), no cache, no cut-outs, no bookkeeping.
+//! `umbra bench --shadow-pass` times umbra's shadow pass against it, drawing the same casters
+//! into layers of the same size and format.
+
+use super::extract::FrameData;
+use super::instances::InstanceBuffer;
+use super::mesh::GpuMesh;
+use super::shaders::{BARE_DEPTH, Composed};
+use super::texture::LayeredTarget;
+use super::uniform_array::UniformArray;
+use crate::assets::Vertex;
+use glam::Mat4;
+
+/// The bare pass's pipeline, its layer matrices and its own depth maps.
+pub struct BareDepth {
+    pipeline: wgpu::RenderPipeline,
+    layers: UniformArray,
+    instances: InstanceBuffer,
+    /// The maps drawn into, with their size, layer count and format.
+    maps: Option<(LayeredTarget, (u32, u32, wgpu::TextureFormat))>,
+    format: wgpu::TextureFormat,
+}
+
+impl BareDepth {
+    /// The pipeline for depth maps of `format`.
+    pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
+        let layers = UniformArray::new(device, "bare layers", size_of::<Mat4>() as u64, wgpu::ShaderStages::VERTEX);
+        let module = Composed::new(&[BARE_DEPTH]).module(device);
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("bare depth"),
+            bind_group_layouts: &[Some(&layers.layout)],
+            immediate_size: 0,
+        });
+        const POSITION: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![0 => Float32x3];
+        const PLACEMENT: [wgpu::VertexAttribute; 4] =
+            wgpu::vertex_attr_array![6 => Float32x4, 7 => Float32x4, 8 => Float32x4, 9 => Float32x4];
+        let buffers = [
+            Some(wgpu::VertexBufferLayout {
+                array_stride: size_of::<Vertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &POSITION,
+            }),
+            Some(wgpu::VertexBufferLayout {
+                array_stride: size_of::<Mat4>() as u64,
+                step_mode: wgpu::VertexStepMode::Instance,
+                attributes: &PLACEMENT,
+            }),
+        ];
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("bare depth"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_bare"),
+                compilation_options: Default::default(),
+                buffers: &buffers,
+            },
+            primitive: Default::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        });
+        BareDepth { pipeline, layers, instances: InstanceBuffer::new(device), maps: None, format }
+    }
+
+    /// The depth format it draws.
+    pub fn format(&self) -> wgpu::TextureFormat {
+        self.format
+    }
+
+    /// Draws every layer of `data` with its casters into maps of `size`² texels.
+    pub fn encode(
+        &mut self,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        encoder: &mut wgpu::CommandEncoder,
+        data: &FrameData,
+        meshes: &[Option<GpuMesh>],
+        size: u32,
+    ) {
+        let shape = (size, data.draws.len().max(2) as u32, self.format);
+        if self.maps.as_ref().is_none_or(|(_, s)| *s != shape) {
+            self.maps = Some((LayeredTarget::new(device, "bare depth", self.format, size, shape.1), shape));
+        }
+        let matrices: Vec<Mat4> = data.draws.iter().map(|d| d.clip_from_world).collect();
+        self.layers.write(device, queue, &matrices);
+        // One run of placements per mesh and layer, in the order the casters come.
+        let mut placements = Vec::new();
+        let mut calls: Vec<Vec<(usize, std::ops::Range<u32>)>> = Vec::new();
+        for layer in &data.draws {
+            let mut by_mesh: Vec<(usize, Vec<Mat4>)> = Vec::new();
+            for item in layer.casters.iter().filter_map(|&i| data.items.get(i)) {
+                let mesh = item.mesh.0;
+                match by_mesh.iter_mut().find(|(m, _)| *m == mesh) {
+                    Some((_, run)) => run.push(item.object.world_from_local),
+                    None => by_mesh.push((mesh, vec![item.object.world_from_local])),
+                }
+            }
+            calls.push(
+                by_mesh
+                    .into_iter()
+                    .map(|(mesh, run)| {
+                        let first = placements.len() as u32;
+                        placements.extend(run);
+                        (mesh, first..placements.len() as u32)
+                    })
+                    .collect(),
+            );
+        }
+        self.instances.write(device, queue, &placements);
+        let (maps, _) = self.maps.as_ref().expect("made above");
+        for (k, layer_calls) in calls.iter().enumerate() {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("bare depth"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &maps.layer_views[k],
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &self.layers.bind_group, &[self.layers.offset(k)]);
+            pass.set_vertex_buffer(1, self.instances.buffer().slice(..));
+            for (mesh, instances) in layer_calls {
+                let Some(Some(mesh)) = meshes.get(*mesh) else { continue };
+                let (vertices, indices, count) = mesh.buffers();
+                pass.set_vertex_buffer(0, vertices.slice(..));
+                pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..count, 0, instances.clone());
+            }
+        }
+    }
+}
