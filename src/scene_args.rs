@@ -46,7 +46,8 @@ pub struct SceneArgs {
     /// Fraction of each cascade that blends into the next, 0..0.5.
     #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
     pub cascade_blend: Option<f32>,
-    /// How cascades are fitted: stable (no shimmer), unsnapped or tight (sharper, shimmers).
+    /// How cascades are fitted: stable (no shimmer), unsnapped, tight (sharper, shimmers) or
+    /// sdsm (to what the camera saw: splits and boxes from a reduction of its depth buffer).
     #[arg(long, value_name = "MODE")]
     pub fit: Option<FitMode>,
     /// Tint each cascade in its own colour.

@@ -231,7 +231,7 @@ pub enum ShadowFaces {
     Back,
 }
 
-named_choices!(FitMode, "a fit mode", Stable = "stable", Unsnapped = "unsnapped", Tight = "tight");
+named_choices!(FitMode, "a fit mode", Stable = "stable", Unsnapped = "unsnapped", Tight = "tight", Sdsm = "sdsm");
 named_choices!(ShadowFaces, "a face choice", Both = "both", Back = "back");
 named_choices!(
     ShadowMethod,
@@ -406,7 +406,9 @@ mod tests {
         assert_eq!("unsnapped".parse::<FitMode>(), Ok(FitMode::Unsnapped));
         assert!("loose".parse::<FitMode>().unwrap_err().contains("loose"));
         assert_eq!(FitMode::Stable.next(), FitMode::Unsnapped);
-        assert_eq!(FitMode::Tight.next(), FitMode::Stable);
+        assert_eq!(FitMode::Tight.next(), FitMode::Sdsm);
+        assert_eq!(FitMode::Sdsm.next(), FitMode::Stable);
+        assert_eq!("sdsm".parse::<FitMode>(), Ok(FitMode::Sdsm));
         assert_eq!("pcf5".parse::<ShadowMethod>(), Ok(ShadowMethod::Pcf5));
         assert!("blur".parse::<ShadowMethod>().unwrap_err().contains("not a shadow method"));
     }

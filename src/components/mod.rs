@@ -410,6 +410,11 @@ impl Input {
 #[derive(Resource, Clone, Debug, Default, PartialEq)]
 pub struct Notices(pub Vec<String>);
 
+/// What the camera saw in the last frame the renderer read back (sample distribution shadow
+/// maps: the renderer writes it, the light matrices read it at the next update).
+#[derive(Resource, Clone, Debug, PartialEq)]
+pub struct SeenByCamera(pub crate::shadow::VisibleSamples);
+
 /// Size of the image being rendered, in pixels.
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Viewport {

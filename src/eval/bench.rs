@@ -55,21 +55,43 @@ pub struct Scenario {
     pub motion: Motion,
     /// What the lab adds.
     pub lab: Lab,
+    /// Casters at rest kept in static maps (see [`Settings::static_cache`]).
+    pub static_cache: bool,
 }
 
-/// The scenarios of the shadow-cache bench, the baseline (still, no shadows) first.
-pub const SCENARIOS: [Scenario; 4] = [
-    Scenario { name: "still, shadows off", shadows: false, motion: Motion::Still, lab: Lab::Off },
-    Scenario { name: "still, shadows on", shadows: true, motion: Motion::Still, lab: Lab::Off },
-    Scenario { name: "one cube moving", shadows: true, motion: Motion::OneCube, lab: Lab::Off },
-    Scenario { name: "everything moving", shadows: true, motion: Motion::Everything, lab: Lab::Off },
+/// The scenarios of the shadow-cache bench, the baseline (still, no shadows) first; one cube
+/// moving is run with the static cache and without it.
+pub const SCENARIOS: [Scenario; 5] = [
+    Scenario { name: "still, shadows off", shadows: false, motion: Motion::Still, lab: Lab::Off, static_cache: true },
+    Scenario { name: "still, shadows on", shadows: true, motion: Motion::Still, lab: Lab::Off, static_cache: true },
+    Scenario { name: "one cube moving", shadows: true, motion: Motion::OneCube, lab: Lab::Off, static_cache: true },
+    Scenario {
+        name: "one cube moving, no static cache",
+        shadows: true,
+        motion: Motion::OneCube,
+        lab: Lab::Off,
+        static_cache: false,
+    },
+    Scenario {
+        name: "everything moving",
+        shadows: true,
+        motion: Motion::Everything,
+        lab: Lab::Off,
+        static_cache: true,
+    },
 ];
 
 /// The scenarios of the lab bench, the baseline (the still scene alone) first.
 pub const LAB_SCENARIOS: [Scenario; 3] = [
-    Scenario { name: "still, shadows on", shadows: true, motion: Motion::Still, lab: Lab::Off },
-    Scenario { name: "still, panel open", shadows: true, motion: Motion::Still, lab: Lab::Panel },
-    Scenario { name: "still, a measurement in flight", shadows: true, motion: Motion::Still, lab: Lab::Measuring },
+    Scenario { name: "still, shadows on", shadows: true, motion: Motion::Still, lab: Lab::Off, static_cache: true },
+    Scenario { name: "still, panel open", shadows: true, motion: Motion::Still, lab: Lab::Panel, static_cache: true },
+    Scenario {
+        name: "still, a measurement in flight",
+        shadows: true,
+        motion: Motion::Still,
+        lab: Lab::Measuring,
+        static_cache: true,
+    },
 ];
 
 /// A scenario's result.
@@ -110,7 +132,12 @@ struct Run {
 
 impl Run {
     fn new(gpu: &Gpu, scenario: Scenario, settings: &Settings, width: u32, height: u32) -> Result<Run, BenchError> {
-        let mut app = App::new(Settings { shadows: scenario.shadows, ..settings.clone() })?;
+        let settings = Settings {
+            shadows: scenario.shadows,
+            static_cache: scenario.static_cache && settings.static_cache,
+            ..settings.clone()
+        };
+        let mut app = App::new(settings)?;
         if scenario.motion == Motion::OneCube {
             freeze_all_but_one_cube(&mut app.world);
         }
@@ -319,7 +346,7 @@ mod tests {
     #[test]
     fn the_table_gives_ratios_to_the_first_row() {
         let row = |name, median_ms| BenchRow {
-            scenario: Scenario { name, shadows: true, motion: Motion::Still, lab: Lab::Off },
+            scenario: Scenario { name, shadows: true, motion: Motion::Still, lab: Lab::Off, static_cache: true },
             median_ms,
             min_ms: 1.0,
             max_ms: 9.0,

@@ -230,7 +230,7 @@ pub fn configs(quick: bool) -> Vec<Config> {
     }
     let around: &[u32] = if quick { &[2048] } else { &[1024, 2048, 4096] };
     for &map_size in around {
-        for fit in [FitMode::Unsnapped, FitMode::Tight] {
+        for fit in [FitMode::Unsnapped, FitMode::Tight, FitMode::Sdsm] {
             push(Config { map_size, fit, ..d });
         }
         // Moment maps (12 layers of 16 bytes a texel, blurred) only at the default size: on the

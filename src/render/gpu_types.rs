@@ -213,6 +213,27 @@ gpu_struct! {
     }
 }
 
+gpu_struct! {
+    /// What the depth reduction of sample distribution shadow maps reads (`Reduce` in sdsm.wgsl).
+    pub struct Reduce {
+        /// The camera's clip space back to the world.
+        pub world_from_clip: Mat4,
+        /// The world to the sun's light space, which the bins' boxes are in.
+        pub light_from_world: Mat4,
+        /// The camera's position.
+        pub eye: [f32; 3],
+        /// The view depth the bins start at.
+        pub near: f32,
+        /// The camera's forward direction.
+        pub forward: [f32; 3],
+        /// The view depth the bins end at.
+        pub far: f32,
+        /// The depth buffer's width and height.
+        pub size: [u32; 2],
+        pub _pad: [u32; 2],
+    }
+}
+
 /// Most shadow-map layers: every light a cube.
 pub const MAX_LAYERS: usize = MAX_LIGHTS * 6;
 
@@ -268,6 +289,8 @@ pub fn prelude() -> String {
     constant("SHAPE_CASCADES", SHAPE_CASCADES as u64);
     constant("SHAPE_SINGLE", SHAPE_SINGLE as u64);
     constant("SHAPE_CUBE", SHAPE_CUBE as u64);
+    constant("SDSM_BINS", crate::shadow::SDSM_BINS as u64);
+    constant("SDSM_WORDS", crate::shadow::SDSM_WORDS as u64);
     for method in ShadowMethod::ALL {
         constant(&format!("METHOD_{}", method.name().to_uppercase().replace('-', "_")), *method as u64);
     }

@@ -42,6 +42,8 @@ pub struct MainPass {
     planar: PlanarPass,
     /// Format of the camera's depth-stencil buffer.
     pub depth_format: wgpu::TextureFormat,
+    /// Keep the depth the pass draws (the SDSM reduction reads it after); else it is dropped.
+    pub keep_depth: bool,
 }
 
 /// Where one main pass draws: its colour targets with their clear colours, the depth buffer,
@@ -258,7 +260,19 @@ impl MainPass {
         let mut planar = PlanarPass::new(device, &planar_module, groups, (palette, textures), targets);
         planar.bind(device, &frame.entries(maps));
         let object_layout = object_layout.clone();
-        MainPass { pipelines, debug: None, probe: None, module, object_layout, frame, bind_group, planar, depth_format }
+        let keep_depth = false;
+        MainPass {
+            pipelines,
+            debug: None,
+            probe: None,
+            module,
+            object_layout,
+            frame,
+            bind_group,
+            planar,
+            depth_format,
+            keep_depth,
+        }
     }
 
     /// Builds the measuring pipelines if they are not built yet.
@@ -424,7 +438,10 @@ impl MainPass {
             color_attachments: &attachments,
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: depth,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: if self.keep_depth { wgpu::StoreOp::Store } else { wgpu::StoreOp::Discard },
+                }),
                 stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Discard }),
             }),
             timestamp_writes: timer.map(PassTimer::main_writes),

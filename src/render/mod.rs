@@ -6,6 +6,7 @@
 //! back to the CPU for headless use.
 
 mod bare_depth;
+mod depth_reduction;
 mod extract;
 mod gpu;
 pub mod gpu_types;

@@ -86,10 +86,25 @@ pub fn render_headless(
     width: u32,
     height: u32,
 ) -> Result<Image, RenderError> {
+    prime_sdsm(gpu, renderer, app, (width, height))?;
     let texture = gpu.target("headless frame", (width, height), HEADLESS_FORMAT)?;
     renderer.render(gpu, &mut app.world, &texture.create_view(&Default::default()), width, height)?;
     let pixels = read_texture(gpu, &texture, width, height, 4)?;
     Ok(Image { width, height, pixels })
+}
+
+/// With the SDSM fit the cascades follow what the camera saw a frame before: a headless frame
+/// first draws the view once to see it, reads the reduction back and refits the lights (the
+/// clock held), so the frame it returns is fitted to itself and the same every time.
+fn prime_sdsm(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u32)) -> Result<(), RenderError> {
+    if app.settings().fit_mode != crate::shadow::FitMode::Sdsm {
+        return Ok(());
+    }
+    let texture = gpu.target("sdsm priming", (w, h), HEADLESS_FORMAT)?;
+    renderer.render(gpu, &mut app.world, &texture.create_view(&Default::default()), w, h)?;
+    renderer.take_samples(gpu, &mut app.world, true);
+    app.step_held();
+    Ok(())
 }
 
 /// The picture in `texture` (`width` x `height`, an 8-bit RGBA or BGRA format, a window's frame
@@ -158,6 +173,7 @@ pub fn render_debug_frame(
         gpu.target("measured normals", (width, height), DEBUG_FORMAT)?,
         gpu.target("measured visibility", (width, height), DEBUG_FORMAT)?,
     ];
+    prime_sdsm(gpu, renderer, app, (width, height))?;
     let views = textures.each_ref().map(|t| t.create_view(&Default::default()));
     let lights = crate::systems::light_list(&mut app.world).len();
     let mut visibility = Vec::with_capacity(lights);

@@ -1,9 +1,10 @@
 //! The renderer: uploads meshes, then each frame extracts, runs the shadow pass and the main pass.
 
 use super::bare_depth::BareDepth;
+use super::depth_reduction::{Binning, DepthReduction};
+use super::extract::FrameData;
 use super::extract::extract;
-use super::gpu_types::GpuLayer;
-use super::gpu_types::Object;
+use super::gpu_types::{GpuLayer, Object, Reduce};
 use super::lines::{LinePass, volume_lines};
 use super::main_pass::MainPass;
 use super::map_view::MapView;
@@ -15,7 +16,9 @@ use super::timing::{PassTimer, PassTimes};
 use super::uniform_array::UniformArray;
 use super::{Gpu, RenderError};
 use crate::assets::{MeshLibrary, TextureLibrary};
+use crate::components::{Camera, DirectionalLight, Notices, SeenByCamera};
 use crate::settings::Settings;
+use crate::shadow::FitMode;
 use crate::systems::LightLabel;
 use bevy_ecs::prelude::*;
 
@@ -51,6 +54,10 @@ pub struct Renderer {
     shadow: ShadowPass,
     main: MainPass,
     depth: Option<(wgpu::TextureView, u32, u32)>,
+    /// The camera depth buffer's depth aspect, which the SDSM reduction reads.
+    depth_only: Option<wgpu::TextureView>,
+    /// The user was told the SDSM fit cannot run here.
+    sdsm_told: bool,
     timer: Option<PassTimer>,
     /// The picture's format, and the light volumes' lines, made the first time they are shown.
     format: wgpu::TextureFormat,
@@ -60,6 +67,10 @@ pub struct Renderer {
     map_view: Option<MapView>,
     /// The bare depth pass the bench compares the shadow pass with, made when first asked for.
     bare: Option<BareDepth>,
+    /// The depth reduction of the SDSM fit, made when first needed (where compute shaders run).
+    reduction: Option<DepthReduction>,
+    /// The device runs compute shaders.
+    computes: bool,
     last_layers: Vec<(GpuLayer, LightLabel)>,
     /// A map was drawn or the layers changed since the viewer's atlas was last drawn.
     atlas_stale: bool,
@@ -94,11 +105,15 @@ impl Renderer {
             shadow,
             main,
             depth: None,
+            depth_only: None,
+            sdsm_told: false,
             timer: None,
             format,
             lines: None,
             map_view: None,
             bare: None,
+            reduction: None,
+            computes: super::depth_reduction::computes(&gpu.adapter),
             last_layers: Vec::new(),
             atlas_stale: true,
         })
@@ -213,6 +228,7 @@ impl Renderer {
         output: Output<'_>,
     ) -> Result<(), RenderError> {
         let (device, queue) = (&gpu.device, &gpu.queue);
+        self.take_samples(gpu, world, false);
         let settings = world.resource::<Settings>().clone();
         let max = device.limits().max_texture_dimension_2d;
         if settings.shadow_map_size > max {
@@ -252,6 +268,8 @@ impl Renderer {
         };
         self.atlas_stale |= stats.drawn() > 0 || stats.blurred() > 0;
         let timer = self.timer.as_ref();
+        let reduces = settings.fit_mode == FitMode::Sdsm && matches!(output, Output::Picture(_) | Output::Measure(..));
+        self.main.keep_depth = reduces;
         match output {
             Output::Picture(target) => {
                 let layers: Vec<_> = data.layers.iter().copied().zip(data.draws.iter().map(|d| d.light)).collect();
@@ -275,6 +293,9 @@ impl Renderer {
                 self.main.encode_probes(queue, &mut encoder, target, &data, (points, count));
             }
             Output::ShadowsOnly => {}
+        }
+        if reduces {
+            self.reduce_depth(gpu, world, &mut encoder, &data);
         }
         if let Some(timer) = self.timer.as_mut() {
             timer.resolve(&mut encoder);
@@ -304,11 +325,58 @@ impl Renderer {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: self.main.depth_format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            // The SDSM reduction reads it.
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
         });
         let view = texture.create_view(&Default::default());
+        let depth_only = texture
+            .create_view(&wgpu::TextureViewDescriptor { aspect: wgpu::TextureAspect::DepthOnly, ..Default::default() });
         self.depth = Some((view.clone(), width, height));
+        self.depth_only = Some(depth_only);
         view
+    }
+
+    /// Takes what the last depth reduction read back (if it has arrived; with `wait`, waits for
+    /// the one under way) into the world, for the SDSM fit's next update.
+    pub fn take_samples(&mut self, gpu: &Gpu, world: &mut World, wait: bool) {
+        if let Some(samples) = self.reduction.as_mut().and_then(|r| r.poll(&gpu.device, wait)) {
+            world.insert_resource(SeenByCamera(samples));
+        }
+    }
+
+    /// Reduces the camera's depth buffer for the SDSM fit, binned along the view and in the
+    /// first sun's light space; says once where the device cannot run it.
+    fn reduce_depth(&mut self, gpu: &Gpu, world: &mut World, encoder: &mut wgpu::CommandEncoder, data: &FrameData) {
+        if !self.computes {
+            if !std::mem::replace(&mut self.sdsm_told, true) {
+                let why = "the sdsm fit needs compute shaders, which this device lacks: cascades are fitted stable";
+                world.get_resource_or_init::<Notices>().0.push(why.to_string());
+            }
+            return;
+        }
+        let settings = world.resource::<Settings>();
+        let shadow_distance = settings.shadow_distance;
+        let camera = world.query::<&Camera>().iter(world).next().copied();
+        let sun = world.query::<&DirectionalLight>().iter(world).next().map(|s| s.direction);
+        let (Some(camera), Some(sun), Some((_, w, h)), Some(depth)) = (camera, sun, &self.depth, &self.depth_only)
+        else {
+            return;
+        };
+        let far = shadow_distance.min(camera.far).max(camera.near * 2.0);
+        let binning =
+            Binning { range: (camera.near, far), light_from_world: crate::shadow::light_view(glam::Vec3::ZERO, sun) };
+        let reduce = Reduce {
+            world_from_clip: data.clip_from_world.inverse(),
+            light_from_world: binning.light_from_world,
+            eye: data.frame.camera_position,
+            near: binning.range.0,
+            forward: data.frame.camera_forward,
+            far: binning.range.1,
+            size: [*w, *h],
+            _pad: [0; 2],
+        };
+        let reduction = self.reduction.get_or_insert_with(|| DepthReduction::new(&gpu.device));
+        reduction.encode((&gpu.device, &gpu.queue), encoder, depth, reduce, binning);
     }
 }

@@ -43,6 +43,8 @@ pub const LINES: ShaderFile = shader_file!("lines.wgsl");
 pub const MAP_VIEW: ShaderFile = shader_file!("map_view.wgsl");
 /// The bare depth pass the bench measures the shadow pass against.
 pub const BARE_DEPTH: ShaderFile = shader_file!("bare_depth.wgsl");
+/// The depth reduction of sample distribution shadow maps.
+pub const SDSM: ShaderFile = shader_file!("sdsm.wgsl");
 
 /// The shadow pass's files, in dependency order.
 pub const SHADOW_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, SHADOW];
@@ -209,7 +211,10 @@ mod tests {
         let shadow_layer = ("GpuLayer", gpu_types::GpuLayer::FIELDS, size_of::<gpu_types::GpuLayer>());
         let (planar, _) = check(&Composed::new(PLANAR_MODULE)).unwrap();
         let planar_struct = ("GpuPlanar", gpu_types::GpuPlanar::FIELDS, size_of::<gpu_types::GpuPlanar>());
+        let (sdsm, _) = check(&Composed::new(&[SDSM])).unwrap();
+        let reduce_struct = ("Reduce", gpu_types::Reduce::FIELDS, size_of::<gpu_types::Reduce>());
         let each = shared.iter().map(|s| (&module, *s)).chain([
+            (&sdsm, reduce_struct),
             (&blur, blur_struct),
             (&shadow, shadow_layer),
             (&planar, planar_struct),

@@ -21,6 +21,10 @@ pub enum FitMode {
     Unsnapped,
     /// The smallest light-space box around the slice: more texels on screen, but it shimmers.
     Tight,
+    /// Sample distribution shadow maps: the splits fitted to the view depths the camera saw in
+    /// the last frame read back, and each box to the visible pixels of its slice (see
+    /// [`super::VisibleSamples`]); stable where nothing was seen or nothing has been read back.
+    Sdsm,
 }
 
 /// View depths that split `[near, far]` into `count` cascades by the practical scheme.
@@ -165,12 +169,13 @@ pub fn fit_slice(
     let view = sun.view;
     let res = resolution.max(1) as f32;
     let (min, max, slice_far, texel, step) = match mode {
-        FitMode::Stable | FitMode::Unsnapped => {
+        // Without samples (see `fit_seen`), SDSM falls back to the stable fit.
+        FitMode::Stable | FitMode::Unsnapped | FitMode::Sdsm => {
             let (center, r) = frustum.slice_sphere(a, b);
             let texel = 2.0 * r / res;
             let c = view.transform_point3(center);
             // Whole-texel steps keep every texel on the same world grid from frame to frame.
-            let origin = if mode == FitMode::Stable { (c.truncate() / texel).round() * texel } else { c.truncate() };
+            let origin = if mode == FitMode::Unsnapped { c.truncate() } else { (c.truncate() / texel).round() * texel };
             (origin - r, origin + r, c.z - r, texel, Some(depth_step(r)))
         }
         FitMode::Tight => {
@@ -183,6 +188,36 @@ pub fn fit_slice(
     let (near_z, far_z) = depth_range(sun, min, max, slice_far, step);
     let proj = directx::orthographic(min.x, max.x, min.y, max.y, -near_z, -far_z);
     LightProjection { view, proj, view_proj: proj * view, texel: Vec2::new(texel, 0.0) }
+}
+
+/// The sun's orthographic projection around `seen`, the light-space box of the visible pixels of
+/// a cascade's slice (sample distribution shadow maps), its depth range fitted to the scene as
+/// [`fit_cascade`]'s is. The box is widened by a hair so that the pixels on its edge stay inside
+/// after rounding; it is not snapped, so it shimmers as the view changes, as a tight box does.
+#[must_use]
+pub fn fit_seen(sun: &SunScene, seen: &Aabb, resolution: u32) -> LightProjection {
+    let res = resolution.max(1) as f32;
+    let size = (seen.max - seen.min).truncate();
+    let pad = size.max_element() * 1e-3 + 1e-3;
+    let min = seen.min.truncate() - pad;
+    let extent = (size + 2.0 * pad).max(Vec2::splat(1e-3));
+    let max = min + extent;
+    let (near_z, far_z) = depth_range(sun, min, max, seen.min.z, None);
+    let proj = directx::orthographic(min.x, max.x, min.y, max.y, -near_z, -far_z);
+    LightProjection {
+        view: sun.view,
+        proj,
+        view_proj: proj * sun.view,
+        texel: Vec2::new(extent.max_element() / res, 0.0),
+    }
+}
+
+impl SunScene {
+    /// The world to this sun's light space.
+    #[must_use]
+    pub fn light_from_world(&self) -> Mat4 {
+        self.view
+    }
 }
 
 /// Light-space z of the near and far planes (z grows towards the light) for the footprint

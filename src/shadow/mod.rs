@@ -9,11 +9,12 @@ mod cull;
 mod fit;
 mod planar;
 mod poisson;
+mod sdsm;
 
 pub use bounds::{Aabb, ClipVolume, MAX_WORLD_EXTENT, frustum_corners, intersects_clip_volume};
 pub use cascade::{
-    FitMode, MAX_CASCADES, SceneBounds, SunScene, ViewFrustum, blend_bands, depth_step, fit_cascade, fit_slice,
-    geometric_splits, split_depths,
+    FitMode, MAX_CASCADES, SceneBounds, SunScene, ViewFrustum, blend_bands, depth_step, fit_cascade, fit_seen,
+    fit_slice, geometric_splits, split_depths,
 };
 pub use cull::CasterIndex;
 pub use fit::{
@@ -22,3 +23,4 @@ pub use fit::{
 };
 pub use planar::{GROUND_PLANE, PLANAR_LIFT, flat_from_world, light_point, lights_plane};
 pub use poisson::{poisson_disc, wgsl_array};
+pub use sdsm::{SDSM_BINS, SDSM_WORDS, VisibleSamples, bin_of, bin_start, from_order_key, initial_words, order_key};

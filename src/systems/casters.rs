@@ -67,13 +67,21 @@ fn pose_hash(joints: Option<&Joints>) -> u64 {
     h.finish()
 }
 
+/// What [`track_casters`] remembers of a caster.
+#[derive(Clone, Copy, Debug)]
+struct Known {
+    state: CasterState,
+    /// The update it last changed in.
+    changed: u64,
+    /// In [`CastersAtRest`].
+    resting: bool,
+}
+
 /// What [`track_casters`] remembers between updates.
 #[derive(Default)]
 pub struct Tracked {
-    /// Every caster's state at the last update.
-    known: EntityHashMap<CasterState>,
-    /// Casters not at rest, with the update they last changed in.
-    moving: EntityHashMap<u64>,
+    /// Every caster as it was at the last update.
+    known: EntityHashMap<Known>,
     /// Updates so far.
     update: u64,
 }
@@ -98,41 +106,46 @@ pub fn track_casters(
     >,
     mut removed: RemovedComponents<ShadowCaster>,
 ) {
-    let Tracked { known, moving, update } = &mut *tracked;
+    let Tracked { known, update } = &mut *tracked;
     *update += 1;
     let CasterChanges { moved, settled } = &mut *changes;
     moved.clear();
     settled.clear();
     for entity in removed.read() {
         if let Some(old) = known.remove(&entity) {
-            moved.push(old.bounds);
-            if at_rest.0.remove(&entity) {
-                settled.push(old.bounds);
+            moved.push(old.state.bounds);
+            if old.resting {
+                at_rest.0.remove(&entity);
+                settled.push(old.state.bounds);
             }
         }
-        moving.remove(&entity);
     }
     for (entity, bounds, transform, mesh, joints) in &casters {
         let state = CasterState { bounds: bounds.0, model: transform.matrix(), mesh: *mesh, pose: pose_hash(joints) };
-        match known.insert(entity, state) {
-            Some(old) if old == state => {}
-            old => {
-                moved.extend(old.map(|o| o.bounds).into_iter().chain([bounds.0]));
-                if let Some(old) = old.filter(|_| at_rest.0.remove(&entity)) {
-                    settled.push(old.bounds);
+        let fresh = Known { state, changed: *update, resting: false };
+        match known.get_mut(&entity) {
+            Some(old) if old.state == state => {}
+            Some(old) => {
+                moved.extend([old.state.bounds, bounds.0]);
+                if old.resting {
+                    at_rest.0.remove(&entity);
+                    settled.push(old.state.bounds);
                 }
-                moving.insert(entity, *update);
+                *old = fresh;
+            }
+            None => {
+                moved.push(bounds.0);
+                known.insert(entity, fresh);
             }
         }
     }
-    moving.retain(|entity, last| {
-        let rests = *update - *last >= REST_AFTER;
-        if rests && let Some(state) = known.get(entity) {
+    for (entity, k) in known.iter_mut() {
+        if !k.resting && *update - k.changed >= REST_AFTER {
+            k.resting = true;
             at_rest.0.insert(*entity);
-            settled.push(state.bounds);
+            settled.push(k.state.bounds);
         }
-        !rests
-    });
+    }
     moved.retain(Aabb::is_usable);
     settled.retain(Aabb::is_usable);
 }

@@ -5,13 +5,14 @@
 
 use super::casters::CasterChanges;
 use crate::components::{
-    Camera, DirectionalLight, Mesh, Notices, PointLight, ShadowCaster, ShadowLayer, ShadowMap, SpotLight, Transform,
-    Viewport, WorldBounds,
+    Camera, DirectionalLight, Mesh, Notices, PointLight, SeenByCamera, ShadowCaster, ShadowLayer, ShadowMap, SpotLight,
+    Transform, Viewport, WorldBounds,
 };
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{
-    Aabb, ClipVolume, LightProjection, SceneBounds, SunScene, ViewFrustum, blend_bands, cube_projections, fit_slice,
-    frustum_corners, geometric_splits, intersects_clip_volume, split_depths, spot_cone, spot_projection,
+    Aabb, ClipVolume, FitMode, LightProjection, SceneBounds, SunScene, ViewFrustum, VisibleSamples, blend_bands,
+    cube_projections, fit_seen, fit_slice, frustum_corners, geometric_splits, intersects_clip_volume, split_depths,
+    spot_cone, spot_projection,
 };
 use bevy_ecs::prelude::*;
 use glam::Vec3;
@@ -65,6 +66,7 @@ pub fn update_light_matrices(
     mut last_maps: Local<Option<(u32, crate::settings::ShadowFaces, CasterCulling, bool, u32)>>,
     mut told: Local<HashSet<Entity>>,
     mut notices: Option<ResMut<Notices>>,
+    seen: Option<Res<SeenByCamera>>,
     cameras: Query<(&Camera, Ref<Transform>)>,
     casters: Query<(Entity, &WorldBounds), With<ShadowCaster>>,
     visible: Query<(Entity, &WorldBounds), With<Mesh>>,
@@ -107,7 +109,10 @@ pub fn update_light_matrices(
     };
     for (sun, mut map) in &mut suns {
         let fits = match camera {
-            Some((c, t)) => cascades(sun.direction, &c, &t, viewport.aspect(), &settings, scene),
+            Some((c, t)) => {
+                let seen = seen.as_deref().map(|s| &s.0);
+                cascades(sun.direction, (&c, &t, viewport.aspect()), &settings, scene, seen)
+            }
             None => Vec::new(),
         };
         refresh_layers(&mut map, &fits, all_dirty || sun.is_changed(), &changes);
@@ -128,29 +133,40 @@ pub fn update_light_matrices(
 }
 
 /// The sun's cascades for the camera: each projection with the view depth where it ends and the
-/// width of its blend band.
+/// width of its blend band. With the SDSM fit and what the camera saw, the splits span the view
+/// depths seen and each box holds its slice's visible pixels (a slice where nothing was seen is
+/// fitted stable).
 fn cascades(
     direction: glam::Vec3,
-    camera: &Camera,
-    transform: &Transform,
-    aspect: f32,
+    (camera, transform, aspect): (&Camera, &Transform, f32),
     settings: &Settings,
     scene: SceneBounds<'_>,
+    seen: Option<&VisibleSamples>,
 ) -> Vec<(LightProjection, f32, f32)> {
     let frustum =
         ViewFrustum { position: transform.translation, rotation: transform.rotation, fov_y: camera.fov_y, aspect };
     let far = settings.shadow_distance.min(camera.far).max(camera.near * 2.0);
-    let depths = match settings.first_cascade_far {
-        Some(first) => geometric_splits(camera.near, first, far, settings.cascades as usize),
-        None => split_depths(camera.near, far, settings.cascades as usize, settings.split_lambda),
+    let seen = seen.filter(|_| settings.fit_mode == FitMode::Sdsm);
+    let seen_depths = seen.and_then(|s| s.depths).map(|(n, f)| (n.max(camera.near), f.min(far))).filter(|(n, f)| n < f);
+    let count = settings.cascades as usize;
+    let depths = match (seen_depths, settings.first_cascade_far) {
+        (Some((n, f)), _) => split_depths(n, f, count, settings.split_lambda),
+        (None, Some(first)) => geometric_splits(camera.near, first, far, count),
+        (None, None) => split_depths(camera.near, far, count, settings.split_lambda),
     };
     let bands = blend_bands(&depths, settings.cascade_blend);
     let sun = SunScene::new(direction, scene);
+    let res = settings.shadow_map_size;
     (0..bands.len())
         .map(|i| {
             // A cascade starts inside the previous one's blend band, so both cover the band.
             let start = if i == 0 { depths[0] } else { depths[i] - bands[i - 1] };
-            let fit = fit_slice(&sun, &frustum, (start, depths[i + 1]), settings.fit_mode, settings.shadow_map_size);
+            let slice = (start, depths[i + 1]);
+            let seen_box = seen.map(|s| s.slice_box(slice, &sun.light_from_world())).filter(|b| !b.is_empty());
+            let fit = match seen_box {
+                Some(b) => fit_seen(&sun, &b, res),
+                None => fit_slice(&sun, &frustum, slice, settings.fit_mode, res),
+            };
             (fit, depths[i + 1], bands[i])
         })
         .collect()
