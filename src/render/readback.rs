@@ -207,6 +207,9 @@ pub fn probe_visibility(
     if points.is_empty() {
         return Ok(vec![Vec::new(); lights]);
     }
+    // The probes see the maps of the camera's view, so SDSM fits them to that view first.
+    let viewport = *app.world.resource::<crate::components::Viewport>();
+    prime_sdsm(gpu, renderer, app, (viewport.width.max(1), viewport.height.max(1)))?;
     let width = (points.len() as u32).min(256);
     let height = (points.len() as u32).div_ceil(width);
     let texture = gpu.target("probes", (width, height), DEBUG_FORMAT)?;

@@ -74,13 +74,13 @@ impl UniformArray {
                 Self::allocate(device, self.label, &self.layout, self.item_size, self.stride, capacity);
             self.capacity = capacity;
         }
-        let mut bytes = vec![0u8; self.stride as usize * items.len()];
+        let Some(size) = wgpu::BufferSize::new(self.stride * items.len() as u64) else { return };
+        // Straight into the staging memory (the padding between blocks is never read): at 20,000
+        // objects a 5 MB buffer zeroed and copied once more each frame was most of the upload.
+        let Some(mut view) = queue.write_buffer_with(&self.buffer, 0, size) else { return };
         for (i, item) in items.iter().enumerate() {
             let at = i * self.stride as usize;
-            bytes[at..at + self.item_size as usize].copy_from_slice(bytemuck::bytes_of(item));
-        }
-        if !bytes.is_empty() {
-            queue.write_buffer(&self.buffer, 0, &bytes);
+            view.slice(at..at + self.item_size as usize).copy_from_slice(bytemuck::bytes_of(item));
         }
     }
 
