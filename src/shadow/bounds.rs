@@ -224,13 +224,8 @@ mod tests {
 
     #[test]
     fn world_planes_decide_as_the_eight_corners_do() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
-        };
+        let mut rng = crate::shadow::test_rng::Rng(0x2545_f491_4f6c_dd1d);
+        let mut next = move || rng.range(-1.0, 1.0);
         let (mut inside, mut outside) = (0, 0);
         for _ in 0..20_000 {
             let eye = Vec3::new(next(), next(), next()) * 30.0;

@@ -127,25 +127,9 @@ impl CasterIndex {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shadow::test_rng::Rng;
     use crate::shadow::{intersects_clip_volume, light_view, spot_projection};
     use glam::Vec3;
-
-    /// A small deterministic generator (xorshift), so the random scenes repeat.
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f32 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 40) as f32 / (1u64 << 24) as f32
-        }
-        fn range(&mut self, lo: f32, hi: f32) -> f32 {
-            lo + (hi - lo) * self.next()
-        }
-        fn point(&mut self, half: f32) -> Vec3 {
-            Vec3::new(self.range(-half, half), self.range(-half, half), self.range(-half, half))
-        }
-    }
 
     fn brute_force(bounds: &[Aabb], clip: &Mat4) -> Vec<usize> {
         (0..bounds.len()).filter(|&i| intersects_clip_volume(clip, &bounds[i])).collect()

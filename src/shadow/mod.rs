@@ -10,6 +10,8 @@ mod fit;
 mod planar;
 mod poisson;
 mod sdsm;
+#[cfg(test)]
+pub(crate) mod test_rng;
 
 pub use bounds::{Aabb, ClipVolume, MAX_WORLD_EXTENT, frustum_corners, intersects_clip_volume};
 pub use cascade::{
