@@ -55,3 +55,28 @@ fn layers_with_a_colour_map_draw_one_by_one_and_stay_the_same() {
     let (a, b) = compare(Settings { method: ShadowMethod::Vsm, ..Settings::default() });
     assert_eq!(a, b, "no layer is batched");
 }
+
+#[test]
+fn the_shadow_pass_bench_draws_the_same_casters_in_as_many_calls_at_any_size() {
+    let gpu = gpu();
+    let settings = Settings { shadow_map_size: 128, ..Settings::default() };
+    let sizes = [10, RING_CUBES + 400];
+    let rows = umbra::eval::passes::run(&gpu, &settings, &sizes, 1, |_| {}).expect("the bench runs");
+    assert_eq!(rows.len(), 2);
+    let (small, big) = (&rows[0], &rows[1]);
+    assert_eq!((small.cubes, big.cubes), (sizes[0], sizes[1]));
+    assert!(
+        big.inside > small.inside + 400,
+        "the field's cubes are inside the cascades: {} {}",
+        small.inside,
+        big.inside
+    );
+    assert_eq!(small.calls, big.calls, "instanced: the calls do not grow with the casters");
+    for r in &rows {
+        assert!(r.umbra_ms > 0.0 && r.bare_ms > 0.0 && r.ratio().is_finite(), "{r:?}");
+        assert_eq!(r.layers, 12, "four cascades, two spots, the lantern's six faces");
+    }
+    let dir = common::scratch("shadow-pass");
+    umbra::eval::passes::chart(&dir.join("scale"), "test", &rows).expect("the chart is written");
+    assert!(std::fs::metadata(dir.join("scale.png")).is_ok_and(|m| m.len() > 1000));
+}
