@@ -7,7 +7,8 @@
 
 use super::extract::FrameData;
 use super::instances::InstanceBuffer;
-use super::mesh::GpuMesh;
+use super::instances::{LayerCalls, layer_calls};
+use super::mesh::{AlphaClass, GpuMesh, PLACEMENT, Variant};
 use super::shaders::{BARE_DEPTH, Composed};
 use super::texture::LayeredTarget;
 use super::uniform_array::UniformArray;
@@ -35,8 +36,6 @@ impl BareDepth {
             immediate_size: 0,
         });
         const POSITION: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![0 => Float32x3];
-        const PLACEMENT: [wgpu::VertexAttribute; 4] =
-            wgpu::vertex_attr_array![6 => Float32x4, 7 => Float32x4, 8 => Float32x4, 9 => Float32x4];
         let buffers = [
             Some(wgpu::VertexBufferLayout {
                 array_stride: size_of::<Vertex>() as u64,
@@ -94,29 +93,18 @@ impl BareDepth {
         }
         let matrices: Vec<Mat4> = data.draws.iter().map(|d| d.clip_from_world).collect();
         self.layers.write(device, queue, &matrices);
-        // One run of placements per mesh and layer, in the order the casters come.
+        // Every caster taken as rigid and opaque: one batch per mesh and layer.
+        let bare = |_: &_| Variant {
+            skinned: false,
+            cull: None,
+            alpha: AlphaClass::Opaque,
+            textured: false,
+            methods: 0,
+            instanced: false,
+        };
         let mut placements = Vec::new();
-        let mut calls: Vec<Vec<(usize, std::ops::Range<u32>)>> = Vec::new();
-        for layer in &data.draws {
-            let mut by_mesh: Vec<(usize, Vec<Mat4>)> = Vec::new();
-            for item in layer.casters.iter().filter_map(|&i| data.items.get(i)) {
-                let mesh = item.mesh.0;
-                match by_mesh.iter_mut().find(|(m, _)| *m == mesh) {
-                    Some((_, run)) => run.push(item.object.world_from_local),
-                    None => by_mesh.push((mesh, vec![item.object.world_from_local])),
-                }
-            }
-            calls.push(
-                by_mesh
-                    .into_iter()
-                    .map(|(mesh, run)| {
-                        let first = placements.len() as u32;
-                        placements.extend(run);
-                        (mesh, first..placements.len() as u32)
-                    })
-                    .collect(),
-            );
-        }
+        let calls: Vec<LayerCalls> =
+            data.draws.iter().map(|l| layer_calls(&data.items, &l.casters, bare, true, &mut placements)).collect();
         self.instances.write(device, queue, &placements);
         let (maps, _) = self.maps.as_ref().expect("made above");
         for (k, layer_calls) in calls.iter().enumerate() {
@@ -135,12 +123,12 @@ impl BareDepth {
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &self.layers.bind_group, &[self.layers.offset(k)]);
             pass.set_vertex_buffer(1, self.instances.buffer().slice(..));
-            for (mesh, instances) in layer_calls {
-                let Some(Some(mesh)) = meshes.get(*mesh) else { continue };
+            for batch in &layer_calls.batches {
+                let Some(Some(mesh)) = meshes.get(batch.mesh) else { continue };
                 let (vertices, indices, count) = mesh.buffers();
                 pass.set_vertex_buffer(0, vertices.slice(..));
                 pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..count, 0, instances.clone());
+                pass.draw_indexed(0..count, 0, batch.instances.clone());
             }
         }
     }

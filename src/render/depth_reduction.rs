@@ -28,6 +28,8 @@ pub struct DepthReduction {
     copied: Option<Binning>,
     /// The mapping under way, and the binning of what it maps.
     mapping: Option<(Receiver<Result<(), wgpu::BufferAsyncError>>, Binning)>,
+    /// The bind group, and which depth buffer it binds (made again only for a new one).
+    bound: Option<(u64, wgpu::BindGroup)>,
 }
 
 impl DepthReduction {
@@ -95,17 +97,18 @@ impl DepthReduction {
             read: buffer("reduction read", bytes, U::MAP_READ | U::COPY_DST),
             copied: None,
             mapping: None,
+            bound: None,
         }
     }
 
-    /// Reduces `depth` (the camera's depth buffer, `reduce.size` texels, its depth aspect) into
-    /// the words, binned as `binning` says, and copies them out to be read, unless a reading is
-    /// still under way.
+    /// Reduces `depth` (the camera's depth buffer, `reduce.size` texels, its depth aspect, with
+    /// a number that changes whenever the buffer is made anew) into the words, binned as
+    /// `binning` says, and copies them out to be read, unless a reading is still under way.
     pub fn encode(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         encoder: &mut wgpu::CommandEncoder,
-        depth: &wgpu::TextureView,
+        (depth, made): (&wgpu::TextureView, u64),
         reduce: Reduce,
         binning: Binning,
     ) {
@@ -114,22 +117,26 @@ impl DepthReduction {
         }
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&reduce));
         queue.write_buffer(&self.words, 0, bytemuck::cast_slice(&initial_words()));
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("depth reduction"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: self.uniform.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(depth) },
-                wgpu::BindGroupEntry { binding: 2, resource: self.words.as_entire_binding() },
-            ],
-        });
+        if self.bound.as_ref().is_none_or(|(m, _)| *m != made) {
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("depth reduction"),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: self.uniform.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(depth) },
+                    wgpu::BindGroupEntry { binding: 2, resource: self.words.as_entire_binding() },
+                ],
+            });
+            self.bound = Some((made, bind_group));
+        }
+        let (_, bind_group) = self.bound.as_ref().expect("made above");
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("depth reduction"),
                 timestamp_writes: None,
             });
             pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
+            pass.set_bind_group(0, bind_group, &[]);
             pass.dispatch_workgroups(reduce.size[0].div_ceil(8), reduce.size[1].div_ceil(8), 1);
         }
         encoder.copy_buffer_to_buffer(&self.words, 0, &self.read, 0, (SDSM_WORDS * 4) as u64);

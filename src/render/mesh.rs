@@ -41,14 +41,16 @@ impl GpuMesh {
     }
 }
 
+/// An instance's placement as the instanced shaders read it: its world_from_local by columns.
+pub const PLACEMENT: [wgpu::VertexAttribute; 4] =
+    wgpu::vertex_attr_array![6 => Float32x4, 7 => Float32x4, 8 => Float32x4, 9 => Float32x4];
+
 /// How the shaders read a [`Vertex`] (locations 0, 1, 4, 5), a [`SkinVertex`] (locations 2, 3)
 /// and an instance's placement (a matrix by columns, locations 6 to 9), in buffer slot 1.
 fn vertex_layouts(v: Variant) -> Vec<Option<wgpu::VertexBufferLayout<'static>>> {
     const VERTEX: [wgpu::VertexAttribute; 4] =
         wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 4 => Float32x2, 5 => Float32x4];
     const SKIN: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![2 => Uint16x4, 3 => Float32x4];
-    const PLACEMENT: [wgpu::VertexAttribute; 4] =
-        wgpu::vertex_attr_array![6 => Float32x4, 7 => Float32x4, 8 => Float32x4, 9 => Float32x4];
     let layout =
         |stride, step_mode, attributes| Some(wgpu::VertexBufferLayout { array_stride: stride, step_mode, attributes });
     let mut layouts = vec![layout(size_of::<Vertex>() as u64, wgpu::VertexStepMode::Vertex, &VERTEX[..])];

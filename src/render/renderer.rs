@@ -54,8 +54,9 @@ pub struct Renderer {
     shadow: ShadowPass,
     main: MainPass,
     depth: Option<(wgpu::TextureView, u32, u32)>,
-    /// The camera depth buffer's depth aspect, which the SDSM reduction reads.
-    depth_only: Option<wgpu::TextureView>,
+    /// The camera depth buffer's depth aspect, which the SDSM reduction reads, and how many
+    /// depth buffers have been made (so the reduction knows when to bind a new one).
+    depth_only: Option<(wgpu::TextureView, u64)>,
     /// The user was told the SDSM fit cannot run here.
     sdsm_told: bool,
     timer: Option<PassTimer>,
@@ -333,7 +334,8 @@ impl Renderer {
         let depth_only = texture
             .create_view(&wgpu::TextureViewDescriptor { aspect: wgpu::TextureAspect::DepthOnly, ..Default::default() });
         self.depth = Some((view.clone(), width, height));
-        self.depth_only = Some(depth_only);
+        let made = self.depth_only.as_ref().map_or(0, |(_, n)| n + 1);
+        self.depth_only = Some((depth_only, made));
         view
     }
 
@@ -359,7 +361,8 @@ impl Renderer {
         let shadow_distance = settings.shadow_distance;
         let camera = world.query::<&Camera>().iter(world).next().copied();
         let sun = world.query::<&DirectionalLight>().iter(world).next().map(|s| s.direction);
-        let (Some(camera), Some(sun), Some((_, w, h)), Some(depth)) = (camera, sun, &self.depth, &self.depth_only)
+        let (Some(camera), Some(sun), Some((_, w, h)), Some((depth, made))) =
+            (camera, sun, &self.depth, &self.depth_only)
         else {
             return;
         };
@@ -377,6 +380,6 @@ impl Renderer {
             _pad: [0; 2],
         };
         let reduction = self.reduction.get_or_insert_with(|| DepthReduction::new(&gpu.device));
-        reduction.encode((&gpu.device, &gpu.queue), encoder, depth, reduce, binning);
+        reduction.encode((&gpu.device, &gpu.queue), encoder, (depth, *made), reduce, binning);
     }
 }
