@@ -43,8 +43,9 @@ impl Aabb {
     /// light fitting can use.
     #[must_use]
     pub fn is_usable(&self) -> bool {
-        let finite = self.min.is_finite() && self.max.is_finite();
-        finite && !self.is_empty() && self.min.abs().max(self.max.abs()).max_element() <= MAX_WORLD_EXTENT
+        // Three comparisons that each fail on NaN: -extent <= min <= max <= extent.
+        let extent = Vec3::splat(MAX_WORLD_EXTENT);
+        self.min.cmpge(-extent).all() && self.min.cmple(self.max).all() && self.max.cmple(extent).all()
     }
 
     /// True when the box holds no point.
@@ -79,11 +80,11 @@ impl Aabb {
         if self.is_empty() {
             return Aabb::EMPTY;
         }
-        let centre = m.transform_point3(self.center());
-        let half = (self.max - self.min) * 0.5;
-        let linear = glam::Mat3::from_mat4(*m);
-        let reach = glam::Mat3::from_cols(linear.x_axis.abs(), linear.y_axis.abs(), linear.z_axis.abs()) * half;
-        Aabb { min: centre - reach, max: centre + reach }
+        // In the matrix's four-wide columns, so that each line is one SIMD operation.
+        let (c, half) = (self.center(), (self.max - self.min) * 0.5);
+        let centre = m.x_axis * c.x + m.y_axis * c.y + m.z_axis * c.z + m.w_axis;
+        let reach = m.x_axis.abs() * half.x + m.y_axis.abs() * half.y + m.z_axis.abs() * half.z;
+        Aabb { min: (centre - reach).truncate(), max: (centre + reach).truncate() }
     }
 
     /// True when the two boxes share at least one point.

@@ -142,18 +142,50 @@ pub fn fit_cascade(
 #[derive(Clone, Debug)]
 pub struct SunScene {
     view: Mat4,
-    /// Light-space boxes of the casters and of the receivers (empty ones left out).
-    casters: Vec<Aabb>,
-    receivers: Vec<Aabb>,
+    /// One entry per box (empty ones left out), casters and receivers together, so that a
+    /// cascade's depth range is one pass over them.
+    boxes: Vec<LightBox>,
+}
+
+/// A box in the sun's light space, as fitting the depth range reads it.
+#[derive(Clone, Copy, Debug)]
+struct LightBox {
+    /// Its footprint across the light.
+    min: Vec2,
+    max: Vec2,
+    /// The light-space z of its far side (every box must lie in front of the far plane).
+    bottom: f32,
+    /// The light-space z of its near side if it casts a shadow (what the near plane must hold),
+    /// minus infinity if it only receives one.
+    top: f32,
 }
 
 impl SunScene {
     /// `scene` seen by a sun shining along `direction`.
     #[must_use]
     pub fn new(direction: Vec3, scene: SceneBounds<'_>) -> Self {
+        let casters = scene.casters.iter().map(|b| (*b, true));
+        SunScene::from_boxes(direction, casters.chain(scene.receivers.iter().map(|b| (*b, false))))
+    }
+
+    /// The world boxes of `boxes`, each with whether it casts a shadow, seen by a sun shining
+    /// along `direction`: what [`SunScene::new`] makes of a caster list and a receiver list,
+    /// without carrying a box that is both into light space twice.
+    #[must_use]
+    pub fn from_boxes(direction: Vec3, boxes: impl IntoIterator<Item = (Aabb, bool)>) -> Self {
         let view = light_view(Vec3::ZERO, direction);
-        let carry = |boxes: &[Aabb]| boxes.iter().filter(|b| !b.is_empty()).map(|b| b.transformed(&view)).collect();
-        SunScene { view, casters: carry(scene.casters), receivers: carry(scene.receivers) }
+        let carry = |(b, casts): (Aabb, bool)| {
+            let l = b.transformed(&view);
+            let top = if casts { l.max.z } else { f32::NEG_INFINITY };
+            LightBox { min: l.min.truncate(), max: l.max.truncate(), bottom: l.min.z, top }
+        };
+        SunScene { view, boxes: boxes.into_iter().filter(|(b, _)| !b.is_empty()).map(carry).collect() }
+    }
+
+    /// The world to this sun's light space.
+    #[must_use]
+    pub fn light_from_world(&self) -> Mat4 {
+        self.view
     }
 }
 
@@ -212,20 +244,16 @@ pub fn fit_seen(sun: &SunScene, seen: &Aabb, resolution: u32) -> LightProjection
     }
 }
 
-impl SunScene {
-    /// The world to this sun's light space.
-    #[must_use]
-    pub fn light_from_world(&self) -> Mat4 {
-        self.view
-    }
-}
-
 /// Light-space z of the near and far planes (z grows towards the light) for the footprint
 /// `min..max`; with a `step`, both are rounded outwards to whole steps so they do not creep.
 fn depth_range(sun: &SunScene, min: Vec2, max: Vec2, slice_far: f32, step: Option<f32>) -> (f32, f32) {
-    let over = |l: &&Aabb| l.min.x <= max.x && l.max.x >= min.x && l.min.y <= max.y && l.max.y >= min.y;
-    let top = sun.casters.iter().filter(over).map(|l| l.max.z).fold(f32::NEG_INFINITY, f32::max);
-    let bottom = sun.receivers.iter().chain(&sun.casters).filter(over).map(|l| l.min.z).fold(f32::INFINITY, f32::min);
+    let (mut top, mut bottom) = (f32::NEG_INFINITY, f32::INFINITY);
+    for b in &sun.boxes {
+        if b.min.x <= max.x && b.max.x >= min.x && b.min.y <= max.y && b.max.y >= min.y {
+            top = top.max(b.top);
+            bottom = bottom.min(b.bottom);
+        }
+    }
     let mut far_z = if bottom.is_finite() { slice_far.max(bottom) } else { slice_far };
     let mut near_z = if top.is_finite() { top } else { far_z };
     // A little slack so geometry lying exactly on a plane is not clipped by rounding.

@@ -51,7 +51,7 @@ pub struct CastersAtRest(pub EntityHashSet);
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CasterState {
     bounds: Aabb,
-    model: glam::Mat4,
+    transform: Transform,
     mesh: Mesh,
     pose: u64,
 }
@@ -121,7 +121,7 @@ pub fn track_casters(
         }
     }
     for (entity, bounds, transform, mesh, joints) in &casters {
-        let state = CasterState { bounds: bounds.0, model: transform.matrix(), mesh: *mesh, pose: pose_hash(joints) };
+        let state = CasterState { bounds: bounds.0, transform: *transform, mesh: *mesh, pose: pose_hash(joints) };
         let fresh = Known { state, changed: *update, resting: false };
         match known.get_mut(&entity) {
             Some(old) if old.state == state => {}

@@ -10,39 +10,42 @@ use crate::components::{
 };
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{
-    Aabb, ClipVolume, FitMode, LightProjection, SceneBounds, SunScene, ViewFrustum, VisibleSamples, blend_bands,
-    cube_projections, fit_seen, fit_slice, frustum_corners, geometric_splits, intersects_clip_volume, split_depths,
-    spot_cone, spot_projection,
+    Aabb, ClipVolume, FitMode, LightProjection, SunScene, ViewFrustum, VisibleSamples, blend_bands, cube_projections,
+    fit_seen, fit_slice, frustum_corners, geometric_splits, intersects_clip_volume, split_depths, spot_cone,
+    spot_projection,
 };
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 use std::collections::HashSet;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// The boxes of `query` that light fitting can use; each entity whose box is broken (not finite,
-/// or beyond [`crate::shadow::MAX_WORLD_EXTENT`]) is left out and named once in `notices`, so
-/// that one broken object cannot spoil every other shadow.
+/// The boxes light fitting can use, each with whether it casts a shadow (`casts` says if a
+/// caster's box counts: it may be culled to the camera's view); an entity whose box is broken (not
+/// finite, or beyond [`crate::shadow::MAX_WORLD_EXTENT`]) is left out and named once in
+/// `notices`, so that one broken object cannot spoil every other shadow.
 fn usable_boxes<'a>(
-    boxes: impl Iterator<Item = (Entity, &'a WorldBounds)>,
+    boxes: impl Iterator<Item = (Entity, &'a WorldBounds, bool, bool)>,
+    casts: impl Fn(&Aabb) -> bool,
     told: &mut HashSet<Entity>,
     notices: Option<&mut Notices>,
-) -> Vec<Aabb> {
+) -> Vec<(Aabb, bool)> {
     let mut broken = Vec::new();
-    let usable = boxes
-        .filter(|(e, b)| {
-            let usable = b.0.is_usable();
-            // Nothing to fit is not broken: a mesh with no vertices, a part not posed yet.
-            if !usable && b.0 != Aabb::EMPTY && told.insert(*e) {
-                broken.push(format!(
-                    "entity {e} has bounds {:?}..{:?}: left out of shadow fitting",
-                    b.0.min.to_array(),
-                    b.0.max.to_array()
-                ));
+    let mut usable = Vec::with_capacity(boxes.size_hint().0);
+    for (e, b, caster, seen) in boxes {
+        if b.0.is_usable() {
+            let casts = caster && casts(&b.0);
+            if casts || seen {
+                usable.push((b.0, casts));
             }
-            usable
-        })
-        .map(|(_, b)| b.0)
-        .collect();
+        } else if b.0 != Aabb::EMPTY && told.insert(e) {
+            // Nothing to fit is not broken: a mesh with no vertices, a part not posed yet.
+            broken.push(format!(
+                "entity {e} has bounds {:?}..{:?}: left out of shadow fitting",
+                b.0.min.to_array(),
+                b.0.max.to_array()
+            ));
+        }
+    }
     if let Some(notices) = notices {
         notices.0.extend(broken);
     }
@@ -68,8 +71,7 @@ pub fn update_light_matrices(
     mut notices: Option<ResMut<Notices>>,
     seen: Option<Res<SeenByCamera>>,
     cameras: Query<(&Camera, Ref<Transform>)>,
-    casters: Query<(Entity, &WorldBounds), With<ShadowCaster>>,
-    visible: Query<(Entity, &WorldBounds), With<Mesh>>,
+    boxes: Query<(Entity, &WorldBounds, Has<ShadowCaster>, Has<Mesh>), Or<(With<ShadowCaster>, With<Mesh>)>>,
     mut suns: Query<(Ref<DirectionalLight>, &mut ShadowMap), (Without<SpotLight>, Without<PointLight>)>,
     mut spots: Query<
         (Ref<SpotLight>, Ref<Transform>, &mut ShadowMap),
@@ -98,10 +100,9 @@ pub fn update_light_matrices(
         (CasterCulling::CameraView, Some((c, t))) => intersects_clip_volume(&c.view_proj(&t, viewport.aspect()), b),
         _ => true,
     };
-    let mut caster_boxes = usable_boxes(casters.iter(), &mut told, notices.as_deref_mut());
-    caster_boxes.retain(in_view);
-    let seen_boxes = usable_boxes(visible.iter(), &mut told, notices.as_deref_mut());
-    let scene = SceneBounds { casters: &caster_boxes, receivers: &seen_boxes };
+    // Everything that casts must lie inside a cascade's depth range, and everything that can be
+    // seen (has a mesh) in front of its far plane.
+    let scene = usable_boxes(boxes.iter(), in_view, &mut told, notices.as_deref_mut());
     let size = settings.shadow_map_size;
     let cube = |at: Vec3, range: f32| {
         let margin = if settings.cube_seams { crate::settings::CUBE_MARGIN } else { 0 };
@@ -111,7 +112,7 @@ pub fn update_light_matrices(
         let fits = match camera {
             Some((c, t)) => {
                 let seen = seen.as_deref().map(|s| &s.0);
-                cascades(sun.direction, (&c, &t, viewport.aspect()), &settings, scene, seen)
+                cascades(sun.direction, (&c, &t, viewport.aspect()), &settings, &scene, seen)
             }
             None => Vec::new(),
         };
@@ -140,7 +141,7 @@ fn cascades(
     direction: glam::Vec3,
     (camera, transform, aspect): (&Camera, &Transform, f32),
     settings: &Settings,
-    scene: SceneBounds<'_>,
+    scene: &[(Aabb, bool)],
     seen: Option<&VisibleSamples>,
 ) -> Vec<(LightProjection, f32, f32)> {
     let frustum =
@@ -155,7 +156,7 @@ fn cascades(
         (None, None) => split_depths(camera.near, far, count, settings.split_lambda),
     };
     let bands = blend_bands(&depths, settings.cascade_blend);
-    let sun = SunScene::new(direction, scene);
+    let sun = SunScene::from_boxes(direction, scene.iter().copied());
     let res = settings.shadow_map_size;
     (0..bands.len())
         .map(|i| {
