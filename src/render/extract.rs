@@ -188,8 +188,9 @@ fn layer_draws(
 #[derive(Resource)]
 struct KeptIndex(CasterIndex);
 
-/// The objects of the world to draw, with their bounds, and the joint matrices they read.
-fn draw_items(world: &mut World) -> (Vec<(DrawItem, Aabb)>, Vec<Mat4>) {
+/// The objects of the world to draw, with their bounds, and the joint matrices they read; their
+/// normal matrices only if they are to be lit (`lit`), not when only their shadows are drawn.
+fn draw_items(world: &mut World, lit: bool) -> (Vec<(DrawItem, Aabb)>, Vec<Mat4>) {
     let mut joints = Vec::new();
     let mut query = world.query::<(
         Entity,
@@ -210,7 +211,7 @@ fn draw_items(world: &mut World) -> (Vec<(DrawItem, Aabb)>, Vec<Mat4>) {
             let world_from_local = t.matrix();
             let object = Object {
                 world_from_local,
-                normal_from_local: world_from_local.inverse().transpose(),
+                normal_from_local: if lit { world_from_local.inverse().transpose() } else { Mat4::ZERO },
                 base_color: m.base_color.extend(m.opacity),
                 specular: m.specular,
                 shininess: m.shininess.max(1.0),
@@ -239,6 +240,18 @@ fn draw_items(world: &mut World) -> (Vec<(DrawItem, Aabb)>, Vec<Mat4>) {
 
 /// Reads the world into the data one frame needs. Without a camera nothing is drawn.
 pub fn extract(world: &mut World) -> FrameData {
+    read_world(world, true)
+}
+
+/// [`extract`] for a frame that draws the shadow maps and nothing else: what only the main pass
+/// reads (normal matrices, the draw order, planar shadows, the ground's flags) is left out, so
+/// that with tens of thousands of objects the shadow pass does not pay for a picture it never
+/// draws.
+pub fn extract_shadow_maps(world: &mut World) -> FrameData {
+    read_world(world, false)
+}
+
+fn read_world(world: &mut World, main_pass: bool) -> FrameData {
     let settings = world.resource::<Settings>().clone();
     let aspect = world.resource::<Viewport>().aspect();
     let (clip_from_world, eye, forward) = world
@@ -246,8 +259,8 @@ pub fn extract(world: &mut World) -> FrameData {
         .iter(world)
         .next()
         .map_or((Mat4::ZERO, Vec3::ZERO, Vec3::NEG_Z), |(c, t)| (c.view_proj(t, aspect), t.translation, t.forward()));
-    let (mut items, joints) = draw_items(world);
-    let draw_order = draw_order(&items, eye);
+    let (mut items, joints) = draw_items(world, main_pass);
+    let draw_order = if main_pass { draw_order(&items, eye) } else { Vec::new() };
 
     let cull_to = (settings.caster_culling == CasterCulling::CameraView).then_some(&clip_from_world);
     let bounds: Vec<Aabb> = items.iter().map(|(_, b)| *b).collect();
@@ -312,16 +325,20 @@ pub fn extract(world: &mut World) -> FrameData {
             .map_or(0, |i| i as u32 + 1),
         ..Frame::zeroed()
     };
-    if settings.ground_grid
+    if main_pass
+        && settings.ground_grid
         && let Some(g) = ground(&items)
     {
         items[g].0.object.ground_grid = 1;
     }
-    let planar =
-        if settings.shadows { planar_draws(&scene_lights, &items, settings.planar_ground) } else { Vec::new() };
+    let planar = if settings.shadows && main_pass {
+        planar_draws(&scene_lights, &items, settings.planar_ground)
+    } else {
+        Vec::new()
+    };
     // With planar shadows on the ground for lights that keep their maps, the ground leaves
     // those maps unread (`planar_receiver`, `planar_ground`).
-    if settings.shadows && settings.planar_ground {
+    if settings.shadows && settings.planar_ground && main_pass {
         for (light, gpu) in scene_lights.iter().zip(&mut lights) {
             gpu.planar_ground = (gpu.layer_count > 0 && draws_planar(light, true)) as u32;
         }
@@ -424,5 +441,22 @@ mod tests {
         let casters = data.items.iter().filter(|i| i.caster).count();
         let spot = data.draws.iter().find(|l| l.light.to_string() == "spot 1").unwrap();
         assert!(!spot.casters.is_empty() && spot.casters.len() < casters, "{} of {casters}", spot.casters.len());
+    }
+
+    #[test]
+    fn a_frame_of_shadow_maps_alone_draws_the_same_layers_and_leaves_the_picture_out() {
+        let settings = Settings { planar_ground: true, ground_grid: true, ..Settings::default() };
+        let mut app = crate::App::new(settings).unwrap();
+        app.set_time(0.5);
+        let full = extract(&mut app.world);
+        let shadows = extract_shadow_maps(&mut app.world);
+        assert_eq!(shadows.draws, full.draws);
+        assert_eq!(shadows.layers, full.layers);
+        assert_eq!(shadows.joints, full.joints);
+        let placed = |d: &FrameData| d.items.iter().map(|i| (i.mesh, i.object.world_from_local)).collect::<Vec<_>>();
+        assert_eq!(placed(&shadows), placed(&full));
+        assert!(!full.draw_order.is_empty() && !full.planar.is_empty());
+        assert!(shadows.draw_order.is_empty() && shadows.planar.is_empty());
+        assert!(shadows.items.iter().all(|i| i.object.normal_from_local == Mat4::ZERO && i.object.ground_grid == 0));
     }
 }

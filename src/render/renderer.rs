@@ -3,7 +3,7 @@
 use super::bare_depth::BareDepth;
 use super::depth_reduction::{Binning, DepthReduction};
 use super::extract::FrameData;
-use super::extract::extract;
+use super::extract::{extract, extract_shadow_maps};
 use super::gpu_types::{GpuLayer, Object, Reduce};
 use super::lines::{LinePass, volume_lines};
 use super::main_pass::MainPass;
@@ -240,13 +240,17 @@ impl Renderer {
             self.textures.upload_new(device, queue, library);
         }
         let depth = self.ensure_depth(device, width, height);
-        let mut data = extract(world);
+        // A frame of shadow maps alone leaves out what only the main pass reads.
+        let lit = !matches!(output, Output::ShadowsOnly);
+        let mut data = if lit { extract(world) } else { extract_shadow_maps(world) };
         let format = moments::colour_format(data.methods, settings.moment_bits, gpu.full_float_moments())
             .map_err(RenderError::Unsupported)?;
         if let Some(format) = format {
             moments::set_terms(&mut data.layers, format);
         }
-        self.main.prepare(device, queue, &data);
+        if lit {
+            self.main.prepare(device, queue, &data);
+        }
         let size = (settings.shadow_map_size, data.layers.len());
         if self.shadow.ensure_maps(device, size, format, settings.shadow_depth) {
             self.main.rebind(device, &self.shadow.maps);
