@@ -19,10 +19,11 @@ use glam::Vec3;
 use std::collections::HashSet;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// The boxes light fitting can use, each with whether it casts a shadow (`casts` says if a
-/// caster's box counts: it may be culled to the camera's view); an entity whose box is broken (not
-/// finite, or beyond [`crate::shadow::MAX_WORLD_EXTENT`]) is left out and named once in
-/// `notices`, so that one broken object cannot spoil every other shadow.
+/// The boxes light fitting can use, each with whether it casts a shadow, from each entity's
+/// bounds, whether it is a caster and whether it has a mesh (is seen). `casts` says whether a
+/// caster's box counts as one (it may be culled to the camera's view). An entity whose box is
+/// broken (not finite, or beyond [`crate::shadow::MAX_WORLD_EXTENT`]) is left out and named once
+/// in `notices`, so that one broken object cannot spoil every other shadow.
 fn usable_boxes<'a>(
     boxes: impl Iterator<Item = (Entity, &'a WorldBounds, bool, bool)>,
     casts: impl Fn(&Aabb) -> bool,
