@@ -303,7 +303,7 @@ where
 {
     area.fill(&WHITE).map_err(|e| e.to_string())?;
     let points = || lines.iter().flat_map(|(_, p)| p.iter().copied()).filter(|(x, y)| x.is_finite() && y.is_finite());
-    let x_max = points().map(|p| p.0).fold(1.0, f64::max) * 1.08;
+    let x_max = points().map(|p| p.0).fold(1e-3, f64::max) * 1.08;
     let y_max = points().map(|p| p.1).fold(1e-3, f64::max) * 1.15;
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 22))

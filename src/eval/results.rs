@@ -1,7 +1,7 @@
 //! The sweep's results on disk: a CSV table, a Markdown summary and the charts.
 
 use super::cases::CASES;
-use super::chart::{ChartError, Point, cost_chart, distance_chart};
+use super::chart::{ChartError, Point, cost_chart, distance_chart, line_chart};
 use super::metrics::DISTANCE_BANDS;
 use super::sweep::{Config, Row, pareto};
 use crate::settings::Settings;
@@ -165,9 +165,36 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str) -> Result<String, Resu
         &DISTANCE_BANDS,
         &lines,
     )?;
+    let fits = fit_points(rows);
+    if fits.len() > 1 {
+        line_chart(
+            &dir.join("fits"),
+            "Cascade fits at the default map size: error against shimmer",
+            (
+                "ground points that flip per frame as the camera creeps (%)",
+                "misclassified pixels of the sample scene (%)",
+            ),
+            &fits,
+            &[],
+        )?;
+    }
     let summary = summary(rows, &scene_front, heading);
     write(&dir.join("summary.md"), &summary)?;
     Ok(summary)
+}
+
+/// The configurations that differ from the default only in how cascades are fitted, each as
+/// (its fit, [(shimmer %, misclassified %)]): a chart of one point a fit, in the order swept.
+fn fit_points(rows: &[Row]) -> Vec<(String, Vec<(f64, f64)>)> {
+    let default = Config::default_settings();
+    let Some(shimmer) = CASES.iter().position(|c| c.name == "shimmer") else { return Vec::new() };
+    rows.iter()
+        .filter(|r| r.config == Config { fit: r.config.fit, ..default })
+        .map(|r| {
+            let at = (100.0 * r.cases[shimmer].value(), 100.0 * r.scene_all().all.misclassified());
+            (r.config.fit.name().to_string(), vec![at])
+        })
+        .collect()
 }
 
 /// Each method's error against the soft truth light by light, on the rows that differ from the
@@ -327,4 +354,37 @@ pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
         );
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::components::ShadowMethod;
+    use crate::eval::cases::Score;
+    use crate::shadow::FitMode;
+
+    fn row(config: Config, shimmer_hits: u64) -> Row {
+        let mut cases = vec![Score::default(); CASES.len()];
+        let k = CASES.iter().position(|c| c.name == "shimmer").unwrap();
+        cases[k] = Score { hits: shimmer_hits, of: 1000, garbage: 0 };
+        Row { config, cost: Default::default(), scene: Vec::new(), lights: Vec::new(), cases }
+    }
+
+    #[test]
+    fn the_fit_chart_takes_the_rows_that_differ_from_the_default_only_in_their_fit() {
+        let d = Config::default_settings();
+        let rows = [
+            row(d, 0),
+            row(Config { fit: FitMode::Tight, ..d }, 3),
+            row(Config { method: ShadowMethod::Pcf3, ..d }, 7),
+            row(Config { fit: FitMode::Tight, map_size: d.map_size * 2, ..d }, 9),
+            row(Config { fit: FitMode::Sdsm, ..d }, 1),
+        ];
+        let fits = fit_points(&rows);
+        let names: Vec<&str> = fits.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["stable", "tight", "sdsm"]);
+        let shimmer: Vec<f64> = fits.iter().map(|(_, p)| p[0].0).collect();
+        assert_eq!(shimmer, [0.0, 0.3, 0.1]);
+        assert!(fit_points(&rows[2..4]).is_empty());
+    }
 }
