@@ -6,7 +6,7 @@
 //! shadows off. A machine whose speed drifts over the run slows all configurations alike and the
 //! ratios stay fair.
 
-use super::measure::{MeasureError, Measurer, Subject, SubjectId, apply_settings, place_camera};
+use super::measure::{MeasureError, Measurer, Subject, SubjectId, TimedMaps, apply_settings, place_camera};
 use super::sweep::{Config, SweepOptions};
 use crate::App;
 use crate::render::{Gpu, HEADLESS_FORMAT, Renderer};
@@ -66,7 +66,7 @@ struct Timed {
 }
 
 /// Times every configuration in `configs` over the options' views; `progress` hears each round. One scene
-/// per map size is kept, so switching configuration never re-allocates the maps.
+/// per kind of map ([`TimedMaps`]) is kept, so switching configuration never makes the maps anew.
 pub fn time_all(
     gpu: &Gpu,
     base: &Settings,
@@ -89,8 +89,12 @@ pub fn time_all(
                 let drawn = Settings { reuse_shadow_maps: false, ..config.settings(base) };
                 let kept = Settings { reuse_shadow_maps: true, ..drawn.clone() };
                 let off = Settings { shadows: false, ..kept.clone() };
-                let Subject { app, renderer } =
-                    m.subject(SubjectId::Timing(config.map_size), &drawn, |s| App::new(s.clone()))?;
+                let maps = TimedMaps {
+                    size: config.map_size,
+                    depth: config.depth,
+                    colour: config.method.colour_map().then_some((config.method, config.moment_bits)),
+                };
+                let Subject { app, renderer } = m.subject(SubjectId::Timing(maps), &drawn, |s| App::new(s.clone()))?;
                 if stamps {
                     renderer.enable_timing(gpu);
                 }

@@ -47,10 +47,25 @@ pub enum SubjectId {
     Accuracy,
     /// The measured scene as `tune` measures it.
     Tune,
-    /// The sample scene timed with maps of this many texels.
-    Timing(u32),
+    /// The sample scene timed with maps of this kind.
+    Timing(TimedMaps),
     /// The scene of a failure case.
     Case(CaseScene),
+}
+
+/// What a timed scene's shadow maps are made of: the configurations that share it share one
+/// scene, so switching between them in the interleaved rounds never makes the maps anew. (When
+/// the depth format or the colour maps changed between configurations, they were made anew in
+/// every round, and on a software rasterizer the first frame to touch fresh memory pays its page
+/// faults: d16 maps timed 1.6 times d32 ones, and the d32 configuration after them 2.5 times.)
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TimedMaps {
+    /// Texels a side.
+    pub size: u32,
+    /// The depth maps' format.
+    pub depth: crate::settings::ShadowDepth,
+    /// The method and bits of the colour maps beside them, for a method that has them.
+    pub colour: Option<(crate::components::ShadowMethod, crate::settings::MomentBits)>,
 }
 
 /// The failure cases' scenes (see [`super::cases`]).
