@@ -89,12 +89,8 @@ pub fn time_all(
                 let drawn = Settings { reuse_shadow_maps: false, ..config.settings(base) };
                 let kept = Settings { reuse_shadow_maps: true, ..drawn.clone() };
                 let off = Settings { shadows: false, ..kept.clone() };
-                let maps = TimedMaps {
-                    size: config.map_size,
-                    depth: config.depth,
-                    colour: config.method.colour_map().then_some((config.method, config.moment_bits)),
-                };
-                let Subject { app, renderer } = m.subject(SubjectId::Timing(maps), &drawn, |s| App::new(s.clone()))?;
+                let id = SubjectId::Timing(timed_maps(config));
+                let Subject { app, renderer } = m.subject(id, &drawn, |s| App::new(s.clone()))?;
                 if stamps {
                     renderer.enable_timing(gpu);
                 }
@@ -112,6 +108,15 @@ pub fn time_all(
         }
     }
     Ok(times.iter().map(|t| cost(t)).collect())
+}
+
+/// The kind of map `config` draws: the configurations of one kind are timed in one scene.
+fn timed_maps(config: &Config) -> TimedMaps {
+    TimedMaps {
+        size: config.map_size,
+        depth: config.depth,
+        colour: config.method.colour_map().then_some((config.method, config.moment_bits)),
+    }
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -142,5 +147,29 @@ mod tests {
         let c = cost(&[t(9.0, 5.0, 2.0), t(12.0, 6.0, 2.5), t(9.0, 4.0, 3.0)]);
         assert_eq!((c.shadow_ms, c.lookup_ms, c.range_ms), (5.0, 3.0, (4.0, 6.0)));
         assert_eq!(c.total_ms(), 8.0);
+    }
+
+    #[test]
+    fn configurations_share_a_timed_scene_only_when_their_maps_are_alike() {
+        use crate::components::ShadowMethod;
+        use crate::settings::{MomentBits, ShadowDepth, ShadowFaces};
+        let d = Config::default_settings();
+        let same = [
+            Config { method: ShadowMethod::Pcf3, receiver_plane: false, ..d },
+            Config { bias: 0.0, faces: ShadowFaces::Back, cascades: 1, ..d },
+            Config { fit: crate::shadow::FitMode::Sdsm, ..d },
+        ];
+        assert!(same.iter().all(|c| timed_maps(c) == timed_maps(&d)));
+        let apart = [
+            Config { depth: ShadowDepth::Unorm16, ..d },
+            Config { map_size: d.map_size * 2, ..d },
+            Config { method: ShadowMethod::Vsm, ..d },
+            Config { method: ShadowMethod::Vsm, moment_bits: MomentBits::Half, ..d },
+            Config { method: ShadowMethod::DepthR32f, ..d },
+        ];
+        for (i, a) in apart.iter().enumerate() {
+            assert_ne!(timed_maps(a), timed_maps(&d), "{}", a.label());
+            assert!(apart[i + 1..].iter().all(|b| timed_maps(a) != timed_maps(b)), "{}", a.label());
+        }
     }
 }
