@@ -176,6 +176,14 @@ impl Camera {
         let view = Mat4::from_rotation_translation(transform.rotation, transform.translation).inverse();
         self.projection(aspect) * view
     }
+
+    /// The view depth the shadows reach: `shadow_distance`, no farther than the far plane and no
+    /// nearer than twice the near one. The cascades split up to it and the SDSM reduction bins
+    /// up to it, so both read it from here.
+    #[must_use]
+    pub fn shadow_far(&self, shadow_distance: f32) -> f32 {
+        shadow_distance.min(self.far).max(self.near * 2.0)
+    }
 }
 
 /// Fly-camera state: the camera looks along yaw/pitch and moves at `speed` m/s.
@@ -445,6 +453,16 @@ impl Viewport {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn shadows_reach_the_shadow_distance_within_the_camera_planes() {
+        let c = Camera { near: 0.5, far: 100.0, ..Camera::default() };
+        assert_eq!(c.shadow_far(60.0), 60.0);
+        assert_eq!(c.shadow_far(500.0), 100.0);
+        assert_eq!(c.shadow_far(0.0), 1.0);
+        assert_eq!(c.shadow_far(f32::NAN), 100.0);
+        assert_eq!(c.shadow_far(f32::INFINITY), 100.0);
+    }
 
     #[test]
     fn project_puts_the_look_target_in_the_middle() {

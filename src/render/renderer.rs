@@ -34,6 +34,17 @@ enum Output<'a> {
     ShadowsOnly,
 }
 
+/// The camera's depth buffer.
+struct DepthBuffer {
+    /// Its view, as the main pass draws into it.
+    view: wgpu::TextureView,
+    /// Its depth aspect, which the SDSM reduction reads.
+    depth_only: wgpu::TextureView,
+    size: (u32, u32),
+    /// How many depth buffers were made before it (so the reduction knows when to bind anew).
+    made: u64,
+}
+
 /// The shadow-map viewer's picture: its view, a number that changes whenever the texture behind
 /// it is made anew, and whose each tile is.
 pub struct MapAtlas<'a> {
@@ -53,10 +64,7 @@ pub struct Renderer {
     meshes: Vec<Option<GpuMesh>>,
     shadow: ShadowPass,
     main: MainPass,
-    depth: Option<(wgpu::TextureView, u32, u32)>,
-    /// The camera depth buffer's depth aspect, which the SDSM reduction reads, and how many
-    /// depth buffers have been made (so the reduction knows when to bind a new one).
-    depth_only: Option<(wgpu::TextureView, u64)>,
+    depth: Option<DepthBuffer>,
     /// The user was told the SDSM fit cannot run here.
     sdsm_told: bool,
     timer: Option<PassTimer>,
@@ -106,7 +114,6 @@ impl Renderer {
             shadow,
             main,
             depth: None,
-            depth_only: None,
             sdsm_told: false,
             timer: None,
             format,
@@ -318,10 +325,10 @@ impl Renderer {
 
     /// The camera depth buffer for this size, re-created only when the size changes.
     fn ensure_depth(&mut self, device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureView {
-        if let Some((view, w, h)) = &self.depth
-            && (*w, *h) == (width, height)
+        if let Some(d) = &self.depth
+            && d.size == (width, height)
         {
-            return view.clone();
+            return d.view.clone();
         }
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("depth"),
@@ -337,9 +344,8 @@ impl Renderer {
         let view = texture.create_view(&Default::default());
         let depth_only = texture
             .create_view(&wgpu::TextureViewDescriptor { aspect: wgpu::TextureAspect::DepthOnly, ..Default::default() });
-        self.depth = Some((view.clone(), width, height));
-        let made = self.depth_only.as_ref().map_or(0, |(_, n)| n + 1);
-        self.depth_only = Some((depth_only, made));
+        let made = self.depth.as_ref().map_or(0, |d| d.made + 1);
+        self.depth = Some(DepthBuffer { view: view.clone(), depth_only, size: (width, height), made });
         view
     }
 
@@ -365,12 +371,10 @@ impl Renderer {
         let shadow_distance = settings.shadow_distance;
         let camera = world.query::<&Camera>().iter(world).next().copied();
         let sun = world.query::<&DirectionalLight>().iter(world).next().map(|s| s.direction);
-        let (Some(camera), Some(sun), Some((_, w, h)), Some((depth, made))) =
-            (camera, sun, &self.depth, &self.depth_only)
-        else {
+        let (Some(camera), Some(sun), Some(depth)) = (camera, sun, &self.depth) else {
             return;
         };
-        let far = shadow_distance.min(camera.far).max(camera.near * 2.0);
+        let far = camera.shadow_far(shadow_distance);
         let binning =
             Binning { range: (camera.near, far), light_from_world: crate::shadow::light_view(glam::Vec3::ZERO, sun) };
         let reduce = Reduce {
@@ -380,10 +384,10 @@ impl Renderer {
             near: binning.range.0,
             forward: data.frame.camera_forward,
             far: binning.range.1,
-            size: [*w, *h],
+            size: [depth.size.0, depth.size.1],
             _pad: [0; 2],
         };
         let reduction = self.reduction.get_or_insert_with(|| DepthReduction::new(&gpu.device));
-        reduction.encode((&gpu.device, &gpu.queue), encoder, (depth, *made), reduce, binning);
+        reduction.encode((&gpu.device, &gpu.queue), encoder, (&depth.depth_only, depth.made), reduce, binning);
     }
 }

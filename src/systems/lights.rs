@@ -147,7 +147,7 @@ fn cascades(
 ) -> Vec<(LightProjection, f32, f32)> {
     let frustum =
         ViewFrustum { position: transform.translation, rotation: transform.rotation, fov_y: camera.fov_y, aspect };
-    let far = settings.shadow_distance.min(camera.far).max(camera.near * 2.0);
+    let far = camera.shadow_far(settings.shadow_distance);
     let seen = seen.filter(|_| settings.fit_mode == FitMode::Sdsm);
     let seen_depths = seen.and_then(|s| s.depths).map(|(n, f)| (n.max(camera.near), f.min(far))).filter(|(n, f)| n < f);
     let count = settings.cascades as usize;
