@@ -1,11 +1,11 @@
 //! Per-light shadow biases, as `umbra tune` finds them and writes them to a file, and as `play`,
 //! `render` and `bench --cache` read them back (`--biases FILE`). The same file may also give
 //! lights methods of their own (`"methods": {"spot 1": "pcss"}`). Lights are named as
-//! [`crate::systems::light_list`] names them ("sun", "spot 1", "point 1").
+//! [`crate::light::light_list`] names them ("sun", "spot 1", "point 1").
 
 use crate::components::{ShadowBias, ShadowMethod};
 use crate::settings::MAX_BIAS_SCALE;
-use crate::systems::light_list;
+use crate::light::light_list;
 use bevy_ecs::prelude::*;
 use serde_json::{Value, json};
 use std::path::Path;

@@ -39,6 +39,7 @@ pub mod assets;
 pub mod biases;
 pub mod components;
 pub mod eval;
+pub mod light;
 pub mod play;
 pub mod render;
 pub mod reproduce;

@@ -315,7 +315,7 @@ fn app(scene: &SceneArgs) -> Result<App> {
     if let Some((model, _)) = models.iter(&app.world).find(|_| scene.scene.is_some()) {
         let (lights, camera) = (model.0.lights.len(), model.0.camera.is_some());
         let names: Vec<String> =
-            umbra::systems::light_list(&mut app.world).iter().map(|l| l.label.to_string()).collect();
+            umbra::light::light_list(&mut app.world).iter().map(|l| l.label.to_string()).collect();
         println!(
             "lights: {}{}; {}",
             names.join(", "),

@@ -4,10 +4,10 @@
 //! now, so `umbra render` draws the same picture headless.
 
 use crate::components::{
-    Camera, DirectionalLight, PointLight, ShadowBias, ShadowMap, ShadowMethod, SpotLight, Time, Transform,
+    Camera, ShadowBias, ShadowMap, ShadowMethod, Time, Transform,
 };
 use crate::settings::{MAX_BIAS_SCALE, Settings};
-use crate::systems::{LightKind, SceneLight, light_list};
+use crate::light::{Kind, Light, light_list};
 use crate::{App, AppError};
 use bevy_ecs::prelude::*;
 
@@ -71,9 +71,9 @@ pub fn parse_size(s: &str) -> Result<(String, LightSetting), String> {
 }
 
 /// The light called `name`; a name no light has is an error that lists the lights.
-pub fn light_named(world: &mut World, name: &str) -> Result<SceneLight, AppError> {
+pub fn light_named(world: &mut World, name: &str) -> Result<Light, AppError> {
     let lights = light_list(world);
-    lights.iter().find(|l| l.label.to_string() == name).copied().ok_or_else(|| {
+    lights.iter().find(|l| l.label.to_string() == name).cloned().ok_or_else(|| {
         let known: Vec<String> = lights.iter().map(|l| format!("`{}`", l.label)).collect();
         AppError::UnknownLight { name: name.to_string(), known: known.join(", ") }
     })
@@ -95,31 +95,16 @@ pub fn apply(world: &mut World, settings: &[(String, LightSetting)]) -> Result<(
             LightSetting::NoShadow => {
                 world.entity_mut(e).remove::<ShadowMap>();
             }
-            LightSetting::Size(x) => set_size(world, light, x),
+            LightSetting::Size(x) => light.kind.set_size(world, e, x),
         }
     }
     Ok(())
 }
 
-/// Sets a light's size as [`LightSetting::Size`] gives it.
-pub fn set_size(world: &mut World, light: &SceneLight, size: f32) {
-    let e = light.entity;
-    if let Some(mut sun) = world.get_mut::<DirectionalLight>(e) {
-        sun.angular_radius = size.to_radians();
-    } else if let Some(mut spot) = world.get_mut::<SpotLight>(e) {
-        spot.radius = size;
-    } else if let Some(mut point) = world.get_mut::<PointLight>(e) {
-        point.radius = size;
-    }
-}
-
-/// A light's size as [`LightSetting::Size`] gives it.
+/// A light's size as [`LightSetting::Size`] gives it (its kind's own units).
 #[must_use]
-pub fn size_of(kind: &LightKind) -> f32 {
-    match *kind {
-        LightKind::Sun { angular_radius, .. } => angular_radius.to_degrees(),
-        LightKind::Spot { radius, .. } | LightKind::Point { radius, .. } => radius,
-    }
+pub fn size_of(light: &Light) -> f32 {
+    light.kind.size_control().value
 }
 
 /// `args` as one line a shell reads back as them, each quoted where it needs it.
@@ -162,8 +147,8 @@ pub fn command_line(world: &mut World) -> Vec<String> {
             let flat = if b.receiver_plane { "" } else { ",flat" };
             push("--light-bias", format!("{name}={},{},{},{}{flat}", b.constant, b.slope, b.normal, b.scale));
         }
-        if was.is_none_or(|w| size_of(&w.kind) != size_of(&light.kind)) {
-            push("--light-size", format!("{name}={}", size_of(&light.kind)));
+        if was.is_none_or(|w| size_of(w) != size_of(light)) {
+            push("--light-size", format!("{name}={}", size_of(light)));
         }
         if !light.shadowed && was.is_none_or(|w| w.shadowed) {
             push("--no-light-shadow", name);

@@ -19,7 +19,7 @@ use crate::components::*;
 use crate::scene::{SUN_DIRECTION, camera_looking, spawn_model};
 use crate::settings::Settings;
 use crate::shadow::Aabb;
-use crate::systems::MAX_LIGHTS;
+use crate::light::MAX_LIGHTS;
 use bevy_ecs::prelude::*;
 use glam::{Mat4, Vec3};
 use std::sync::Arc;

@@ -9,7 +9,7 @@ use umbra::assets::{MeshLibrary, cube, plane};
 use umbra::components::*;
 use umbra::eval::{metrics, truth};
 use umbra::render::{HEADLESS_FORMAT, Renderer, render_debug_frame};
-use umbra::systems::light_list;
+use umbra::light::light_list;
 use umbra::{App, Settings};
 
 fn grey() -> Material {

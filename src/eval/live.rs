@@ -6,7 +6,8 @@
 
 use super::measure::TruthSettings;
 use super::metrics::{EDGE_RADIUS, LightReport, report};
-use super::truth::{CasterTriangle, Occluders, Truth, TruthLight, caster_triangles, truth_frame, truth_lights};
+use super::truth::{CasterTriangle, Occluders, Truth, caster_triangles, truth_frame, truth_lights};
+use crate::light::Emitter;
 use crate::App;
 use crate::render::{DebugFrame, Gpu, RenderError, Renderer, render_debug_frame};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
@@ -17,7 +18,7 @@ pub struct Snapshot {
     /// The measuring view as the renderer drew it.
     pub frame: DebugFrame,
     triangles: Vec<CasterTriangle>,
-    lights: Vec<TruthLight>,
+    lights: Vec<Emitter>,
     names: Vec<String>,
     soft_rays: usize,
 }
@@ -25,7 +26,7 @@ pub struct Snapshot {
 /// One measured frame: each light's errors, and the error picture to lay over the view.
 #[derive(Clone, Debug)]
 pub struct LiveReport {
-    /// Per light, in [`crate::systems::light_list`] order: its name and its errors.
+    /// Per light, in [`crate::light::light_list`] order: its name and its errors.
     pub lights: Vec<(String, LightReport)>,
     /// Width and height of the measured frame (and of `overlay`).
     pub size: (u32, u32),
@@ -62,7 +63,7 @@ pub fn snapshot(
 ) -> Result<Snapshot, RenderError> {
     let frame = render_debug_frame(gpu, renderer, app, size.0, size.1)?;
     let world = &mut app.world;
-    let names = crate::systems::light_list(world).iter().map(|l| l.label.to_string()).collect();
+    let names = crate::light::light_list(world).iter().map(|l| l.label.to_string()).collect();
     let lights = truth_lights(world, truth.sizes);
     Ok(Snapshot { frame, triangles: caster_triangles(world), lights, names, soft_rays: truth.soft_rays })
 }

@@ -103,7 +103,7 @@ impl LightReport {
     }
 }
 
-/// The rendered visibility of `light` (in [`crate::systems::light_list`] order) at pixel `i`
+/// The rendered visibility of `light` (in [`crate::light::light_list`] order) at pixel `i`
 /// where the renderer made a shadow test there.
 pub fn rendered(frame: &DebugFrame, light: usize, i: usize) -> Option<f32> {
     let v = *frame.visibility.get(light)?.get(i)?;

@@ -11,7 +11,7 @@ use crate::assets::skin::skin_vertices;
 use crate::assets::{MeshLibrary, TextureData, TextureLibrary};
 use crate::components::{Joints, Material, Mesh, ShadowCaster, Transform};
 use crate::render::DebugFrame;
-use crate::systems::{LightKind, light_list};
+use crate::light::{Emitter, Kind, light_list};
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3, Vec4};
 use obvhs::cwbvh::CwBvh;
@@ -182,42 +182,6 @@ fn positive_zeros(d: Vec3) -> glam::Vec3A {
     (d + Vec3::ZERO).into()
 }
 
-/// A light as the truth sees it: where its light comes from, with a size for soft shadows.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum TruthLight {
-    /// The sun: parallel light along `direction`, from a disc `angular_radius` radians across.
-    Sun {
-        /// Direction the light travels.
-        direction: Vec3,
-        /// Half the angle the sun's disc covers.
-        angular_radius: f32,
-    },
-    /// A spot light at `position` shining along `direction` inside `cos_outer`, out to `range`,
-    /// from a disc of `radius` metres facing along its direction.
-    Spot {
-        /// Where the light is.
-        position: Vec3,
-        /// Unit direction it shines.
-        direction: Vec3,
-        /// Cosine of the outer cone angle.
-        cos_outer: f32,
-        /// Distance at which it gives nothing.
-        range: f32,
-        /// Radius of the light's disc.
-        radius: f32,
-    },
-    /// A point light at `position` shining every way out to `range`, from a sphere of `radius`
-    /// metres.
-    Point {
-        /// Where the light is.
-        position: Vec3,
-        /// Distance at which it gives nothing.
-        range: f32,
-        /// Radius of the light's sphere.
-        radius: f32,
-    },
-}
-
 /// Light sizes that replace the scene's own for the soft truth (`bench --sun-radius`,
 /// `--spot-radius`), where given.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -228,24 +192,18 @@ pub struct SizeOverride {
     pub light_radius: Option<f32>,
 }
 
-/// The lights of `world` in the order the measuring view reports them, each with its own size
-/// (or the one `sizes` gives).
-pub fn truth_lights(world: &mut World, sizes: SizeOverride) -> Vec<TruthLight> {
+/// The lights of `world` in the order the measuring view reports them, as the truth casts rays
+/// to them, each with its own size (or the one `sizes` gives).
+pub fn truth_lights(world: &mut World, sizes: SizeOverride) -> Vec<Emitter> {
     light_list(world)
         .iter()
-        .map(|l| match l.kind {
-            LightKind::Sun { direction, angular_radius } => {
-                TruthLight::Sun { direction, angular_radius: sizes.sun_angular_radius.unwrap_or(angular_radius) }
+        .map(|l| match l.kind.emitter() {
+            Emitter::Distant { towards, angular_radius } => {
+                Emitter::Distant { towards, angular_radius: sizes.sun_angular_radius.unwrap_or(angular_radius) }
             }
-            LightKind::Spot { position, direction, range, outer, radius, .. } => TruthLight::Spot {
-                position,
-                direction,
-                cos_outer: outer.cos(),
-                range,
-                radius: sizes.light_radius.unwrap_or(radius),
-            },
-            LightKind::Point { position, range, radius } => {
-                TruthLight::Point { position, range, radius: sizes.light_radius.unwrap_or(radius) }
+            Emitter::Local { position, range, radius, facing, cos_cone } => {
+                let radius = sizes.light_radius.unwrap_or(radius);
+                Emitter::Local { position, range, radius, facing, cos_cone }
             }
         })
         .collect()
@@ -278,14 +236,13 @@ fn basis(d: Vec3) -> (Vec3, Vec3) {
     (u, d.cross(u))
 }
 
-impl TruthLight {
+impl Emitter {
     /// The truth at surface point `p` with unit normal `n`, or `None` where the light does not
     /// reach it (facing away, outside the cone or range, behind the light).
     pub fn truth(&self, occluders: &Occluders, p: Vec3, n: Vec3, disc: &[glam::Vec2]) -> Option<Truth> {
         let origin = p + n * RAY_OFFSET;
         match *self {
-            TruthLight::Sun { direction, angular_radius } => {
-                let l = -direction;
+            Emitter::Distant { towards: l, angular_radius } => {
                 if n.dot(l) <= 0.0 {
                     return None;
                 }
@@ -300,16 +257,13 @@ impl TruthLight {
                     .count();
                 Some(Truth { lit, soft: soft_fraction(seen, disc.len(), lit) })
             }
-            TruthLight::Spot { position, direction, cos_outer, range, radius } => {
-                let to_light = position - p;
-                if (-to_light.normalize_or_zero()).dot(direction) < cos_outer {
+            Emitter::Local { position, range, radius, facing, cos_cone } => {
+                let from_light = (p - position).normalize_or_zero();
+                if facing.is_some_and(|f| from_light.dot(f) < cos_cone) {
                     return None;
                 }
-                local_truth(occluders, (p, origin, n), (position, range), basis(direction), radius, disc)
-            }
-            TruthLight::Point { position, range, radius } => {
-                // The sphere seen from the point is a disc facing it.
-                let facing = (position - p).normalize_or(Vec3::Y);
+                // A sphere seen from the point is a disc facing it.
+                let facing = facing.unwrap_or_else(|| (position - p).normalize_or(Vec3::Y));
                 local_truth(occluders, (p, origin, n), (position, range), basis(facing), radius, disc)
             }
         }
@@ -366,7 +320,7 @@ pub fn truth_of(
 pub fn truth_frame(
     frame: &DebugFrame,
     occluders: &Occluders,
-    lights: &[TruthLight],
+    lights: &[Emitter],
     soft_rays: usize,
 ) -> Vec<Vec<Option<Truth>>> {
     let disc = disc_samples(soft_rays);
@@ -374,7 +328,7 @@ pub fn truth_frame(
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).clamp(1, 16);
     let chunk = pixels.div_ceil(threads).max(1);
     let mut out: Vec<Vec<Option<Truth>>> = lights.iter().map(|_| vec![None; pixels]).collect();
-    let pixel = |i: usize, light: &TruthLight| -> Option<Truth> {
+    let pixel = |i: usize, light: &Emitter| -> Option<Truth> {
         if !frame.covered(i) {
             return None;
         }
@@ -420,7 +374,7 @@ mod tests {
     #[test]
     fn a_sun_behind_a_quad_shadows_hard_and_its_disc_half_at_the_edge() {
         let occ = Occluders::new(&unit_quad_at(2.0));
-        let sun = TruthLight::Sun { direction: Vec3::NEG_Y, angular_radius: 0.1 };
+        let sun = Emitter::Distant { towards: Vec3::Y, angular_radius: 0.1 };
         let disc = disc_samples(256);
         // (Off the quad's diagonal: a ray exactly through the edge two triangles share may slip.)
         let under = sun.truth(&occ, Vec3::new(0.3, 0.0, 0.1), Vec3::Y, &disc).unwrap();
@@ -436,10 +390,10 @@ mod tests {
     #[test]
     fn a_spot_reaches_only_inside_its_cone_and_range() {
         let occ = Occluders::new(&[]);
-        let spot = TruthLight::Spot {
+        let spot = Emitter::Local {
             position: Vec3::Y * 4.0,
-            direction: Vec3::NEG_Y,
-            cos_outer: 0.5f32.cos(),
+            facing: Some(Vec3::NEG_Y),
+            cos_cone: 0.5f32.cos(),
             range: 6.0,
             radius: 0.1,
         };
@@ -447,10 +401,10 @@ mod tests {
         assert_eq!(spot.truth(&occ, Vec3::ZERO, Vec3::Y, &disc), Some(Truth { lit: true, soft: 1.0 }));
         assert!(spot.truth(&occ, Vec3::new(3.0, 0.0, 0.0), Vec3::Y, &disc).is_none(), "outside the cone");
         assert!(spot.truth(&occ, Vec3::new(0.0, 8.0, 0.0), Vec3::NEG_Y, &disc).is_none(), "behind the light");
-        let short = TruthLight::Spot {
+        let short = Emitter::Local {
             position: Vec3::Y * 4.0,
-            direction: Vec3::NEG_Y,
-            cos_outer: 0.5,
+            facing: Some(Vec3::NEG_Y),
+            cos_cone: 0.5,
             range: 3.0,
             radius: 0.1,
         };

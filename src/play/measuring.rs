@@ -8,7 +8,7 @@ use crate::eval::live::{LiveReport, Taken, Worker, snapshot};
 use crate::eval::measure::TruthSettings;
 use crate::render::{Gpu, RenderError, Renderer};
 use crate::settings::Settings;
-use crate::systems::{SceneLight, light_list};
+use crate::light::{Light, light_list};
 use crate::ui::Lab;
 use crate::ui::panel::STILL_FOR;
 use bevy_ecs::prelude::*;
@@ -22,7 +22,7 @@ pub struct ViewStamp {
     frame: u64,
     size: Viewport,
     settings: Settings,
-    lights: Vec<SceneLight>,
+    lights: Vec<Light>,
 }
 
 /// The stamp of `world` as it is now.
@@ -33,7 +33,9 @@ pub fn stamp(world: &mut World) -> ViewStamp {
         frame: world.resource::<Time>().frame,
         size: *world.resource::<Viewport>(),
         settings: world.resource::<Settings>().clone(),
-        lights: light_list(world),
+        // Without their layers: a layer's version and dirty flag change with no change to the
+        // picture.
+        lights: light_list(world).into_iter().map(|l| Light { layers: Vec::new(), ..l }).collect(),
     }
 }
 

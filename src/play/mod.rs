@@ -286,7 +286,7 @@ impl Player {
         } else if down && !repeat && change_lab(code, &mut self.lab) {
         } else if down && !repeat && code == KeyCode::KeyB {
             let names: Vec<String> =
-                crate::systems::light_list(&mut self.app.world).iter().map(|l| l.label.to_string()).collect();
+                crate::light::light_list(&mut self.app.world).iter().map(|l| l.label.to_string()).collect();
             let mut settings = self.app.world.resource_mut::<Settings>();
             settings.texel_density = keys::next_texel_view(&settings.texel_density, &names);
             println!("texel density: {}", settings.texel_density.as_deref().unwrap_or("off"));

@@ -4,12 +4,13 @@
 //! [`light_list`] becomes one [`GpuLight`], and its layers take the next slots of the shadow-map
 //! array: slots are the renderer's business, not the world's.
 
-use super::gpu_types::{Frame, GpuLayer, GpuLight, GpuPlanar, MAX_LAYERS, Object, kind_id, shape_id};
+use super::gpu_types::{Frame, GpuLayer, GpuLight, GpuPlanar, MAX_LAYERS, Object};
 use super::planar::{draws_planar, ground, planar_draws};
 use crate::components::*;
+use crate::light::{Kind, Light, LightLabel, ShadowShape, light_list};
 use crate::settings::{CasterCulling, Settings};
-use crate::shadow::{Aabb, CasterIndex, intersects_clip_volume, spot_projection};
-use crate::systems::{CastersAtRest, LightKind, LightLabel, SceneLight, ShadowShape, light_list};
+use crate::shadow::{Aabb, CasterIndex, intersects_clip_volume};
+use crate::systems::CastersAtRest;
 use bevy_ecs::prelude::*;
 use bytemuck::Zeroable;
 use glam::{Mat4, Vec3};
@@ -60,10 +61,8 @@ pub struct LayerDraw {
 pub struct FrameData {
     /// The main pass's frame uniform.
     pub frame: Frame,
-    /// Every light, in [`light_list`] order.
-    pub lights: Vec<GpuLight>,
-    /// The lights' names, in the same order.
-    pub labels: Vec<LightLabel>,
+    /// Every light, in [`light_list`] order, with the slots its layers take.
+    pub lights: Vec<FrameLight>,
     /// Every shadow-map layer, by slot.
     pub layers: Vec<GpuLayer>,
     /// Objects in draw order.
@@ -83,6 +82,45 @@ pub struct FrameData {
     pub planar: Vec<PlanarDraw>,
 }
 
+/// One light of a frame: the light, and where its layers are in the shadow-map array.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameLight {
+    /// The light.
+    pub light: Light,
+    /// Its first layer's slot.
+    pub first_layer: u32,
+    /// Its layers in the array (0: it is lit without a shadow).
+    pub layer_count: u32,
+    /// It draws planar shadows onto the ground in place of its maps there.
+    pub planar_ground: bool,
+}
+
+impl FrameLight {
+    /// The light as the shaders read it: what every kind has, then what its kind packs.
+    #[must_use]
+    pub fn gpu(&self) -> GpuLight {
+        let light = &self.light;
+        let mut g = GpuLight {
+            color: light.color.to_array(),
+            first_layer: self.first_layer,
+            layer_count: self.layer_count,
+            cookie: light.cookie.map_or(-1, |c| c.layer() as i32),
+            bias_constant: light.bias.constant,
+            bias_slope: light.bias.slope,
+            bias_normal: light.bias.normal,
+            bias_scale: light.bias.scale,
+            receiver_plane: light.bias.receiver_plane as u32,
+            method: light.method as u32,
+            shape: light.shape.gpu_id(),
+            size: light.size(),
+            planar_ground: self.planar_ground as u32,
+            ..GpuLight::zeroed()
+        };
+        light.kind.pack(&mut g);
+        g
+    }
+}
+
 /// One light's planar shadow: its uniform and the casters flattened onto the ground.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlanarDraw {
@@ -97,6 +135,18 @@ pub struct PlanarDraw {
 pub const SHADOW_FADE: f32 = 0.1;
 
 impl FrameData {
+    /// The lights as the shaders read them.
+    #[must_use]
+    pub fn gpu_lights(&self) -> Vec<GpuLight> {
+        self.lights.iter().map(FrameLight::gpu).collect()
+    }
+
+    /// The lights' names, in light order.
+    #[must_use]
+    pub fn labels(&self) -> Vec<LightLabel> {
+        self.lights.iter().map(|l| l.light.label).collect()
+    }
+
     /// Tells the probe shader the size of the grid of pixels its probes are drawn into.
     pub fn set_probe_grid(&mut self, width: u32, height: u32) {
         (self.frame.probe_width, self.frame.probe_height) = (width, height);
@@ -106,47 +156,6 @@ impl FrameData {
     pub fn measure_from(&mut self, first: usize) {
         self.frame.first_measured = first as u32;
     }
-}
-
-/// A light as the shaders read it, its layers from slot `first_layer` on.
-/// A light's size as PCSS takes it: tan of a sun's angular radius (so a blocker's distance times
-/// it is the penumbra's half width), a spot or point light's radius in metres.
-fn light_size(kind: &LightKind) -> f32 {
-    match *kind {
-        LightKind::Sun { angular_radius, .. } => angular_radius.min(1.5).tan(),
-        LightKind::Spot { radius, .. } | LightKind::Point { radius, .. } => radius,
-    }
-}
-
-fn gpu_light(light: &SceneLight, first_layer: usize, layer_count: usize) -> GpuLight {
-    let mut g = GpuLight {
-        color: light.color.to_array(),
-        kind: kind_id(&light.kind),
-        first_layer: first_layer as u32,
-        layer_count: layer_count as u32,
-        cookie: light.cookie.map_or(-1, |c| c.layer() as i32),
-        bias_constant: light.bias.constant,
-        bias_slope: light.bias.slope,
-        bias_normal: light.bias.normal,
-        bias_scale: light.bias.scale,
-        receiver_plane: light.bias.receiver_plane as u32,
-        method: light.method as u32,
-        shape: shape_id(light.shape),
-        size: light_size(&light.kind),
-        ..GpuLight::zeroed()
-    };
-    match light.kind {
-        LightKind::Sun { direction, .. } => g.direction = direction.to_array(),
-        LightKind::Spot { position, direction, range, inner, outer, .. } => {
-            (g.position, g.direction, g.range) = (position.to_array(), direction.to_array(), range);
-            g.cos_outer = outer.cos();
-            g.cos_inner = inner.cos().max(g.cos_outer + 1e-4);
-            // The cookie is thrown through the cone's own projection, shadowed or not.
-            g.cookie_from_world = spot_projection(position, direction, outer, range, 1).view_proj;
-        }
-        LightKind::Point { position, range, .. } => (g.position, g.range) = (position.to_array(), range),
-    }
-    g
 }
 
 /// The shadow-map layers of one light, each with the casters inside its volume (and inside the
@@ -159,7 +168,7 @@ fn gpu_light(light: &SceneLight, first_layer: usize, layer_count: usize) -> GpuL
 /// a receiver shadows what lies behind it from the light; in the sample nothing does.
 fn layer_draws(
     (light, method): (LightLabel, ShadowMethod),
-    map: &ShadowMap,
+    layers: &[ShadowLayer],
     first_slot: usize,
     (items, index): (&[(DrawItem, Aabb)], &CasterIndex),
     camera: Option<&Mat4>,
@@ -168,7 +177,7 @@ fn layer_draws(
         (item.caster || (method.moments() && item.object.receives_shadows == 1))
             && camera.is_none_or(|vp| intersects_clip_volume(vp, bounds))
     };
-    map.layers
+    layers
         .iter()
         .enumerate()
         .map(|(k, l)| LayerDraw {
@@ -268,27 +277,24 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
         Some(KeptIndex(kept)) => kept.refitted(&bounds),
         None => CasterIndex::new(&bounds),
     };
-    let no_map = ShadowMap::default();
-    let scene_lights = light_list(world);
-    let (mut lights, mut labels, mut layers, mut draws, mut methods) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), 0);
-    for light in &scene_lights {
-        let map = world.get::<ShadowMap>(light.entity).unwrap_or(&no_map);
+    let (mut lights, mut layers, mut draws, mut methods) = (Vec::new(), Vec::new(), Vec::new(), 0);
+    for light in light_list(world) {
         // A light whose layers do not all fit in the array is lit without a shadow, and a planar
         // light has none (its shadow is drawn over the ground instead).
-        let fits = layers.len() + map.layers.len() <= MAX_LAYERS && light.method != ShadowMethod::Planar;
-        let count = if fits { map.layers.len() } else { 0 };
-        let gpu = gpu_light(light, layers.len(), count);
-        lights.push(gpu);
-        labels.push(light.label);
+        let fits = layers.len() + light.layers.len() <= MAX_LAYERS && light.method != ShadowMethod::Planar;
+        let count = if fits { light.layers.len() } else { 0 };
         if count > 0 {
             // With shadows off the pipeline holds no sampling code at all: on a software
             // rasterizer a wide filter's code slows every fragment even where it never runs.
             if settings.shadows {
                 methods |= 1 << light.method as u32;
             }
-            draws.extend(layer_draws((light.label, light.method), map, layers.len(), (&items, &index), cull_to));
-            layers.extend(map.layers.iter().map(|l| GpuLayer {
+            let of = (light.label, light.method);
+            draws.extend(layer_draws(of, &light.layers, layers.len(), (&items, &index), cull_to));
+            // Where a light at a point is; nothing for one infinitely far away (w = 0).
+            let at = light.kind.homogeneous();
+            let origin = (at.truncate() * at.w).to_array();
+            layers.extend(light.layers.iter().map(|l| GpuLayer {
                 clip_from_world: l.clip_from_world,
                 texel_base: l.texel.x,
                 texel_per_metre: l.texel.y,
@@ -298,10 +304,12 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
                 method: light.method as u32,
                 perspective: (light.shape != ShadowShape::Cascades) as u32,
                 bleed: settings.light_bleeding,
-                origin: gpu.position,
+                origin,
                 ..GpuLayer::zeroed()
             }));
         }
+        let first_layer = (layers.len() - count) as u32;
+        lights.push(FrameLight { light, first_layer, layer_count: count as u32, planar_ground: false });
     }
     let frame = Frame {
         clip_from_world,
@@ -321,7 +329,7 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
         texel_view: settings
             .texel_density
             .as_ref()
-            .and_then(|name| scene_lights.iter().position(|l| l.label.to_string() == *name))
+            .and_then(|name| lights.iter().position(|l| l.light.label.to_string() == *name))
             .map_or(0, |i| i as u32 + 1),
         ..Frame::zeroed()
     };
@@ -332,15 +340,15 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
         items[g].0.object.ground_grid = 1;
     }
     let planar = if settings.shadows && main_pass {
-        planar_draws(&scene_lights, &items, settings.planar_ground)
+        planar_draws(&lights, &items, settings.planar_ground)
     } else {
         Vec::new()
     };
     // With planar shadows on the ground for lights that keep their maps, the ground leaves
     // those maps unread (`planar_receiver`, `planar_ground`).
     if settings.shadows && settings.planar_ground && main_pass {
-        for (light, gpu) in scene_lights.iter().zip(&mut lights) {
-            gpu.planar_ground = (gpu.layer_count > 0 && draws_planar(light, true)) as u32;
+        for light in &mut lights {
+            light.planar_ground = light.layer_count > 0 && draws_planar(&light.light, true);
         }
         if let Some(g) = ground(&items) {
             items[g].0.object.planar_receiver = 1;
@@ -348,7 +356,7 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
     }
     world.insert_resource(KeptIndex(index));
     let items = items.into_iter().map(|(item, _)| item).collect();
-    FrameData { frame, lights, labels, layers, items, draws, clip_from_world, joints, draw_order, methods, planar }
+    FrameData { frame, lights, layers, items, draws, clip_from_world, joints, draw_order, methods, planar }
 }
 
 /// The main pass's order: opaque and masked objects front to back, then blended ones back to
@@ -385,15 +393,15 @@ mod tests {
         assert!(data.items.iter().all(|i| i.object.receives_shadows == 1), "all sample surfaces receive");
         // Every light's layers follow the one before's: slots are handed out in light order.
         let mut next = 0;
-        for light in &data.lights {
+        for light in data.gpu_lights() {
             assert_eq!(light.first_layer, next);
             next += light.layer_count;
         }
         assert_eq!(next as usize, data.layers.len());
         let slots: Vec<u32> = data.draws.iter().map(|d| d.slot).collect();
         assert_eq!(slots, (0..next).collect::<Vec<_>>());
-        assert_eq!(data.frame.light_count as usize, data.labels.len());
-        assert_eq!(data.labels[0].to_string(), "sun");
+        assert_eq!(data.frame.light_count as usize, data.lights.len());
+        assert_eq!(data.labels()[0].to_string(), "sun");
         assert_eq!(data.lights[0].layer_count, Settings::default().cascades);
         assert_eq!(data.methods, 1 << Settings::default().method as u32);
         assert_ne!(data.clip_from_world, Mat4::ZERO);

@@ -3,7 +3,6 @@
 //! the same name (reflected by naga), so neither side can change alone.
 
 use crate::components::{Cookie, ShadowMethod};
-use crate::systems::{LightKind, MAX_LIGHTS, ShadowShape};
 use glam::{Mat4, Vec4};
 
 /// Declares a `#[repr(C)]` plain-old-data struct with a `FIELDS` table of its field names and
@@ -234,6 +233,10 @@ gpu_struct! {
     }
 }
 
+/// Most lights the renderer lights with; lights beyond them (in light order) are left dark, and
+/// said so once.
+pub const MAX_LIGHTS: usize = 16;
+
 /// Most shadow-map layers: every light a cube.
 pub const MAX_LAYERS: usize = MAX_LIGHTS * 6;
 
@@ -252,24 +255,6 @@ pub const SHAPE_CASCADES: u32 = 0;
 pub const SHAPE_SINGLE: u32 = 1;
 /// [`GpuLight::shape`]: six cube faces.
 pub const SHAPE_CUBE: u32 = 2;
-
-/// The GPU's number for a light kind.
-pub fn kind_id(kind: &LightKind) -> u32 {
-    match kind {
-        LightKind::Sun { .. } => LIGHT_SUN,
-        LightKind::Spot { .. } => LIGHT_SPOT,
-        LightKind::Point { .. } => LIGHT_POINT,
-    }
-}
-
-/// The GPU's number for a shadow shape.
-pub fn shape_id(shape: ShadowShape) -> u32 {
-    match shape {
-        ShadowShape::Cascades => SHAPE_CASCADES,
-        ShadowShape::Single => SHAPE_SINGLE,
-        ShadowShape::Cube => SHAPE_CUBE,
-    }
-}
 
 /// The constants both languages use, written here once, as WGSL declarations that come before
 /// every shader file.

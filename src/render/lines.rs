@@ -1,7 +1,8 @@
 //! The light volumes drawn as lines over the picture: every shadow layer's clip volume (a sun's
 //! cascade boxes, a spot's frustum, a cube's six face frusta), in its light's colour.
 
-use super::extract::LayerDraw;
+use super::extract::FrameData;
+use crate::light::Kind;
 use super::shaders::{Composed, LINES};
 use crate::shadow::frustum_corners;
 use glam::Mat4;
@@ -15,13 +16,6 @@ pub struct LineVertex {
     /// Linear RGBA.
     pub color: [f32; 4],
 }
-
-/// The colours lines take: a sun's cascades in the cascade tints' order, spots and point
-/// lights in their own.
-const CASCADE_COLOURS: [[f32; 4]; 4] =
-    [[1.0, 0.3, 0.3, 1.0], [0.3, 1.0, 0.3, 1.0], [0.35, 0.45, 1.0, 1.0], [1.0, 0.9, 0.25, 1.0]];
-const SPOT_COLOUR: [f32; 4] = [1.0, 0.6, 0.15, 1.0];
-const POINT_COLOUR: [f32; 4] = [0.3, 0.9, 1.0, 1.0];
 
 /// The twelve edges of the clip volume of `clip_from_world` as line ends, in `color`.
 #[must_use]
@@ -38,22 +32,17 @@ pub fn volume_edges(clip_from_world: &Mat4, color: [f32; 4]) -> Vec<LineVertex> 
         .collect()
 }
 
-/// The line ends of every layer of `layers`, each in its light's colour.
+/// The line ends of every layer of the frame's lights, each in the colour its light's kind gives
+/// it.
 #[must_use]
-pub fn volume_lines(layers: &[LayerDraw]) -> Vec<LineVertex> {
-    let mut cascade = 0;
-    let mut last = None;
-    layers
+pub fn volume_lines(data: &FrameData) -> Vec<LineVertex> {
+    data.lights
         .iter()
-        .flat_map(|layer| {
-            cascade = if last == Some(layer.light) { cascade + 1 } else { 0 };
-            last = Some(layer.light);
-            let color = match layer.light.kind {
-                "sun" => CASCADE_COLOURS[cascade % CASCADE_COLOURS.len()],
-                "spot" => SPOT_COLOUR,
-                _ => POINT_COLOUR,
-            };
-            volume_edges(&layer.clip_from_world, color)
+        .flat_map(|l| {
+            // The draws are in slot order, one per layer.
+            let first = l.first_layer as usize;
+            let layers = data.draws.get(first..first + l.layer_count as usize).unwrap_or(&[]);
+            layers.iter().enumerate().flat_map(|(k, d)| volume_edges(&d.clip_from_world, l.light.kind.volume_colour(k)))
         })
         .collect()
 }

@@ -11,7 +11,7 @@ use super::texture::MaterialTextures;
 use super::timing::PassTimer;
 use crate::assets::{COOKIE_SIZE, cookie_image};
 use crate::components::{AlphaMode, Cookie};
-use crate::systems::MAX_LIGHTS;
+use super::gpu_types::MAX_LIGHTS;
 
 /// The feature that gives the camera's depth buffer 32-bit float depth beside its stencil.
 pub const DEPTH_STENCIL_FEATURES: wgpu::Features = wgpu::Features::DEPTH32FLOAT_STENCIL8;
@@ -222,7 +222,7 @@ impl FrameResources {
     fn write(&self, queue: &wgpu::Queue, data: &FrameData) {
         queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(&data.frame));
         if !data.lights.is_empty() {
-            queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&data.lights));
+            queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&data.gpu_lights()));
         }
         if !data.layers.is_empty() {
             queue.write_buffer(&self.layers, 0, bytemuck::cast_slice(&data.layers));

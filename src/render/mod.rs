@@ -26,7 +26,7 @@ mod texture;
 mod timing;
 mod uniform_array;
 
-pub use extract::{DrawItem, FrameData, LayerDraw, SHADOW_FADE, extract, extract_shadow_maps};
+pub use extract::{DrawItem, FrameData, FrameLight, LayerDraw, SHADOW_FADE, extract, extract_shadow_maps};
 pub use gpu::{Gpu, colour_pass, instance};
 pub use readback::{
     DebugFrame, HEADLESS_FORMAT, Image, probe_visibility, read_picture, render_debug_frame, render_headless, render_png,

@@ -9,13 +9,13 @@
 //! the shadow behind whatever stands on the ground (a box top under a floating cube stays lit).
 //! In the measuring view the same draws write visibility 0 into the light's channel instead.
 
-use super::extract::{DrawItem, FrameData, PlanarDraw};
+use super::extract::{DrawItem, FrameData, FrameLight, PlanarDraw};
 use super::gpu_types::{GpuPlanar, MEASURED_PER_PASS};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
 use super::texture::MaterialTextures;
 use crate::components::ShadowMethod;
-use crate::shadow::{Aabb, GROUND_PLANE, PLANAR_LIFT, flat_from_world, light_point, lights_plane};
-use crate::systems::{LightKind, MAX_LIGHTS, SceneLight};
+use crate::light::{Kind, Light, MAX_LIGHTS};
+use crate::shadow::{Aabb, GROUND_PLANE, PLANAR_LIFT, flat_from_world, lights_plane};
 
 /// How close to the plane (metres) a surface must lie to count as the ground, and how far above
 /// it a caster must reach to be flattened.
@@ -32,14 +32,14 @@ pub fn ground(items: &[(DrawItem, Aabb)]) -> Option<usize> {
 
 /// Draws planar shadows onto the ground: its method is planar, or it casts a shadow and
 /// `ground_too` (the settings' planar_ground) gives every shadowed light planar shadows there.
-pub fn draws_planar(light: &SceneLight, ground_too: bool) -> bool {
+pub fn draws_planar(light: &Light, ground_too: bool) -> bool {
     light.shadowed && (light.method == ShadowMethod::Planar || ground_too)
 }
 
 /// The planar shadows of `lights` (a light's index is its place in the list) over the ground of
 /// `items`, for the lights [`draws_planar`] picks: none without a ground, and none from a light
 /// below it or a sun shining up.
-pub fn planar_draws(lights: &[SceneLight], items: &[(DrawItem, Aabb)], ground_too: bool) -> Vec<PlanarDraw> {
+pub fn planar_draws(lights: &[FrameLight], items: &[(DrawItem, Aabb)], ground_too: bool) -> Vec<PlanarDraw> {
     let Some(ground) = ground(items) else { return Vec::new() };
     let g = &items[ground].0.object;
     let casters: Vec<usize> =
@@ -47,14 +47,9 @@ pub fn planar_draws(lights: &[SceneLight], items: &[(DrawItem, Aabb)], ground_to
     lights
         .iter()
         .enumerate()
-        .filter(|(_, l)| draws_planar(l, ground_too))
+        .filter(|(_, l)| draws_planar(&l.light, ground_too))
         .filter_map(|(index, l)| {
-            let point = match l.kind {
-                LightKind::Sun { direction, .. } => light_point(None, direction),
-                LightKind::Spot { position, .. } | LightKind::Point { position, .. } => {
-                    light_point(Some(position), glam::Vec3::ZERO)
-                }
-            };
+            let point = l.light.kind.homogeneous();
             lights_plane(GROUND_PLANE, point).then(|| PlanarDraw {
                 uniform: GpuPlanar {
                     flat_from_world: flat_from_world(GROUND_PLANE, point),

@@ -136,7 +136,7 @@ pub struct DebugFrame {
     pub position: Vec<Vec4>,
     /// xyz: its unit normal; w: its view depth in metres.
     pub normal: Vec<Vec4>,
-    /// One column per light ([`crate::systems::light_list`] order), one entry per pixel: the
+    /// One column per light ([`crate::light::light_list`] order), one entry per pixel: the
     /// shadow visibility (0 shadowed .. 1 lit), or -1 where the light does not reach the surface
     /// and no test was made.
     pub visibility: Vec<Vec<f32>>,
@@ -175,7 +175,7 @@ pub fn render_debug_frame(
     ];
     prime_sdsm(gpu, renderer, app, (width, height))?;
     let views = textures.each_ref().map(|t| t.create_view(&Default::default()));
-    let lights = crate::systems::light_list(&mut app.world).len();
+    let lights = crate::light::light_list(&mut app.world).len();
     let mut visibility = Vec::with_capacity(lights);
     let mut first = 0;
     loop {
@@ -203,7 +203,7 @@ pub fn probe_visibility(
     app: &mut App,
     points: &[crate::assets::Vertex],
 ) -> Result<Vec<Vec<f32>>, RenderError> {
-    let lights = crate::systems::light_list(&mut app.world).len();
+    let lights = crate::light::light_list(&mut app.world).len();
     if points.is_empty() {
         return Ok(vec![Vec::new(); lights]);
     }

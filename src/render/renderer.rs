@@ -19,7 +19,7 @@ use crate::assets::{MeshLibrary, TextureLibrary};
 use crate::components::{Camera, DirectionalLight, Notices, SeenByCamera};
 use crate::settings::Settings;
 use crate::shadow::FitMode;
-use crate::systems::LightLabel;
+use crate::light::LightLabel;
 use bevy_ecs::prelude::*;
 
 /// Where a frame goes: a picture, or the measuring targets.
@@ -291,7 +291,7 @@ impl Renderer {
                 self.main.encode(queue, &mut encoder, (target, &depth), &data, drawables, timer);
                 if settings.light_volumes {
                     let lines = self.lines.get_or_insert_with(|| LinePass::new(device, self.format));
-                    let vertices = volume_lines(&data.draws);
+                    let vertices = volume_lines(&data);
                     lines.encode(device, queue, &mut encoder, target, &data.clip_from_world, &vertices);
                 }
             }

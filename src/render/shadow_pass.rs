@@ -17,7 +17,7 @@ use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
 use crate::components::{AlphaMode, ShadowMethod};
 use crate::settings::{ShadowDepth, ShadowFaces};
-use crate::systems::LightLabel;
+use crate::light::LightLabel;
 use bevy_ecs::prelude::*;
 
 /// The shadow-map array and the views the two passes use.

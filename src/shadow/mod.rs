@@ -23,6 +23,6 @@ pub use fit::{
     CUBE_FACES, LightProjection, MAX_MAP_HALF_ANGLE, MAX_SPOT_HALF_ANGLE, MIN_SPOT_HALF_ANGLE, cube_face,
     cube_projections, depth_terms, light_range, light_view, near_plane, spot_cone, spot_projection, view_distance,
 };
-pub use planar::{GROUND_PLANE, PLANAR_LIFT, flat_from_world, light_point, lights_plane};
+pub use planar::{GROUND_PLANE, PLANAR_LIFT, flat_from_world, lights_plane};
 pub use poisson::{poisson_disc, wgsl_array};
 pub use sdsm::{SDSM_BINS, SDSM_WORDS, VisibleSamples, bin_of, bin_start, from_order_key, initial_words, order_key};

@@ -2,7 +2,7 @@
 //! stencil buffer): every caster flattened onto one receiving plane along the rays from the
 //! light, drawn over the plane as that light's shadow. Exact on the plane, absent everywhere else.
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec4};
 
 /// The plane planar shadows fall on, as (normal, d) with `normal · p + d = 0`: the ground, y = 0.
 pub const GROUND_PLANE: Vec4 = Vec4::new(0.0, 1.0, 0.0, 0.0);
@@ -10,16 +10,6 @@ pub const GROUND_PLANE: Vec4 = Vec4::new(0.0, 1.0, 0.0, 0.0);
 /// How far above the plane flattened casters are drawn, in metres: enough that the depth test
 /// does not mix them up with the plane itself (z-fighting), too little to see.
 pub const PLANAR_LIFT: f32 = 0.005;
-
-/// A light as a homogeneous point: where it is (w = 1), or for a sun travelling along
-/// `direction`, the direction towards it (w = 0, a point at infinity).
-#[must_use]
-pub fn light_point(position: Option<Vec3>, direction: Vec3) -> Vec4 {
-    match position {
-        Some(p) => p.extend(1.0),
-        None => (-direction).extend(0.0),
-    }
-}
 
 /// True when `light` (homogeneous) lies on the lit side of `plane`: a lamp above the ground, a sun
 /// shining down onto it. Otherwise it throws no planar shadow at all.
@@ -42,6 +32,7 @@ pub fn flat_from_world(plane: Vec4, light: Vec4) -> Mat4 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     fn flatten(m: &Mat4, p: Vec3) -> (Vec3, f32) {
         let h = *m * p.extend(1.0);
@@ -51,7 +42,7 @@ mod tests {
     #[test]
     fn a_lamp_flattens_points_onto_the_plane_along_its_rays() {
         let lamp = Vec3::new(1.0, 4.0, -2.0);
-        let m = flat_from_world(GROUND_PLANE, light_point(Some(lamp), Vec3::ZERO));
+        let m = flat_from_world(GROUND_PLANE, lamp.extend(1.0));
         for p in [Vec3::new(0.0, 1.0, 0.0), Vec3::new(3.0, 2.5, 1.0), Vec3::new(-5.0, 0.01, 7.0)] {
             let (q, w) = flatten(&m, p);
             assert!(q.y.abs() < 1e-5, "{q} is on the plane");
@@ -66,7 +57,7 @@ mod tests {
     #[test]
     fn a_sun_flattens_every_point_along_its_direction() {
         let direction = Vec3::new(1.0, -2.0, 0.5).normalize();
-        let m = flat_from_world(GROUND_PLANE, light_point(None, direction));
+        let m = flat_from_world(GROUND_PLANE, (-direction).extend(0.0));
         let p = Vec3::new(0.5, 3.0, -1.0);
         let (q, w) = flatten(&m, p);
         assert!(w > 0.0);
@@ -76,12 +67,12 @@ mod tests {
 
     #[test]
     fn lights_below_the_plane_or_suns_shining_up_throw_none() {
-        assert!(lights_plane(GROUND_PLANE, light_point(Some(Vec3::new(0.0, 2.0, 0.0)), Vec3::ZERO)));
-        assert!(!lights_plane(GROUND_PLANE, light_point(Some(Vec3::new(0.0, -1.0, 0.0)), Vec3::ZERO)));
-        assert!(!lights_plane(GROUND_PLANE, light_point(Some(Vec3::ZERO), Vec3::ZERO)));
-        assert!(lights_plane(GROUND_PLANE, light_point(None, Vec3::NEG_Y)));
-        assert!(!lights_plane(GROUND_PLANE, light_point(None, Vec3::Y)));
-        assert!(!lights_plane(GROUND_PLANE, light_point(None, Vec3::X)), "a grazing sun");
-        assert!(!lights_plane(GROUND_PLANE, light_point(None, Vec3::NAN)), "no number, no shadow");
+        assert!(lights_plane(GROUND_PLANE, Vec3::new(0.0, 2.0, 0.0).extend(1.0)));
+        assert!(!lights_plane(GROUND_PLANE, Vec3::new(0.0, -1.0, 0.0).extend(1.0)));
+        assert!(!lights_plane(GROUND_PLANE, Vec3::ZERO.extend(1.0)));
+        assert!(lights_plane(GROUND_PLANE, (-Vec3::NEG_Y).extend(0.0)));
+        assert!(!lights_plane(GROUND_PLANE, (-Vec3::Y).extend(0.0)));
+        assert!(!lights_plane(GROUND_PLANE, (-Vec3::X).extend(0.0)), "a grazing sun");
+        assert!(!lights_plane(GROUND_PLANE, (-Vec3::NAN).extend(0.0)), "no number, no shadow");
     }
 }

@@ -1,21 +1,16 @@
-//! Light matrices and dirty flags: each shadowed light's layers (the sun's cascades, a spot's
-//! cone, a cube's faces), each marked dirty when its map must be drawn again, and given a new
+//! Light matrices and dirty flags: each shadowed light's layers (as its kind fits them, in
+//! [`crate::light`]), each marked dirty when its map must be drawn again, and given a new
 //! static version when the part of it drawn from casters at rest changed (see
 //! [`super::casters`]).
 
 use super::casters::CasterChanges;
 use crate::components::{
-    Camera, DirectionalLight, Mesh, Notices, PointLight, SeenByCamera, ShadowCaster, ShadowLayer, ShadowMap, SpotLight,
-    Transform, Viewport, WorldBounds,
+    Camera, Mesh, Notices, SeenByCamera, ShadowCaster, ShadowLayer, ShadowMap, Transform, Viewport, WorldBounds,
 };
+use crate::light::{CameraView, Kind, LayerContext, LayerFit, LightSources};
 use crate::settings::{CasterCulling, Settings};
-use crate::shadow::{
-    Aabb, ClipVolume, FitMode, LightProjection, SunScene, ViewFrustum, VisibleSamples, blend_bands, cube_projections,
-    fit_seen, fit_slice, frustum_corners, geometric_splits, intersects_clip_volume, split_depths, spot_cone,
-    spot_projection,
-};
+use crate::shadow::{Aabb, ClipVolume, frustum_corners, intersects_clip_volume};
 use bevy_ecs::prelude::*;
-use glam::Vec3;
 use std::collections::HashSet;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -53,16 +48,15 @@ fn usable_boxes<'a>(
     usable
 }
 
-/// Recomputes every shadowed light's layers and sets their dirty flags.
+/// Recomputes every shadowed light's layers (each kind fits its own: a sun's cascades, a spot's
+/// cone, a cube's faces) and sets their dirty flags.
 ///
-/// Each sun gets one layer per cascade, fitted to its slice of the camera's view; a spot light one
-/// layer from its cone, or six (a cube) when its cone is wider than one map holds; a point light
-/// six. A layer is dirty when it is new, its matrix changed (in stable mode only when the cascade
-/// snaps to a new texel or its split changes), its light changed (direction, cone, range, pose),
-/// the map size, faces, culling or cube margin changed, or a caster that changed this update
-/// overlaps its volume, before or after the change. Bias and method are applied when the map is
-/// sampled, so they dirty nothing.
-#[allow(clippy::type_complexity, clippy::too_many_arguments)]
+/// A layer is dirty when it is new, its matrix changed (in stable mode a cascade only when it
+/// snaps to a new texel or its split changes; a light whose pose, cone or range changed moves
+/// its matrices), the map size, faces, culling or cube margin changed, or a caster that changed
+/// this update overlaps its volume, before or after the change. Colour, bias and method are
+/// applied when the map is sampled, so they dirty nothing.
+#[allow(clippy::too_many_arguments)]
 pub fn update_light_matrices(
     settings: Res<Settings>,
     viewport: Res<Viewport>,
@@ -73,18 +67,11 @@ pub fn update_light_matrices(
     seen: Option<Res<SeenByCamera>>,
     cameras: Query<(&Camera, Ref<Transform>)>,
     boxes: Query<(Entity, &WorldBounds, Has<ShadowCaster>, Has<Mesh>), Or<(With<ShadowCaster>, With<Mesh>)>>,
-    mut suns: Query<(Ref<DirectionalLight>, &mut ShadowMap), (Without<SpotLight>, Without<PointLight>)>,
-    mut spots: Query<
-        (Ref<SpotLight>, Ref<Transform>, &mut ShadowMap),
-        (Without<DirectionalLight>, Without<PointLight>),
-    >,
-    mut points: Query<
-        (Ref<PointLight>, Ref<Transform>, &mut ShadowMap),
-        (Without<DirectionalLight>, Without<SpotLight>),
-    >,
+    lights: LightSources,
+    mut maps: Query<&mut ShadowMap>,
 ) {
     // A new map size, face choice, culling, cube seams or spot limit changes every map.
-    let maps = (
+    let options = (
         settings.shadow_map_size,
         settings.shadow_faces,
         settings.caster_culling,
@@ -93,85 +80,28 @@ pub fn update_light_matrices(
     );
     // Culled to the camera's view, what a map holds changes whenever the camera moves.
     let camera_moved = cameras.iter().any(|(_, t)| t.is_changed());
-    let all_dirty =
-        last_maps.replace(maps) != Some(maps) || (settings.caster_culling == CasterCulling::CameraView && camera_moved);
-    let camera = cameras.iter().next().map(|(c, t)| (*c, *t));
+    let all_dirty = last_maps.replace(options) != Some(options)
+        || (settings.caster_culling == CasterCulling::CameraView && camera_moved);
+    let camera = cameras.iter().next().map(|(c, t)| (c, t.into_inner()));
     // The shortcut of culling casters to the camera's view keeps only those the camera sees.
     let in_view = |b: &Aabb| match (settings.caster_culling, camera) {
-        (CasterCulling::CameraView, Some((c, t))) => intersects_clip_volume(&c.view_proj(&t, viewport.aspect()), b),
+        (CasterCulling::CameraView, Some((c, t))) => intersects_clip_volume(&c.view_proj(t, viewport.aspect()), b),
         _ => true,
     };
     // Everything that casts must lie inside a cascade's depth range, and everything that can be
     // seen (has a mesh) in front of its far plane.
     let scene = usable_boxes(boxes.iter(), in_view, &mut told, notices.as_deref_mut());
-    let size = settings.shadow_map_size;
-    let cube = |at: Vec3, range: f32| {
-        let margin = if settings.cube_seams { crate::settings::CUBE_MARGIN } else { 0 };
-        cube_projections(at, range, size, margin).map(|fit| (fit, f32::INFINITY, 0.0)).to_vec()
+    let context = LayerContext {
+        settings: &settings,
+        view: camera.map(|(camera, transform)| CameraView { camera, transform, aspect: viewport.aspect() }),
+        scene: &scene,
+        seen: seen.as_deref().map(|s| &s.0),
     };
-    for (sun, mut map) in &mut suns {
-        let fits = match camera {
-            Some((c, t)) => {
-                let seen = seen.as_deref().map(|s| &s.0);
-                cascades(sun.direction, (&c, &t, viewport.aspect()), &settings, &scene, seen)
-            }
-            None => Vec::new(),
-        };
-        refresh_layers(&mut map, &fits, all_dirty || sun.is_changed(), &changes);
+    for source in lights.all() {
+        if let Ok(mut map) = maps.get_mut(source.entity) {
+            refresh_layers(&mut map, &source.kind.layers(&context), all_dirty, &changes);
+        }
     }
-    for (spot, transform, mut map) in &mut spots {
-        let (at, forward) = (transform.translation, transform.forward());
-        let fits = if spot_cone(spot.inner_angle, spot.outer_angle).1 <= settings.spot_map_limit {
-            vec![(spot_projection(at, forward, spot.outer_angle, spot.range, size), f32::INFINITY, 0.0)]
-        } else {
-            cube(at, spot.range)
-        };
-        refresh_layers(&mut map, &fits, all_dirty || spot.is_changed() || transform.is_changed(), &changes);
-    }
-    for (point, transform, mut map) in &mut points {
-        let fits = cube(transform.translation, point.range);
-        refresh_layers(&mut map, &fits, all_dirty || point.is_changed() || transform.is_changed(), &changes);
-    }
-}
-
-/// The sun's cascades for the camera: each projection with the view depth where it ends and the
-/// width of its blend band. With the SDSM fit and what the camera saw, the splits span the view
-/// depths seen and each box holds its slice's visible pixels (a slice where nothing was seen is
-/// fitted stable).
-fn cascades(
-    direction: glam::Vec3,
-    (camera, transform, aspect): (&Camera, &Transform, f32),
-    settings: &Settings,
-    scene: &[(Aabb, bool)],
-    seen: Option<&VisibleSamples>,
-) -> Vec<(LightProjection, f32, f32)> {
-    let frustum =
-        ViewFrustum { position: transform.translation, rotation: transform.rotation, fov_y: camera.fov_y, aspect };
-    let far = camera.shadow_far(settings.shadow_distance);
-    let seen = seen.filter(|_| settings.fit_mode == FitMode::Sdsm);
-    let seen_depths = seen.and_then(|s| s.depths).map(|(n, f)| (n.max(camera.near), f.min(far))).filter(|(n, f)| n < f);
-    let count = settings.cascades as usize;
-    let depths = match (seen_depths, settings.first_cascade_far) {
-        (Some((n, f)), _) => split_depths(n, f, count, settings.split_lambda),
-        (None, Some(first)) => geometric_splits(camera.near, first, far, count),
-        (None, None) => split_depths(camera.near, far, count, settings.split_lambda),
-    };
-    let bands = blend_bands(&depths, settings.cascade_blend);
-    let sun = SunScene::from_boxes(direction, scene.iter().copied());
-    let res = settings.shadow_map_size;
-    (0..bands.len())
-        .map(|i| {
-            // A cascade starts inside the previous one's blend band, so both cover the band.
-            let start = if i == 0 { depths[0] } else { depths[i] - bands[i - 1] };
-            let slice = (start, depths[i + 1]);
-            let seen_box = seen.map(|s| s.slice_box(slice, &sun.light_from_world())).filter(|b| !b.is_empty());
-            let fit = match seen_box {
-                Some(b) => fit_seen(&sun, &b, res),
-                None => fit_slice(&sun, &frustum, slice, settings.fit_mode, res),
-            };
-            (fit, depths[i + 1], bands[i])
-        })
-        .collect()
 }
 
 /// A number never handed out before in this process: the version of a layer's new contents.
@@ -196,11 +126,11 @@ fn touches(clip_from_world: &glam::Mat4, changes: &[Aabb]) -> bool {
 
 /// Replaces a light's layers with `fits`; each layer keeps its version unless it is dirty, and
 /// its static version unless the casters at rest inside it changed (or the layer itself did).
-fn refresh_layers(map: &mut ShadowMap, fits: &[(LightProjection, f32, f32)], forced: bool, changes: &CasterChanges) {
+fn refresh_layers(map: &mut ShadowMap, fits: &[LayerFit], forced: bool, changes: &CasterChanges) {
     let layers = fits
         .iter()
         .enumerate()
-        .map(|(i, (fit, far, blend))| {
+        .map(|(i, LayerFit { projection: fit, far, blend })| {
             let old = map.layers.get(i).filter(|o| o.clip_from_world == fit.view_proj);
             let anew = forced || old.is_none();
             let dirty = anew || touches(&fit.view_proj, &changes.moved);
@@ -234,6 +164,7 @@ fn refresh_layers(map: &mut ShadowMap, fits: &[(LightProjection, f32, f32)], for
 mod tests {
     use super::*;
     use crate::assets::MeshLibrary;
+    use crate::components::{DirectionalLight, PointLight, SpotLight};
     use bevy_ecs::system::RunSystemOnce;
     use glam::{Mat4, Vec3};
 

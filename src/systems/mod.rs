@@ -3,13 +3,11 @@
 mod animate;
 mod camera;
 mod casters;
-mod light_list;
 mod lights;
 mod skeletal;
 
 pub use animate::{bob, spin};
 pub use camera::{ORBIT_DISTANCE, fly_camera, orbit_camera, orbit_facing, orbit_pose, switch_camera};
 pub use casters::{CasterChanges, CasterState, CastersAtRest, REST_AFTER, Tracked, track_casters, update_bounds};
-pub use light_list::{LightKind, LightLabel, MAX_LIGHTS, SceneLight, ShadowShape, light_list};
 pub use lights::update_light_matrices;
 pub use skeletal::{animate_models, follow_nodes, pose_parts, walk};

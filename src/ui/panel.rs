@@ -4,13 +4,13 @@
 //! an untouched panel dirties nothing.
 
 use super::History;
-use crate::components::{DirectionalLight, PointLight, ShadowBias, ShadowMap, ShadowMethod, SpotLight};
+use crate::components::{ShadowBias, ShadowMap, ShadowMethod};
 use crate::eval::live::LiveReport;
 use crate::eval::metrics::Tally;
 use crate::render::ShadowStats;
 use crate::settings::{CasterCulling, MAX_BIAS_SCALE, MomentBits, Settings, ShadowDepth, ShadowFaces};
 use crate::shadow::FitMode;
-use crate::systems::{LightKind, SceneLight, light_list};
+use crate::light::{Kind, Light, light_list};
 use bevy_ecs::prelude::*;
 use egui::{CollapsingHeader, Color32, ComboBox, Slider, Ui};
 
@@ -270,7 +270,7 @@ fn lights(ui: &mut Ui, world: &mut World) {
     }
 }
 
-fn one_light(ui: &mut Ui, world: &mut World, light: &SceneLight, settings: &Settings) {
+fn one_light(ui: &mut Ui, world: &mut World, light: &Light, settings: &Settings) {
     let e = light.entity;
     let mut shadowed = light.shadowed;
     ui.checkbox(&mut shadowed, "casts a shadow");
@@ -313,35 +313,18 @@ fn one_light(ui: &mut Ui, world: &mut World, light: &SceneLight, settings: &Sett
     light_size(ui, world, light);
 }
 
-/// The light's size, which PCSS and the soft truth take.
-fn light_size(ui: &mut Ui, world: &mut World, light: &SceneLight) {
-    let e = light.entity;
-    match light.kind {
-        LightKind::Sun { angular_radius, .. } => {
-            let mut degrees = angular_radius.to_degrees();
-            ui.add(slide(&mut degrees, 0.0..=5.0).text("disc radius (°)"));
-            if degrees != angular_radius.to_degrees()
-                && let Some(mut sun) = world.get_mut::<DirectionalLight>(e)
-            {
-                sun.angular_radius = degrees.to_radians();
-            }
-        }
-        LightKind::Spot { radius, .. } | LightKind::Point { radius, .. } => {
-            let mut r = radius;
-            ui.add(slide(&mut r, 0.0..=1.0).text("radius (m)"));
-            if r != radius {
-                if let Some(mut spot) = world.get_mut::<SpotLight>(e) {
-                    spot.radius = r;
-                } else if let Some(mut point) = world.get_mut::<PointLight>(e) {
-                    point.radius = r;
-                }
-            }
-        }
+/// The light's size, which PCSS and the soft truth take, in its kind's own units.
+fn light_size(ui: &mut Ui, world: &mut World, light: &Light) {
+    let size = light.kind.size_control();
+    let mut value = size.value;
+    ui.add(slide(&mut value, 0.0..=size.max).text(size.label));
+    if value != size.value {
+        light.kind.set_size(world, light.entity, value);
     }
 }
 
 /// The shadow-map viewer: every layer of the last frame's maps, tile by tile, named.
-pub fn map_viewer(ui: &mut Ui, lab: &mut Lab, atlas: egui::TextureId, tiles: &[crate::systems::LightLabel]) {
+pub fn map_viewer(ui: &mut Ui, lab: &mut Lab, atlas: egui::TextureId, tiles: &[crate::light::LightLabel]) {
     use crate::render::map_view::{COLUMNS, TILE, atlas_size};
     let mut open = lab.map_viewer;
     let right = ui.ctx().content_rect().right();
@@ -427,6 +410,7 @@ fn overlay_section(ui: &mut Ui, lab: &mut Lab, live: &Live<'_>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::components::SpotLight;
 
     fn run(world: &mut World, lab: &mut Lab) {
         let ctx = egui::Context::default();

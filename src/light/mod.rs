@@ -1,0 +1,412 @@
+//! Lights as the renderer, the truth and the tools see them: every light of the world, of any
+//! kind, built once a frame into one [`Light`] in one order (suns, then spots, then point lights,
+//! each kind in the order its entities were made). The renderer lights with that order, the
+//! measuring view reports it, the truth casts rays to it, `tune` tunes it and bias files name it.
+//!
+//! Each kind lives in a module of its own (`sun.rs`, `spot.rs`, `point.rs`) that owns its shape,
+//! its layers' projections, what its size means, where its light reaches, how it packs for the
+//! GPU, where the truth's rays go and how it is drawn in the light-volume view. Code outside this module asks a light; it
+//! never matches on its kind or on its label's text. Adding a kind touches its own file, this
+//! one (the [`LightKind`] variant and [`LightSources`]), its component and the shaders.
+
+pub mod clusters;
+mod point;
+mod spot;
+mod sun;
+
+pub use point::Point;
+pub use spot::Spot;
+pub use sun::Sun;
+
+use crate::components::{
+    Camera, Cookie, DirectionalLight, PointLight, ShadowBias, ShadowLayer, ShadowMap, ShadowMethod, SpotLight,
+    Transform,
+};
+pub use crate::render::gpu_types::MAX_LIGHTS;
+use crate::render::gpu_types::{GpuLight, SHAPE_CASCADES, SHAPE_CUBE, SHAPE_SINGLE};
+use crate::settings::Settings;
+use crate::shadow::{Aabb, LightProjection, VisibleSamples, cube_projections};
+use clusters::Reach;
+use bevy_ecs::prelude::*;
+use bevy_ecs::system::{SystemParam, SystemState};
+use glam::{Vec3, Vec4};
+
+/// How a light's shadow is laid out in layers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShadowShape {
+    /// One orthographic layer per cascade.
+    Cascades,
+    /// One perspective layer.
+    Single,
+    /// Six perspective layers, one per cube face.
+    Cube,
+}
+
+impl ShadowShape {
+    /// Its number on the GPU (`SHAPE_*` in the shaders).
+    #[must_use]
+    pub fn gpu_id(self) -> u32 {
+        match self {
+            ShadowShape::Cascades => SHAPE_CASCADES,
+            ShadowShape::Single => SHAPE_SINGLE,
+            ShadowShape::Cube => SHAPE_CUBE,
+        }
+    }
+}
+
+/// One layer's projection, with the view depth where it ends and the band before that where it
+/// blends into the next (a sun's cascades; infinite and 0 for other layers).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LayerFit {
+    /// World to the layer's clip space, and what it says of texels and depth.
+    pub projection: LightProjection,
+    /// View depth where the layer stops being used.
+    pub far: f32,
+    /// Width of the band before `far` where it blends into the next.
+    pub blend: f32,
+}
+
+impl LayerFit {
+    /// A layer used at every depth.
+    #[must_use]
+    pub fn everywhere(projection: LightProjection) -> LayerFit {
+        LayerFit { projection, far: f32::INFINITY, blend: 0.0 }
+    }
+}
+
+/// The camera a sun's cascades are fitted to: its lens, where it is and its aspect ratio.
+#[derive(Clone, Copy, Debug)]
+pub struct CameraView<'a> {
+    /// Its lens.
+    pub camera: &'a Camera,
+    /// Where it is and which way it looks.
+    pub transform: &'a Transform,
+    /// Width over height of the picture.
+    pub aspect: f32,
+}
+
+/// What a light's layers are fitted to besides the light itself.
+#[derive(Clone, Copy, Debug)]
+pub struct LayerContext<'a> {
+    /// Map size, cascades, cube seams, the widest spot one map takes.
+    pub settings: &'a Settings,
+    /// The camera, if there is one.
+    pub view: Option<CameraView<'a>>,
+    /// The boxes fitting can use, each with whether it casts a shadow.
+    pub scene: &'a [(Aabb, bool)],
+    /// What the camera saw (the SDSM fit).
+    pub seen: Option<&'a VisibleSamples>,
+}
+
+impl LayerContext<'_> {
+    /// The six faces of a shadow cube at `at` reaching `range`, with the margin the cube seams
+    /// take when they are handled.
+    #[must_use]
+    pub fn cube(&self, at: Vec3, range: f32) -> Vec<LayerFit> {
+        let margin = if self.settings.cube_seams { crate::settings::CUBE_MARGIN } else { 0 };
+        cube_projections(at, range, self.settings.shadow_map_size, margin).map(LayerFit::everywhere).to_vec()
+    }
+}
+
+/// A light's size as a person sets it: the number, what it is and the largest a slider offers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SizeControl {
+    /// The size in the units `label` names.
+    pub value: f32,
+    /// What the number is ("disc radius (°)").
+    pub label: &'static str,
+    /// The largest value the panel's slider offers.
+    pub max: f32,
+}
+
+/// Where a light's rays come from, as the ray-traced truth casts them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Emitter {
+    /// Parallel light from a disc infinitely far away.
+    Distant {
+        /// Unit direction towards the light.
+        towards: Vec3,
+        /// Half the angle its disc covers, in radians.
+        angular_radius: f32,
+    },
+    /// Light from a disc at a point, out to a range, inside a cone.
+    Local {
+        /// Where the light is.
+        position: Vec3,
+        /// Distance at which it gives nothing.
+        range: f32,
+        /// Radius of its disc (or sphere) in metres.
+        radius: f32,
+        /// The way its disc faces, or none for a sphere (which always faces the receiver).
+        facing: Option<Vec3>,
+        /// Cosine of the cone's half angle around `facing`, outside which it gives nothing
+        /// (-1: every way).
+        cos_cone: f32,
+    },
+}
+
+/// What every light kind answers. Each kind implements it in its own module.
+pub trait Kind {
+    /// Its name's first word ("sun", "spot", "point").
+    fn word(&self) -> &'static str;
+    /// The first light of this kind is named by the word alone ("sun", not "sun 1"): kinds a
+    /// scene usually has one of.
+    fn first_unnumbered(&self) -> bool {
+        false
+    }
+    /// How its shadow is laid out in layers.
+    fn shape(&self, settings: &Settings) -> ShadowShape;
+    /// Its shadow's layers: their projections, in layer order.
+    fn layers(&self, context: &LayerContext) -> Vec<LayerFit>;
+    /// Its size as soft shadows take it: tan of a distant light's angular radius (a blocker's
+    /// distance times it is the penumbra's half width), or a local light's radius in metres.
+    fn penumbra_size(&self) -> f32;
+    /// Its size as a person sets it.
+    fn size_control(&self) -> SizeControl;
+    /// Sets the size of `entity`'s light of this kind, in [`Kind::size_control`]'s units.
+    fn set_size(&self, world: &mut World, entity: Entity, size: f32);
+    /// Where its light can arrive (the clusters list it there).
+    fn reach(&self) -> Reach;
+    /// Writes its kind, pose and shape into `gpu` (the rest is the same for every kind).
+    fn pack(&self, gpu: &mut GpuLight);
+    /// Where the truth's rays to it go.
+    fn emitter(&self) -> Emitter;
+    /// Where it is as a homogeneous point: w = 1 for a light at a point, w = 0 for a direction
+    /// towards a light infinitely far away.
+    fn homogeneous(&self) -> Vec4;
+    /// The colour of its layer `layer`'s volume in the light-volume view.
+    fn volume_colour(&self, layer: usize) -> [f32; 4];
+}
+
+/// What a light is, where it is and how big: everything that shapes its light and its shadow.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightKind {
+    /// Parallel light from far away.
+    Sun(Sun),
+    /// Light from a point inside a cone.
+    Spot(Spot),
+    /// Light from a point every way.
+    Point(Point),
+}
+
+/// `$body` with `$k` bound to whichever kind `$kind` holds.
+macro_rules! each_kind {
+    ($kind:expr, $k:ident => $body:expr) => {
+        match $kind {
+            LightKind::Sun($k) => $body,
+            LightKind::Spot($k) => $body,
+            LightKind::Point($k) => $body,
+        }
+    };
+}
+
+impl Kind for LightKind {
+    fn word(&self) -> &'static str {
+        each_kind!(self, k => k.word())
+    }
+    fn first_unnumbered(&self) -> bool {
+        each_kind!(self, k => k.first_unnumbered())
+    }
+    fn shape(&self, settings: &Settings) -> ShadowShape {
+        each_kind!(self, k => k.shape(settings))
+    }
+    fn layers(&self, context: &LayerContext) -> Vec<LayerFit> {
+        each_kind!(self, k => k.layers(context))
+    }
+    fn penumbra_size(&self) -> f32 {
+        each_kind!(self, k => k.penumbra_size())
+    }
+    fn size_control(&self) -> SizeControl {
+        each_kind!(self, k => k.size_control())
+    }
+    fn set_size(&self, world: &mut World, entity: Entity, size: f32) {
+        each_kind!(self, k => k.set_size(world, entity, size))
+    }
+    fn reach(&self) -> Reach {
+        each_kind!(self, k => k.reach())
+    }
+    fn pack(&self, gpu: &mut GpuLight) {
+        each_kind!(self, k => k.pack(gpu))
+    }
+    fn emitter(&self) -> Emitter {
+        each_kind!(self, k => k.emitter())
+    }
+    fn homogeneous(&self) -> Vec4 {
+        each_kind!(self, k => k.homogeneous())
+    }
+    fn volume_colour(&self, layer: usize) -> [f32; 4] {
+        each_kind!(self, k => k.volume_colour(layer))
+    }
+}
+
+/// A light's name: its kind's word and its number among the lights of that kind ("sun", "sun
+/// 2", "spot 1", "point 1"). Bias files and reports use it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct LightLabel {
+    /// Its kind's word.
+    pub word: &'static str,
+    /// 1 for the first light of its kind.
+    pub number: usize,
+    /// Written as the word alone (the first of a kind named so).
+    pub bare: bool,
+}
+
+impl std::fmt::Display for LightLabel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.bare { write!(f, "{}", self.word) } else { write!(f, "{} {}", self.word, self.number) }
+    }
+}
+
+/// One light as the renderer, the truth and the tools see it, built once a frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Light {
+    /// Its entity.
+    pub entity: Entity,
+    /// Its name.
+    pub label: LightLabel,
+    /// Its kind, pose and size.
+    pub kind: LightKind,
+    /// How its shadow is laid out.
+    pub shape: ShadowShape,
+    /// Linear RGB colour times intensity.
+    pub color: Vec3,
+    /// It casts a shadow (it has a [`ShadowMap`]).
+    pub shadowed: bool,
+    /// Its shadow bias (its own, or the settings').
+    pub bias: ShadowBias,
+    /// How its shadow map is sampled (its own, or the settings').
+    pub method: ShadowMethod,
+    /// The image its light is thrown through (spot lights only).
+    pub cookie: Option<Cookie>,
+    /// Its shadow's layers as the update fitted them (none when it casts no shadow).
+    pub layers: Vec<ShadowLayer>,
+}
+
+impl Light {
+    /// Its size as soft shadows take it (see [`Kind::penumbra_size`]).
+    #[must_use]
+    pub fn size(&self) -> f32 {
+        self.kind.penumbra_size()
+    }
+}
+
+/// One light of the world before its settings are looked up: its entity, kind and colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Source {
+    /// Its entity.
+    pub entity: Entity,
+    /// Its kind, pose and size.
+    pub kind: LightKind,
+    /// Linear RGB colour times intensity.
+    pub color: Vec3,
+}
+
+/// Reads the lights of every kind from the world: the one place that queries each kind's
+/// component.
+#[derive(SystemParam)]
+pub struct LightSources<'w, 's> {
+    suns: Query<'w, 's, (Entity, &'static DirectionalLight)>,
+    spots: Query<'w, 's, (Entity, &'static SpotLight, &'static Transform)>,
+    points: Query<'w, 's, (Entity, &'static PointLight, &'static Transform)>,
+}
+
+impl LightSources<'_, '_> {
+    /// Every light, in light order.
+    #[must_use]
+    pub fn all(&self) -> Vec<Source> {
+        let mut out = Vec::new();
+        let mut add = |mut found: Vec<Source>| {
+            found.sort_by_key(|s| s.entity.index());
+            out.extend(found);
+        };
+        add(self.suns.iter().map(|(e, l)| Sun::source(e, l)).collect());
+        add(self.spots.iter().map(|(e, l, t)| Spot::source(e, l, t)).collect());
+        add(self.points.iter().map(|(e, l, t)| Point::source(e, l, t)).collect());
+        out
+    }
+}
+
+/// The lights of `world` in light order, at most [`MAX_LIGHTS`].
+pub fn light_list(world: &mut World) -> Vec<Light> {
+    let settings = world.get_resource::<Settings>().cloned().unwrap_or_default();
+    // Three plain queries: nothing for the parameter's validation to refuse.
+    let sources = SystemState::<LightSources>::new(world).get(world).map(|s| s.all()).unwrap_or_default();
+    let mut counts = std::collections::HashMap::new();
+    sources
+        .into_iter()
+        .take(MAX_LIGHTS)
+        .map(|Source { entity, kind, color }| {
+            let number = *counts.entry(kind.word()).and_modify(|n| *n += 1).or_insert(1);
+            let map = world.get::<ShadowMap>(entity);
+            Light {
+                entity,
+                label: LightLabel { word: kind.word(), number, bare: number == 1 && kind.first_unnumbered() },
+                kind,
+                shape: kind.shape(&settings),
+                color,
+                shadowed: map.is_some(),
+                bias: world.get::<ShadowBias>(entity).copied().unwrap_or_else(|| settings.shadow_bias()),
+                method: world.get::<ShadowMethod>(entity).copied().unwrap_or(settings.method),
+                cookie: world.get::<Cookie>(entity).copied(),
+                layers: map.map(|m| m.layers.clone()).unwrap_or_default(),
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lights_come_suns_first_with_their_own_names_and_defaults() {
+        let mut world = World::new();
+        world.insert_resource(Settings::default());
+        let spot = world.spawn((SpotLight::default(), Transform::default(), ShadowMap::default())).id();
+        let point = world.spawn((PointLight::default(), Transform::from_xyz(0.0, 3.0, 0.0))).id();
+        let sun = world.spawn((DirectionalLight::default(), ShadowMap::default(), ShadowMethod::Pcf5)).id();
+        let wide = SpotLight { outer_angle: 1.2, ..Default::default() };
+        let bias = ShadowBias { constant: 2.0, slope: 0.0, normal: 1.0, scale: 0.0, receiver_plane: true };
+        let second = world.spawn((wide, Transform::default(), ShadowMap::default(), bias)).id();
+        world.spawn(DirectionalLight::default());
+        let lights = light_list(&mut world);
+        let order: Vec<Entity> = lights.iter().map(|l| l.entity).collect();
+        assert_eq!(order[..4], [sun, order[1], spot, second]);
+        assert_eq!(order[4], point);
+        let names: Vec<String> = lights.iter().map(|l| l.label.to_string()).collect();
+        assert_eq!(names, vec!["sun", "sun 2", "spot 1", "spot 2", "point 1"]);
+        assert_eq!(lights[0].method, ShadowMethod::Pcf5);
+        assert_eq!(lights[2].method, Settings::default().method, "the settings' method by default");
+        assert_eq!((lights[2].bias, lights[3].bias), (Settings::default().shadow_bias(), bias));
+        assert!(!lights[4].shadowed && !lights[1].shadowed && lights[0].shadowed);
+        let shapes: Vec<ShadowShape> = lights.iter().map(|l| l.shape).collect();
+        use ShadowShape::*;
+        assert_eq!(shapes, vec![Cascades, Cascades, Single, Cube, Cube]);
+    }
+
+    #[test]
+    fn no_more_than_the_renderer_takes() {
+        let mut world = World::new();
+        for _ in 0..MAX_LIGHTS + 3 {
+            world.spawn((PointLight::default(), Transform::default()));
+        }
+        assert_eq!(light_list(&mut world).len(), MAX_LIGHTS);
+    }
+
+    #[test]
+    fn sizes_set_through_the_kind_land_on_its_component() {
+        let mut world = World::new();
+        world.insert_resource(Settings::default());
+        let sun = world.spawn(DirectionalLight::default()).id();
+        let spot = world.spawn((SpotLight::default(), Transform::default())).id();
+        let point = world.spawn((PointLight::default(), Transform::default())).id();
+        for light in light_list(&mut world) {
+            light.kind.set_size(&mut world, light.entity, 0.75);
+        }
+        assert!((world.get::<DirectionalLight>(sun).unwrap().angular_radius - 0.75f32.to_radians()).abs() < 1e-7);
+        assert_eq!(world.get::<SpotLight>(spot).unwrap().radius, 0.75);
+        assert_eq!(world.get::<PointLight>(point).unwrap().radius, 0.75);
+        let sizes: Vec<f32> = light_list(&mut world).iter().map(|l| l.kind.size_control().value).collect();
+        assert!(sizes.iter().all(|s| (s - 0.75).abs() < 1e-5), "{sizes:?}");
+    }
+}

@@ -1,0 +1,79 @@
+//! A point light: light from a small sphere every way, shadowed through a cube of six maps.
+
+use super::clusters::Reach;
+use super::{Emitter, Kind, LayerContext, LayerFit, ShadowShape, SizeControl, Source};
+use crate::components::{PointLight, Transform};
+use crate::render::gpu_types::{GpuLight, LIGHT_POINT};
+use crate::settings::Settings;
+use crate::shadow::light_range;
+use bevy_ecs::prelude::*;
+use glam::{Vec3, Vec4};
+
+/// Light from `position` every way, out to `range`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Point {
+    /// Where the light is.
+    pub position: Vec3,
+    /// Distance where it fades to nothing.
+    pub range: f32,
+    /// Radius of its sphere.
+    pub radius: f32,
+}
+
+impl Point {
+    /// The point light of `entity`'s component at `transform`, its range made sensible.
+    pub(super) fn source(entity: Entity, light: &PointLight, transform: &Transform) -> Source {
+        let point = Point { position: transform.translation, range: light_range(light.range), radius: light.radius.max(0.0) };
+        Source { entity, kind: super::LightKind::Point(point), color: light.color * light.intensity }
+    }
+}
+
+impl Kind for Point {
+    fn word(&self) -> &'static str {
+        "point"
+    }
+
+    fn shape(&self, _: &Settings) -> ShadowShape {
+        ShadowShape::Cube
+    }
+
+    fn layers(&self, context: &LayerContext) -> Vec<LayerFit> {
+        context.cube(self.position, self.range)
+    }
+
+    fn penumbra_size(&self) -> f32 {
+        self.radius
+    }
+
+    fn size_control(&self) -> SizeControl {
+        SizeControl { value: self.radius, label: "radius (m)", max: 1.0 }
+    }
+
+    fn set_size(&self, world: &mut World, entity: Entity, radius: f32) {
+        if let Some(mut point) = world.get_mut::<PointLight>(entity) {
+            point.radius = radius;
+        }
+    }
+
+    fn reach(&self) -> Reach {
+        Reach::Sphere { centre: self.position, radius: self.range }
+    }
+
+    fn pack(&self, gpu: &mut GpuLight) {
+        gpu.kind = LIGHT_POINT;
+        (gpu.position, gpu.range) = (self.position.to_array(), self.range);
+    }
+
+    /// A sphere seen from a receiver is a disc facing it.
+    fn emitter(&self) -> Emitter {
+        Emitter::Local { position: self.position, range: self.range, radius: self.radius, facing: None, cos_cone: -1.0 }
+    }
+
+    fn homogeneous(&self) -> Vec4 {
+        self.position.extend(1.0)
+    }
+
+    fn volume_colour(&self, _: usize) -> [f32; 4] {
+        [0.3, 0.9, 1.0, 1.0]
+    }
+}
