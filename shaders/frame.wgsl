@@ -31,9 +31,10 @@ struct Frame {
     // 1 + the index of the light whose shadow-map texel density is shown instead of the
     // shading (0: the shading; see texel_density in main.wgsl).
     texel_view: u32,
+    // The view depths the slices of light clusters span (see lights_at in lights.wgsl).
+    cluster_near: f32,
+    cluster_far: f32,
     _pad_frame0: u32,
-    _pad_frame1: u32,
-    _pad_frame2: u32,
 };
 
 // One light; `kind` is LIGHT_SUN, LIGHT_SPOT or LIGHT_POINT.
@@ -80,5 +81,9 @@ struct GpuLight {
 @group(0) @binding(0) var<uniform> frame: Frame;
 // Cookie images, COOKIE_SIZE² bytes each, four bytes to a word, sixteen to an element.
 @group(0) @binding(3) var<uniform> cookies: array<vec4<u32>, COOKIE_VECTORS>;
-@group(0) @binding(4) var<uniform> lights: array<GpuLight, MAX_LIGHTS>;
-@group(0) @binding(5) var<uniform> layers: array<GpuLayer, MAX_LAYERS>;
+@group(0) @binding(4) var<storage, read> lights: array<GpuLight>;
+@group(0) @binding(5) var<storage, read> layers: array<GpuLayer>;
+// The clustered light lists (src/light/clusters.rs): for each cluster, where its entries start
+// and how many it has (two words a cluster), then the light indices, cluster after cluster, in
+// rows of LIST_WIDTH words of an integer texture (read with list_word in lights.wgsl).
+@group(0) @binding(9) var cluster_lists: texture_2d<u32>;

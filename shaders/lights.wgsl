@@ -2,6 +2,45 @@
 // the point, its shadow test through the light's layers (a sun's cascades, a spot's one map, a
 // cube's six faces) and its cookie.
 
+// The lights a point looks at: its cluster's list (src/light/clusters.rs), or every light for a
+// point outside the camera's view (a probe), which has no cluster.
+struct LightList {
+    first: u32,
+    count: u32,
+    clustered: bool,
+};
+
+// The lights that may reach world point `p` at view depth `depth`: its cluster is the screen tile
+// its clip position falls in and the depth slice (spaced evenly in log depth) it lies in, as
+// ClusterView::cluster_of finds it on the CPU. Past the last slice no light but a sun reaches, and
+// the last slice lists every sun.
+fn lights_at(p: vec3<f32>, depth: f32) -> LightList {
+    let clip = frame.clip_from_world * vec4<f32>(p, 1.0);
+    let ndc = clip.xy / clip.w;
+    if (!(clip.w > 0.0) || any(abs(ndc) > vec2<f32>(1.0))) {
+        return LightList(0u, frame.light_count, false);
+    }
+    let tiles = vec2<f32>(f32(CLUSTER_X), f32(CLUSTER_Y));
+    let tile = min(vec2<u32>(max((ndc * 0.5 + 0.5) * tiles, vec2<f32>(0.0))), vec2<u32>(CLUSTER_X - 1u, CLUSTER_Y - 1u));
+    let t = log(max(depth, frame.cluster_near) / frame.cluster_near) / log(frame.cluster_far / frame.cluster_near);
+    let slice = min(u32(max(t * f32(CLUSTER_Z), 0.0)), CLUSTER_Z - 1u);
+    let cluster = (slice * CLUSTER_Y + tile.y) * CLUSTER_X + tile.x;
+    return LightList(list_word(2u * cluster), list_word(2u * cluster + 1u), true);
+}
+
+// Word `i` of the clustered light lists.
+fn list_word(i: u32) -> u32 {
+    return textureLoad(cluster_lists, vec2<u32>(i % LIST_WIDTH, i / LIST_WIDTH), 0).r;
+}
+
+// Entry `k` of `list`: a light's index in the light array.
+fn list_light(list: LightList, k: u32) -> u32 {
+    if (list.clustered) {
+        return list_word(list.first + k);
+    }
+    return k;
+}
+
 // The cascade of light `light` for view depth `depth` (layer_count when beyond them all) and
 // how far the point is into the band where that cascade blends into the next (0: not at all,
 // 1: fully).
@@ -205,16 +244,16 @@ fn light_sample(i: u32, p: vec3<f32>, n: vec3<f32>, f: Footprint, depth: f32, te
 }
 
 // The debug colour of the first sun's cascade at view depth `depth` (white beyond them all, or
-// without a sun).
-fn cascade_tint(depth: f32) -> vec3<f32> {
+// without a sun); `list` holds every sun.
+fn cascade_tint(depth: f32, list: LightList) -> vec3<f32> {
     var tints = array<vec3<f32>, 4>(
         vec3<f32>(1.0, 0.3, 0.3),
         vec3<f32>(0.3, 1.0, 0.3),
         vec3<f32>(0.35, 0.45, 1.0),
         vec3<f32>(1.0, 0.9, 0.25),
     );
-    for (var i = 0u; i < min(frame.light_count, MAX_LIGHTS); i += 1u) {
-        let light = lights[i];
+    for (var k = 0u; k < list.count; k += 1u) {
+        let light = lights[list_light(list, k)];
         if (light.kind == LIGHT_SUN && light.layer_count > 0u) {
             let pick = pick_cascade(light, depth);
             if (pick.index >= light.layer_count) {

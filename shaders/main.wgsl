@@ -93,14 +93,17 @@ fn shade(world: vec3<f32>, n: vec3<f32>, f: Footprint, r: Response, test: bool, 
     let v = normalize(frame.camera_position - world);
     let depth = dot(world - frame.camera_position, frame.camera_forward);
     var out = Shaded(r.albedo * frame.ambient, vec4<f32>(-1.0));
-    for (var i = 0u; i < min(frame.light_count, MAX_LIGHTS); i += 1u) {
+    // Only the lights of the point's cluster: its cost follows the lights that reach it.
+    let list = lights_at(world, depth);
+    for (var k = 0u; k < list.count; k += 1u) {
+        let i = list_light(list, k);
         // A light that draws planar shadows onto the ground leaves its maps unread there.
         let planar = ground && lights[i].planar_ground == 1u;
         let s = light_sample(i, world, n, f, depth, test && !planar);
         if (s.reach > 0.0) {
-            let k = i - frame.first_measured;
-            if (i >= frame.first_measured && k < MEASURED_PER_PASS) {
-                out.visibility[k] = s.visibility;
+            let m = i - frame.first_measured;
+            if (i >= frame.first_measured && m < MEASURED_PER_PASS) {
+                out.visibility[m] = s.visibility;
             }
             if (frame.toon_bands > 0u) {
                 out.color += lights[i].color * toon(n, s.l, v, r, s.reach * s.cookie, s.visibility);
@@ -110,7 +113,7 @@ fn shade(world: vec3<f32>, n: vec3<f32>, f: Footprint, r: Response, test: bool, 
         }
     }
     if (frame.cascade_debug == 1u) {
-        out.color *= cascade_tint(depth);
+        out.color *= cascade_tint(depth, list);
     }
     return out;
 }

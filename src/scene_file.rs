@@ -19,7 +19,6 @@ use crate::components::*;
 use crate::scene::{SUN_DIRECTION, camera_looking, spawn_model};
 use crate::settings::Settings;
 use crate::shadow::Aabb;
-use crate::light::MAX_LIGHTS;
 use bevy_ecs::prelude::*;
 use glam::{Mat4, Vec3};
 use std::sync::Arc;
@@ -105,18 +104,10 @@ pub fn framing_camera(bounds: Aabb, fov_y: f32) -> (Camera, Vec3, Vec3) {
 /// the model's warnings.
 pub fn spawn_file_scene(world: &mut World, settings: &Settings) -> Result<(), ModelError> {
     let Some(path) = &settings.scene else { return Ok(()) };
-    let mut model = load_model(path)?;
+    let model = load_model(path)?;
     if model.parts.is_empty() {
         let problem = "its scene has no triangle meshes to draw".to_string();
         return Err(ModelError { path: path.display().to_string(), problem });
-    }
-    if model.lights.len() > MAX_LIGHTS {
-        model.warnings.push(format!(
-            "{}: it has {} lights; umbra shades the first {MAX_LIGHTS}",
-            model.name,
-            model.lights.len()
-        ));
-        model.lights.truncate(MAX_LIGHTS);
     }
     let globals = model.globals(&model.rest_locals());
     let bounds = model.rest_bounds();

@@ -5,8 +5,9 @@
 //! follows the lights that reach it, not the lights in the scene. Built on the CPU each frame,
 //! so it needs no compute shaders (GL runs the same path).
 //!
-//! The shaders find a point's cluster as [`ClusterView::cluster_of`] does (`cluster_of` in
-//! lights.wgsl), from its clip position and its view depth.
+//! The shaders find a point's cluster as [`ClusterView::cluster_of`] does (`lights_at` in
+//! lights.wgsl), from its clip position and its view depth, and read its list from
+//! [`LightGrid::words`].
 
 use glam::{Mat4, Vec3, Vec4Swizzles};
 
@@ -50,6 +51,24 @@ pub struct ClusterView {
 }
 
 impl ClusterView {
+    /// The view of a camera whose clip space is `clip_from_world` at `eye` looking along unit
+    /// `forward`, from `near` to `far`, with slices that end where the farthest of `reaches`
+    /// does (so every light reaching past the last slice reaches everywhere: a sun).
+    #[must_use]
+    pub fn new(clip_from_world: Mat4, (eye, forward): (Vec3, Vec3), (near, far): (f32, f32), reaches: &[Reach]) -> Self {
+        let near = if near.is_finite() && near > 0.0 { near } else { 0.1 };
+        let reached = reaches
+            .iter()
+            .filter_map(|r| match *r {
+                Reach::Sphere { centre, radius } => Some((centre - eye).dot(forward) + radius),
+                Reach::Everywhere => None,
+            })
+            .filter(|d| d.is_finite())
+            .fold(near * 2.0, f32::max);
+        let far = if far.is_finite() { reached.min(far) } else { reached };
+        ClusterView { clip_from_world, eye, forward, near, far: far.max(near * 2.0) }
+    }
+
     /// The slice holding view depth `depth` (the first before it, the last past it).
     #[must_use]
     pub fn slice_of(&self, depth: f32) -> u32 {
@@ -63,15 +82,15 @@ impl ClusterView {
         (((ndc * 0.5 + 0.5) * tiles as f32).max(0.0) as u32).min(tiles - 1)
     }
 
-    /// The cluster holding world point `p`, or `None` when it is outside the camera's view
-    /// (behind it, beside it, or past the last slice): such a point has no list and must try
-    /// every light.
+    /// The cluster holding world point `p` (past the last slice, one of the last), or `None` when
+    /// it is outside the camera's view (behind it or beside it): such a point has no list and
+    /// must try every light.
     #[must_use]
     pub fn cluster_of(&self, p: Vec3) -> Option<usize> {
         let clip = self.clip_from_world * p.extend(1.0);
         let depth = (p - self.eye).dot(self.forward);
         let ndc = clip.xy() / clip.w;
-        let inside = clip.w > 0.0 && ndc.abs().max_element() <= 1.0 && depth <= self.far;
+        let inside = clip.w > 0.0 && ndc.abs().max_element() <= 1.0;
         inside.then(|| {
             let (x, y, z) = (Self::tile_of(ndc.x, CLUSTER_X), Self::tile_of(ndc.y, CLUSTER_Y), self.slice_of(depth));
             ((z * CLUSTER_Y + y) * CLUSTER_X + x) as usize
@@ -162,6 +181,15 @@ impl LightGrid {
         LightGrid { ranges, indices }
     }
 
+    /// The lists as the shaders read them: each cluster's first entry and count (its first entry
+    /// counted from the start of the words), then the indices.
+    #[must_use]
+    pub fn words(&self) -> Vec<u32> {
+        let head = 2 * self.ranges.len() as u32;
+        let ranges = self.ranges.iter().flat_map(|[first, count]| [head + first, *count]);
+        ranges.chain(self.indices.iter().copied()).collect()
+    }
+
     /// The lights listed in cluster `c`.
     #[must_use]
     pub fn lights_of(&self, c: usize) -> &[u32] {
@@ -175,16 +203,15 @@ mod tests {
     use super::*;
     use crate::shadow::test_rng::Rng;
 
-    fn view() -> ClusterView {
+    fn view(reaches: &[Reach]) -> ClusterView {
         let proj = glam::camera::rh::proj::directx::perspective(1.0, 16.0 / 9.0, 0.1, 100.0);
         let (eye, forward) = (Vec3::new(0.0, 2.0, 8.0), Vec3::new(0.0, -0.2, -1.0).normalize());
         let view = glam::camera::rh::view::look_to_mat4(eye, forward, Vec3::Y);
-        ClusterView { clip_from_world: proj * view, eye, forward, near: 0.1, far: 60.0 }
+        ClusterView::new(proj * view, (eye, forward), (0.1, 100.0), reaches)
     }
 
     #[test]
     fn every_point_a_sphere_reaches_in_view_lies_in_a_cluster_that_lists_it() {
-        let view = view();
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
         let reaches: Vec<Reach> = (0..200)
             .map(|_| Reach::Sphere {
@@ -193,6 +220,8 @@ mod tests {
             })
             .chain([Reach::Everywhere])
             .collect();
+        let view = view(&reaches);
+        assert!(view.far < 100.0, "the slices end where the farthest light does: {}", view.far);
         let grid = LightGrid::build(&view, &reaches);
         let mut checked = 0;
         for (light, reach) in reaches.iter().enumerate() {
@@ -213,10 +242,10 @@ mod tests {
 
     #[test]
     fn a_small_light_is_listed_in_few_clusters_and_one_out_of_view_in_none() {
-        let view = view();
         let near = Reach::Sphere { centre: Vec3::new(0.0, 0.0, -4.0), radius: 0.5 };
         let behind = Reach::Sphere { centre: Vec3::new(0.0, 2.0, 20.0), radius: 3.0 };
-        let far = Reach::Sphere { centre: Vec3::new(0.0, 0.0, -90.0), radius: 3.0 };
+        let far = Reach::Sphere { centre: Vec3::new(0.0, 0.0, -120.0), radius: 3.0 };
+        let view = view(&[near, behind, far]);
         let grid = LightGrid::build(&view, &[near, behind, far]);
         let listed = |l: u32| (0..CLUSTERS).filter(|&c| grid.lights_of(c).contains(&l)).count();
         assert!((1..=60).contains(&listed(0)), "{} clusters", listed(0));
@@ -225,13 +254,14 @@ mod tests {
 
     #[test]
     fn odd_spheres_and_points_are_turned_away_not_panicked_on() {
-        let view = view();
         let odd = [
             Reach::Sphere { centre: Vec3::NAN, radius: 1.0 },
             Reach::Sphere { centre: Vec3::ZERO, radius: f32::INFINITY },
             Reach::Sphere { centre: Vec3::splat(1e30), radius: 1e30 },
             Reach::Sphere { centre: Vec3::ZERO, radius: 0.0 },
         ];
+        let view = view(&odd);
+        assert!(view.far.is_finite() && view.far > view.near, "{view:?}");
         let grid = LightGrid::build(&view, &odd);
         assert_eq!(grid.ranges.len(), CLUSTERS);
         assert!(grid.indices.len() <= CLUSTERS * odd.len());

@@ -22,7 +22,6 @@ use crate::components::{
     Camera, Cookie, DirectionalLight, PointLight, ShadowBias, ShadowLayer, ShadowMap, ShadowMethod, SpotLight,
     Transform,
 };
-pub use crate::render::gpu_types::MAX_LIGHTS;
 use crate::render::gpu_types::{GpuLight, SHAPE_CASCADES, SHAPE_CUBE, SHAPE_SINGLE};
 use crate::settings::Settings;
 use crate::shadow::{Aabb, LightProjection, VisibleSamples, cube_projections};
@@ -326,7 +325,7 @@ impl LightSources<'_, '_> {
     }
 }
 
-/// The lights of `world` in light order, at most [`MAX_LIGHTS`].
+/// The lights of `world` in light order, every one of them.
 pub fn light_list(world: &mut World) -> Vec<Light> {
     let settings = world.get_resource::<Settings>().cloned().unwrap_or_default();
     // Three plain queries: nothing for the parameter's validation to refuse.
@@ -334,7 +333,6 @@ pub fn light_list(world: &mut World) -> Vec<Light> {
     let mut counts = std::collections::HashMap::new();
     sources
         .into_iter()
-        .take(MAX_LIGHTS)
         .map(|Source { entity, kind, color }| {
             let number = *counts.entry(kind.word()).and_modify(|n| *n += 1).or_insert(1);
             let map = world.get::<ShadowMap>(entity);
@@ -385,12 +383,14 @@ mod tests {
     }
 
     #[test]
-    fn no_more_than_the_renderer_takes() {
+    fn every_light_is_listed_however_many() {
         let mut world = World::new();
-        for _ in 0..MAX_LIGHTS + 3 {
+        for _ in 0..1100 {
             world.spawn((PointLight::default(), Transform::default()));
         }
-        assert_eq!(light_list(&mut world).len(), MAX_LIGHTS);
+        let lights = light_list(&mut world);
+        assert_eq!(lights.len(), 1100);
+        assert_eq!(lights[1099].label.to_string(), "point 1100");
     }
 
     #[test]

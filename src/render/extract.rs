@@ -5,8 +5,9 @@
 //! array: slots are the renderer's business, not the world's.
 
 use super::gpu_types::{Frame, GpuLayer, GpuLight, GpuPlanar, MAX_LAYERS, Object};
-use super::planar::{draws_planar, ground, planar_draws};
+use super::planar::{MAX_PLANAR, ground, planar_draws};
 use crate::components::*;
+use crate::light::clusters::{ClusterView, LightGrid, Reach};
 use crate::light::{Kind, Light, LightLabel, ShadowShape, light_list};
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{Aabb, CasterIndex, intersects_clip_volume};
@@ -80,6 +81,11 @@ pub struct FrameData {
     pub methods: u32,
     /// The planar shadows to draw over the ground, one per light that has them.
     pub planar: Vec<PlanarDraw>,
+    /// Each cluster of the camera's view and the lights it lists (empty for a frame of shadow
+    /// maps alone).
+    pub grid: LightGrid,
+    /// The shadowed lights that are lit without their shadow this frame, each with why.
+    pub shadowless: Vec<(LightLabel, Shadowless)>,
 }
 
 /// One light of a frame: the light, and where its layers are in the shadow-map array.
@@ -128,6 +134,24 @@ pub struct PlanarDraw {
     pub uniform: GpuPlanar,
     /// Indices into [`FrameData::items`] of the casters above the ground.
     pub casters: Vec<usize>,
+}
+
+/// Why a shadowed light is lit without its shadow in a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Shadowless {
+    /// Its layers do not fit in the shadow-map array.
+    ArrayFull,
+    /// The stencil that planar shadows count their lights in has no number left for it.
+    StencilFull,
+}
+
+impl std::fmt::Display for Shadowless {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Shadowless::ArrayFull => write!(f, "the shadow-map array holds at most {MAX_LAYERS} layers"),
+            Shadowless::StencilFull => write!(f, "planar shadows count their lights in 8 bits, {MAX_PLANAR} at most"),
+        }
+    }
 }
 
 /// Shortest distance over which the sun's shadow fades to nothing at the shadow distance, as a
@@ -263,11 +287,11 @@ pub fn extract_shadow_maps(world: &mut World) -> FrameData {
 fn read_world(world: &mut World, main_pass: bool) -> FrameData {
     let settings = world.resource::<Settings>().clone();
     let aspect = world.resource::<Viewport>().aspect();
-    let (clip_from_world, eye, forward) = world
-        .query::<(&Camera, &Transform)>()
-        .iter(world)
-        .next()
-        .map_or((Mat4::ZERO, Vec3::ZERO, Vec3::NEG_Z), |(c, t)| (c.view_proj(t, aspect), t.translation, t.forward()));
+    let (clip_from_world, eye, forward, depths) =
+        world.query::<(&Camera, &Transform)>().iter(world).next().map_or(
+            (Mat4::ZERO, Vec3::ZERO, Vec3::NEG_Z, (0.1, 1.0)),
+            |(c, t)| (c.view_proj(t, aspect), t.translation, t.forward(), (c.near, c.far)),
+        );
     let (mut items, joints) = draw_items(world, main_pass);
     let draw_order = if main_pass { draw_order(&items, eye) } else { Vec::new() };
 
@@ -278,11 +302,16 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
         None => CasterIndex::new(&bounds),
     };
     let (mut lights, mut layers, mut draws, mut methods) = (Vec::new(), Vec::new(), Vec::new(), 0);
+    let mut shadowless = Vec::new();
     for light in light_list(world) {
-        // A light whose layers do not all fit in the array is lit without a shadow, and a planar
-        // light has none (its shadow is drawn over the ground instead).
-        let fits = layers.len() + light.layers.len() <= MAX_LAYERS && light.method != ShadowMethod::Planar;
-        let count = if fits { light.layers.len() } else { 0 };
+        // A light whose layers do not all fit in the array is lit without a shadow (and said
+        // so), and a planar light has none (its shadow is drawn over the ground instead).
+        let mapped = light.method != ShadowMethod::Planar;
+        let fits = layers.len() + light.layers.len() <= MAX_LAYERS;
+        if mapped && !fits {
+            shadowless.push((light.label, Shadowless::ArrayFull));
+        }
+        let count = if fits && mapped { light.layers.len() } else { 0 };
         if count > 0 {
             // With shadows off the pipeline holds no sampling code at all: on a software
             // rasterizer a wide filter's code slows every fragment even where it never runs.
@@ -311,6 +340,14 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
         let first_layer = (layers.len() - count) as u32;
         lights.push(FrameLight { light, first_layer, layer_count: count as u32, planar_ground: false });
     }
+    // The clustered light lists, for the main pass only.
+    let (grid, clusters) = if main_pass {
+        let reaches: Vec<Reach> = lights.iter().map(|l| l.light.kind.reach()).collect();
+        let view = ClusterView::new(clip_from_world, (eye, forward.normalize_or(Vec3::NEG_Z)), depths, &reaches);
+        (LightGrid::build(&view, &reaches), (view.near, view.far))
+    } else {
+        (LightGrid::default(), (0.1, 1.0))
+    };
     let frame = Frame {
         clip_from_world,
         camera_position: eye.to_array(),
@@ -322,6 +359,8 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
         shadows_on: settings.shadows as u32,
         cascade_debug: settings.cascade_debug as u32,
         light_count: lights.len() as u32,
+        cluster_near: clusters.0,
+        cluster_far: clusters.1,
         cube_seams: settings.cube_seams as u32,
         depth_bias_metres: settings.depth_bias_metres,
         pcss_search: settings.pcss_blocker_search as u32,
@@ -339,16 +378,20 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
     {
         items[g].0.object.ground_grid = 1;
     }
-    let planar = if settings.shadows && main_pass {
+    let mut planar = if settings.shadows && main_pass {
         planar_draws(&lights, &items, settings.planar_ground)
     } else {
         Vec::new()
     };
+    for dropped in planar.drain(MAX_PLANAR.min(planar.len())..) {
+        shadowless.push((lights[dropped.uniform.light as usize].light.label, Shadowless::StencilFull));
+    }
     // With planar shadows on the ground for lights that keep their maps, the ground leaves
     // those maps unread (`planar_receiver`, `planar_ground`).
     if settings.shadows && settings.planar_ground && main_pass {
-        for light in &mut lights {
-            light.planar_ground = light.layer_count > 0 && draws_planar(&light.light, true);
+        for p in &planar {
+            let light = &mut lights[p.uniform.light as usize];
+            light.planar_ground = light.layer_count > 0;
         }
         if let Some(g) = ground(&items) {
             items[g].0.object.planar_receiver = 1;
@@ -356,7 +399,20 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
     }
     world.insert_resource(KeptIndex(index));
     let items = items.into_iter().map(|(item, _)| item).collect();
-    FrameData { frame, lights, layers, items, draws, clip_from_world, joints, draw_order, methods, planar }
+    FrameData {
+        frame,
+        lights,
+        layers,
+        items,
+        draws,
+        clip_from_world,
+        joints,
+        draw_order,
+        methods,
+        planar,
+        grid,
+        shadowless,
+    }
 }
 
 /// The main pass's order: opaque and masked objects front to back, then blended ones back to

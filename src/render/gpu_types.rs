@@ -89,9 +89,11 @@ gpu_struct! {
         pub toon_bands: u32,
         /// 1 + the index of the light whose texel density is shown (0: the shading).
         pub texel_view: u32,
+        /// View depth where the first slice of light clusters starts.
+        pub cluster_near: f32,
+        /// View depth where the last slice of light clusters ends.
+        pub cluster_far: f32,
         pub _pad_frame0: u32,
-        pub _pad_frame1: u32,
-        pub _pad_frame2: u32,
     }
 }
 
@@ -233,12 +235,12 @@ gpu_struct! {
     }
 }
 
-/// Most lights the renderer lights with; lights beyond them (in light order) are left dark, and
-/// said so once.
-pub const MAX_LIGHTS: usize = 16;
+/// Most shadow-map layers the array holds (sixteen cubes); the lights whose layers do not fit
+/// are lit without a shadow, and said so.
+pub const MAX_LAYERS: usize = 96;
 
-/// Most shadow-map layers: every light a cube.
-pub const MAX_LAYERS: usize = MAX_LIGHTS * 6;
+/// Words in a row of the texture that holds the clustered light lists.
+pub const LIST_WIDTH: u32 = 4096;
 
 /// Lights the measuring view reports in one pass (a vec4 target of visibilities).
 pub const MEASURED_PER_PASS: usize = 4;
@@ -262,8 +264,11 @@ pub fn prelude() -> String {
     let cookie_vectors = Cookie::ALL.len() * (crate::assets::COOKIE_SIZE * crate::assets::COOKIE_SIZE) as usize / 16;
     let mut out = String::from("// Constants shared with Rust (src/render/gpu_types.rs), written there.\n");
     let mut constant = |name: &str, value: u64| out.push_str(&format!("const {name}: u32 = {value}u;\n"));
-    constant("MAX_LIGHTS", MAX_LIGHTS as u64);
     constant("MAX_LAYERS", MAX_LAYERS as u64);
+    constant("CLUSTER_X", crate::light::clusters::CLUSTER_X as u64);
+    constant("CLUSTER_Y", crate::light::clusters::CLUSTER_Y as u64);
+    constant("CLUSTER_Z", crate::light::clusters::CLUSTER_Z as u64);
+    constant("LIST_WIDTH", LIST_WIDTH as u64);
     constant("MAX_CASCADES", crate::shadow::MAX_CASCADES as u64);
     constant("MEASURED_PER_PASS", MEASURED_PER_PASS as u64);
     constant("COOKIE_SIZE", crate::assets::COOKIE_SIZE as u64);

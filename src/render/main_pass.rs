@@ -2,7 +2,8 @@
 //! then the planar shadows drawn over the ground ([`super::planar`]).
 
 use super::extract::{DrawItem, FrameData};
-use super::gpu_types::{Frame, GpuLayer, GpuLight, MAX_LAYERS};
+use super::gpu_types::{Frame, LIST_WIDTH};
+use super::growing::{GrowingBuffer, GrowingRows};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
 use super::planar::{PlanarPass, PlanarTargets};
 use super::shaders::{Composed, MAIN_MODULE, PLANAR_MODULE};
@@ -10,8 +11,8 @@ use super::shadow_pass::ShadowMaps;
 use super::texture::MaterialTextures;
 use super::timing::PassTimer;
 use crate::assets::{COOKIE_SIZE, cookie_image};
+use super::RenderError;
 use crate::components::{AlphaMode, Cookie};
-use super::gpu_types::MAX_LIGHTS;
 
 /// The feature that gives the camera's depth buffer 32-bit float depth beside its stencil.
 pub const DEPTH_STENCIL_FEATURES: wgpu::Features = wgpu::Features::DEPTH32FLOAT_STENCIL8;
@@ -84,15 +85,31 @@ fn depth_test(format: wgpu::TextureFormat) -> wgpu::DepthStencilState {
     }
 }
 
-/// What bind group 0 holds besides the shadow maps, which are re-created when they grow.
+/// What bind group 0 holds besides the shadow maps, which are re-created when they grow; the
+/// lights, their layers and their clusters grow too, with the scene.
 struct FrameResources {
     layout: wgpu::BindGroupLayout,
     buffer: wgpu::Buffer,
     shadow_sampler: wgpu::Sampler,
     moment_sampler: wgpu::Sampler,
     cookies: wgpu::Buffer,
-    lights: wgpu::Buffer,
-    layers: wgpu::Buffer,
+    lights: GrowingBuffer,
+    layers: GrowingBuffer,
+    cluster_lists: GrowingRows,
+}
+
+/// A read-only storage buffer at `binding`, seen by the fragment stage.
+fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
 }
 
 /// A uniform buffer of `size` bytes at `binding`, seen by `stages`.
@@ -119,7 +136,7 @@ fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buff
 }
 
 /// Bind group 0 of the main pass: the frame, the shadow maps and their samplers, the cookies,
-/// the lights and the layers, the colour maps and their sampler.
+/// the lights and the layers, the colour maps and their sampler, the clusters' light lists.
 fn layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
     let fragment = wgpu::ShaderStages::FRAGMENT;
     let cookie_bytes = Cookie::ALL.len() * (COOKIE_SIZE * COOKIE_SIZE) as usize;
@@ -142,8 +159,8 @@ fn layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
             count: None,
         },
         uniform_entry(3, fragment, cookie_bytes),
-        uniform_entry(4, fragment, MAX_LIGHTS * size_of::<GpuLight>()),
-        uniform_entry(5, fragment, MAX_LAYERS * size_of::<GpuLayer>()),
+        storage_entry(4),
+        storage_entry(5),
         wgpu::BindGroupLayoutEntry {
             binding: 6,
             visibility: fragment,
@@ -158,6 +175,16 @@ fn layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
             binding: 7,
             visibility: fragment,
             ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+            count: None,
+        },
+        wgpu::BindGroupLayoutEntry {
+            binding: 9,
+            visibility: fragment,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Uint,
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
             count: None,
         },
     ]
@@ -190,8 +217,9 @@ impl FrameResources {
             shadow_sampler,
             moment_sampler,
             cookies: cookie_buffer(device),
-            lights: uniform_buffer(device, "lights", MAX_LIGHTS * size_of::<GpuLight>()),
-            layers: uniform_buffer(device, "layers", MAX_LAYERS * size_of::<GpuLayer>()),
+            lights: GrowingBuffer::new(device, "lights", wgpu::BufferUsages::STORAGE),
+            layers: GrowingBuffer::new(device, "layers", wgpu::BufferUsages::STORAGE),
+            cluster_lists: GrowingRows::new(device, LIST_WIDTH),
         }
     }
 
@@ -202,10 +230,11 @@ impl FrameResources {
             wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&maps.array_view) },
             wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
             wgpu::BindGroupEntry { binding: 3, resource: self.cookies.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 4, resource: self.lights.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 5, resource: self.layers.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 4, resource: self.lights.buffer.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 5, resource: self.layers.buffer.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(&maps.moments.array_view) },
             wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(&self.moment_sampler) },
+            wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(&self.cluster_lists.view) },
         ]
     }
 
@@ -218,15 +247,28 @@ impl FrameResources {
         })
     }
 
-    /// Uploads the frame, its lights and their layers.
+    /// Uploads the frame's lights, their layers and their clusters (growing the buffers where
+    /// they must: then true, and they must be bound again). A scene whose lights need more than
+    /// one binding can hold on this device is refused, with the limit named.
+    fn upload(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, data: &FrameData) -> Result<bool, RenderError> {
+        let lights = data.gpu_lights();
+        let lists = data.grid.words();
+        let bytes = size_of_val(&lights[..]) as u64;
+        fits_one_binding(lights.len(), bytes, device.limits().max_storage_buffer_binding_size)?;
+        let rows = self.cluster_lists.rows_for(lists.len());
+        let most = device.limits().max_texture_dimension_2d;
+        if rows > most {
+            return Err(RenderError::TooManyLists { lights: lights.len(), rows, most });
+        }
+        let mut grew = self.lights.write(device, queue, bytemuck::cast_slice(&lights));
+        grew |= self.layers.write(device, queue, bytemuck::cast_slice(&data.layers));
+        grew |= self.cluster_lists.write(device, queue, &lists);
+        Ok(grew)
+    }
+
+    /// Uploads the frame uniform.
     fn write(&self, queue: &wgpu::Queue, data: &FrameData) {
         queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(&data.frame));
-        if !data.lights.is_empty() {
-            queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&data.gpu_lights()));
-        }
-        if !data.layers.is_empty() {
-            queue.write_buffer(&self.layers, 0, bytemuck::cast_slice(&data.layers));
-        }
     }
 }
 
@@ -293,14 +335,24 @@ impl MainPass {
         self.debug = Some(Pipelines::new(device, recipe, groups, palette, textures));
     }
 
-    /// Builds the pipelines the objects of `data` need (measuring ones too, once those exist)
-    /// and uploads its planar shadows.
-    pub fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, data: &FrameData) {
+    /// Builds the pipelines the objects of `data` need (measuring ones too, once those exist),
+    /// uploads its lights, layers, clusters and planar shadows, and binds `maps` again if a
+    /// buffer had to grow for them.
+    pub fn prepare(
+        &mut self,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        data: &FrameData,
+        maps: &ShadowMaps,
+    ) -> Result<(), RenderError> {
         self.pipelines.prepare(device, data.items.iter().map(|i| main_variant(i, data.methods, false)));
         if let Some(debug) = &mut self.debug {
             debug.prepare(device, data.items.iter().map(|i| main_variant(i, data.methods, true)));
         }
-        self.planar.prepare(device, queue, data, self.debug.is_some());
+        let grew = self.frame.upload(device, queue, data)? | self.planar.prepare(device, queue, data, self.debug.is_some());
+        if grew {
+            self.rebind(device, maps);
+        }
+        Ok(())
     }
 
     /// Points the pass at new shadow maps after they were re-created.
@@ -456,6 +508,12 @@ impl MainPass {
     }
 }
 
+/// Refuses light data of `bytes` (for `lights` lights) that one storage binding of `limit` bytes
+/// cannot hold.
+fn fits_one_binding(lights: usize, bytes: u64, limit: u64) -> Result<(), RenderError> {
+    if bytes > limit { Err(RenderError::TooManyLights { lights, bytes, limit }) } else { Ok(()) }
+}
+
 /// Every cookie image, a byte per texel, packed four to a word in one uniform buffer.
 ///
 /// The images are small enough for a uniform buffer, which needs no sampler, and the shader
@@ -468,4 +526,16 @@ fn cookie_buffer(device: &wgpu::Device) -> wgpu::Buffer {
         contents: &bytes,
         usage: wgpu::BufferUsages::UNIFORM,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lights_past_one_binding_are_refused_with_the_limit_named() {
+        assert!(fits_one_binding(1024, 180_224, 134_217_728).is_ok());
+        let error = fits_one_binding(800_000, 140_800_000, 134_217_728).unwrap_err().to_string();
+        assert!(error.contains("800000 lights") && error.contains("max_storage_buffer_binding_size"), "{error}");
+    }
 }

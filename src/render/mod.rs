@@ -9,6 +9,7 @@ mod bare_depth;
 mod depth_reduction;
 mod extract;
 mod gpu;
+mod growing;
 pub mod gpu_types;
 mod instances;
 pub mod lines;
@@ -26,7 +27,7 @@ mod texture;
 mod timing;
 mod uniform_array;
 
-pub use extract::{DrawItem, FrameData, FrameLight, LayerDraw, SHADOW_FADE, extract, extract_shadow_maps};
+pub use extract::{DrawItem, FrameData, FrameLight, LayerDraw, SHADOW_FADE, Shadowless, extract, extract_shadow_maps};
 pub use gpu::{Gpu, colour_pass, instance};
 pub use readback::{
     DebugFrame, HEADLESS_FORMAT, Image, probe_visibility, read_picture, render_debug_frame, render_headless, render_png,
@@ -53,6 +54,32 @@ pub enum RenderError {
     /// wgpu reported a validation or other error.
     #[error("wgpu error: {0}")]
     Wgpu(String),
+    /// The scene's lights, or their clustered lists, need more than one storage binding holds.
+    #[error(
+        "the scene's {lights} lights need a storage buffer of {bytes} bytes; this device binds at most \
+         {limit} (max_storage_buffer_binding_size): use fewer lights, or shorter ranges"
+    )]
+    TooManyLights {
+        /// Lights in the scene.
+        lights: usize,
+        /// The largest buffer they need.
+        bytes: u64,
+        /// The device's limit.
+        limit: u64,
+    },
+    /// The clustered light lists need more rows than a texture has.
+    #[error(
+        "the lists of the scene's {lights} lights take {rows} rows of a texture; this device allows {most} \
+         (max_texture_dimension_2d): use fewer lights, or shorter ranges"
+    )]
+    TooManyLists {
+        /// Lights in the scene.
+        lights: usize,
+        /// Rows the lists take.
+        rows: u32,
+        /// The device's limit.
+        most: u32,
+    },
     /// The device cannot make a shadow map this large.
     #[error("shadow_map_size {size} is larger than this GPU allows ({max})")]
     ShadowMapTooLarge {

@@ -14,7 +14,8 @@ use super::gpu_types::{GpuPlanar, MEASURED_PER_PASS};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
 use super::texture::MaterialTextures;
 use crate::components::ShadowMethod;
-use crate::light::{Kind, Light, MAX_LIGHTS};
+use super::growing::GrowingBuffer;
+use crate::light::{Kind, Light};
 use crate::shadow::{Aabb, GROUND_PLANE, PLANAR_LIFT, flat_from_world, lights_plane};
 
 /// How close to the plane (metres) a surface must lie to count as the ground, and how far above
@@ -35,6 +36,10 @@ pub fn ground(items: &[(DrawItem, Aabb)]) -> Option<usize> {
 pub fn draws_planar(light: &Light, ground_too: bool) -> bool {
     light.shadowed && (light.method == ShadowMethod::Planar || ground_too)
 }
+
+/// Most lights that draw planar shadows: the stencil that keeps each from darkening a pixel twice
+/// counts them in 8 bits (0 is no light).
+pub const MAX_PLANAR: usize = 255;
 
 /// The planar shadows of `lights` (a light's index is its place in the list) over the ground of
 /// `items`, for the lights [`draws_planar`] picks: none without a ground, and none from a light
@@ -104,7 +109,7 @@ pub struct PlanarPass {
     picture: Pipelines,
     measure: [Pipelines; MEASURED_PER_PASS],
     layout: wgpu::BindGroupLayout,
-    buffer: wgpu::Buffer,
+    buffer: GrowingBuffer,
     stride: u64,
     /// Bind group 0 of the main pass with the planar uniforms as binding 8.
     pub bind_group: Option<wgpu::BindGroup>,
@@ -169,12 +174,7 @@ impl PlanarPass {
         });
         let align = device.limits().min_uniform_buffer_offset_alignment as u64;
         let stride = (size_of::<GpuPlanar>() as u64).div_ceil(align) * align;
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("planar"),
-            size: stride * MAX_LIGHTS as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let buffer = GrowingBuffer::new(device, "planar", wgpu::BufferUsages::UNIFORM);
         PlanarPass { picture, measure, layout, buffer, stride, bind_group: None }
     }
 
@@ -184,7 +184,7 @@ impl PlanarPass {
         entries.push(wgpu::BindGroupEntry {
             binding: 8,
             resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                buffer: &self.buffer,
+                buffer: &self.buffer.buffer,
                 offset: 0,
                 size: wgpu::BufferSize::new(size_of::<GpuPlanar>() as u64),
             }),
@@ -210,10 +210,12 @@ impl PlanarPass {
     }
 
     /// Uploads the planar uniforms of `data` and builds the pipelines its casters need (the
-    /// measuring view's too when `measuring`).
-    pub fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, data: &FrameData, measuring: bool) {
-        for (k, p) in data.planar.iter().take(MAX_LIGHTS).enumerate() {
-            queue.write_buffer(&self.buffer, k as u64 * self.stride, bytemuck::bytes_of(&p.uniform));
+    /// measuring view's too when `measuring`); true when the uniforms' buffer had to grow (then
+    /// bind group 0 must be made again).
+    pub fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, data: &FrameData, measuring: bool) -> bool {
+        let grew = self.buffer.reserve(device, data.planar.len() as u64 * self.stride);
+        for (k, p) in data.planar.iter().enumerate() {
+            queue.write_buffer(&self.buffer.buffer, k as u64 * self.stride, bytemuck::bytes_of(&p.uniform));
         }
         let variants: Vec<Variant> =
             data.planar.iter().flat_map(|p| p.casters.iter().map(|&i| Self::variant(&data.items[i]))).collect();
@@ -221,6 +223,7 @@ impl PlanarPass {
         for m in self.measure.iter_mut().filter(|_| measuring) {
             m.prepare(device, variants.iter().copied());
         }
+        grew
     }
 
     /// Draws every planar shadow of `data` into `pass` (after the scene, with the depth and
@@ -234,7 +237,7 @@ impl PlanarPass {
         measured: Option<usize>,
     ) {
         let Some(group) = &self.bind_group else { return };
-        for (k, p) in data.planar.iter().take(MAX_LIGHTS).enumerate() {
+        for (k, p) in data.planar.iter().enumerate() {
             let pipelines = match measured {
                 None => &self.picture,
                 Some(first) => match (p.uniform.light as usize).checked_sub(first) {

@@ -2,7 +2,7 @@
 
 use super::bare_depth::BareDepth;
 use super::depth_reduction::{Binning, DepthReduction};
-use super::extract::FrameData;
+use super::extract::{FrameData, Shadowless};
 use super::extract::{extract, extract_shadow_maps};
 use super::gpu_types::{GpuLayer, Object, Reduce};
 use super::lines::{LinePass, volume_lines};
@@ -83,15 +83,23 @@ pub struct Renderer {
     last_layers: Vec<(GpuLayer, LightLabel)>,
     /// A map was drawn or the layers changed since the viewer's atlas was last drawn.
     atlas_stale: bool,
+    /// The lights last said to be lit without their shadow.
+    shadowless: Vec<(LightLabel, Shadowless)>,
 }
 
 impl Renderer {
     /// Builds the pipelines for a colour target of `format` (an sRGB format for correct output).
     pub fn new(gpu: &Gpu, format: wgpu::TextureFormat) -> Result<Renderer, RenderError> {
         let device = &gpu.device;
-        if !gpu.adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::VERTEX_STORAGE) {
+        let flags = gpu.adapter.get_downlevel_capabilities().flags;
+        if !flags.contains(wgpu::DownlevelFlags::VERTEX_STORAGE) {
             return Err(RenderError::Unsupported(
                 "storage buffers in vertex shaders, which GPU skinning reads joints from",
+            ));
+        }
+        if !flags.contains(wgpu::DownlevelFlags::FRAGMENT_STORAGE) {
+            return Err(RenderError::Unsupported(
+                "storage buffers in fragment shaders, which the lighting reads every light from",
             ));
         }
         let objects = UniformArray::new(
@@ -124,6 +132,7 @@ impl Renderer {
             computes: super::depth_reduction::computes(&gpu.adapter),
             last_layers: Vec::new(),
             atlas_stale: true,
+            shadowless: Vec::new(),
         })
     }
 
@@ -255,12 +264,13 @@ impl Renderer {
         if let Some(format) = format {
             moments::set_terms(&mut data.layers, format);
         }
-        if lit {
-            self.main.prepare(device, queue, &data);
-        }
         let size = (settings.shadow_map_size, data.layers.len());
         if self.shadow.ensure_maps(device, size, format, settings.shadow_depth) {
             self.main.rebind(device, &self.shadow.maps);
+        }
+        if lit {
+            self.main.prepare((device, queue), &data, &self.shadow.maps)?;
+            self.tell_shadowless(world, &data);
         }
         let objects: Vec<Object> = data.items.iter().map(|i| i.object).collect();
         self.objects.write(device, queue, &objects);
@@ -315,6 +325,28 @@ impl Renderer {
         queue.submit([encoder.finish()]);
         world.insert_resource(stats);
         gpu.check_errors()
+    }
+
+    /// Says which shadowed lights are lit without their shadow and why, whenever that changes.
+    fn tell_shadowless(&mut self, world: &mut World, data: &FrameData) {
+        if data.shadowless == self.shadowless {
+            return;
+        }
+        self.shadowless = data.shadowless.clone();
+        let mut why: Vec<Shadowless> = Vec::new();
+        for (_, w) in &self.shadowless {
+            if !why.contains(w) {
+                why.push(*w);
+            }
+        }
+        for reason in why {
+            let names: Vec<String> =
+                self.shadowless.iter().filter(|(_, w)| *w == reason).map(|(l, _)| l.to_string()).collect();
+            let shown = names.iter().take(5).cloned().collect::<Vec<_>>().join(", ");
+            let more = if names.len() > 5 { format!(" and {} more", names.len() - 5) } else { String::new() };
+            let line = format!("{} lights are lit without their shadow ({shown}{more}): {reason}", names.len());
+            world.get_resource_or_init::<Notices>().0.push(line);
+        }
     }
 
     fn upload_new_meshes(&mut self, device: &wgpu::Device, library: &MeshLibrary) {
