@@ -34,7 +34,8 @@ struct Frame {
     // The view depths the slices of light clusters span (see lights_at in lights.wgsl).
     cluster_near: f32,
     cluster_far: f32,
-    _pad_frame0: u32,
+    // 1 when lookups keep their taps inside their own tile (see atlas_uv in shadow_sampling.wgsl).
+    atlas_guard: u32,
 };
 
 // One light; `kind` is LIGHT_SUN, LIGHT_SPOT or LIGHT_POINT.

@@ -83,7 +83,7 @@ fn layer_test(light: GpuLight, index: u32, distance: f32, p: vec3<f32>, n: vec3<
 
 // Layer `index` of `light` as a lookup sees it.
 fn layer_ref(light: GpuLight, index: u32) -> LayerRef {
-    return LayerRef(index, layers[index], light.size, frame.pcss_search == 1u, light.bias_scale);
+    return LayerRef(layers[index], frame.atlas_guard == 1u, light.size, frame.pcss_search == 1u, light.bias_scale);
 }
 
 // The shadow test through a light's cube. With seams handled (frame.cube_seams), the face is

@@ -4,9 +4,10 @@
 // method reads a colour map, what that map keeps of it (the first moment, EVSM's warp undone,
 // R32F's linear depth, R16F's metres).
 
-// Per layer, two vectors: (depth terms x, y, near distance, far distance), (1 if perspective,
-// its light's METHOD_*, EVSM's positive exponent, 0).
-@group(0) @binding(0) var<uniform> view_layers: array<vec4<f32>, 192>;
+// Per layer, three vectors: (depth terms x, y, near distance, far distance), (1 if perspective,
+// its light's METHOD_*, EVSM's positive exponent, 0), (its tile's corner x, y and side as shares
+// of the page, its page).
+@group(0) @binding(0) var<uniform> view_layers: array<vec4<f32>, 288>;
 @group(0) @binding(1) var maps: texture_depth_2d_array;
 @group(0) @binding(2) var colours: texture_2d_array<f32>;
 
@@ -25,27 +26,31 @@ fn vs_tile(@builtin(vertex_index) v: u32, @builtin(instance_index) layer: u32) -
 
 @fragment
 fn fs_tile(in: TileOut) -> @location(0) vec4<f32> {
-    let size = vec2<i32>(textureDimensions(maps));
-    let texel = clamp(vec2<i32>(in.uv * vec2<f32>(size)), vec2<i32>(0), size - 1);
-    let a = view_layers[2u * in.layer];
-    let b = view_layers[2u * in.layer + 1u];
+    let a = view_layers[3u * in.layer];
+    let b = view_layers[3u * in.layer + 1u];
+    let tile = view_layers[3u * in.layer + 2u];
+    let page = vec2<f32>(textureDimensions(maps));
+    let side = max(i32(round(tile.z * page.x)), 1);
+    let corner = vec2<i32>(round(tile.xy * page));
+    let texel = corner + clamp(vec2<i32>(in.uv * f32(side)), vec2<i32>(0), vec2<i32>(side - 1));
+    let layer = i32(tile.w);
     let method = u32(b.y);
     var grey: f32;
     switch method {
         case METHOD_VSM, METHOD_MSM, METHOD_R32F: {
             // Linear depth, 0 at the near plane and 1 at the far one, as moments.wgsl keeps it.
-            grey = textureLoad(colours, texel, i32(in.layer), 0).x;
+            grey = textureLoad(colours, texel, layer, 0).x;
         }
         case METHOD_EVSM: {
             // e^(c x) with x = 2d - 1: undone.
-            let m = max(textureLoad(colours, texel, i32(in.layer), 0).x, 1e-30);
+            let m = max(textureLoad(colours, texel, layer, 0).x, 1e-30);
             grey = (log(m) / max(b.z, 1e-3) + 1.0) * 0.5;
         }
         case METHOD_R16F_RADIAL: {
-            grey = textureLoad(colours, texel, i32(in.layer), 0).x / max(a.w - a.z, 1e-6);
+            grey = textureLoad(colours, texel, layer, 0).x / max(a.w - a.z, 1e-6);
         }
         default: {
-            let z = textureLoad(maps, texel, i32(in.layer), 0);
+            let z = textureLoad(maps, texel, layer, 0);
             let distance = select((a.y - z) / a.x, a.y / (z + a.x), b.x > 0.5);
             grey = (distance - a.z) / max(a.w - a.z, 1e-6);
         }

@@ -3,7 +3,7 @@
 // reconstructs a visibility from them, or compares with a depth kept in colour
 // (shadow_sampling.wgsl).
 
-// One layer of the shadow-map array: its projection, the world size of its texels, and how its
+// One layer of a light's shadow, a tile of the atlas: its projection, the world size of its texels, and how its
 // moment map (if its light uses one) is made and read. Checked against the Rust struct of the
 // same name (src/render/gpu_types.rs) by a test.
 struct GpuLayer {
@@ -30,7 +30,10 @@ struct GpuLayer {
     bleed: f32,
     // Where its light is (spots and points), from which R16F radial measures distance.
     origin: vec3<f32>,
-    _pad0: u32,
+    // Its tile of the atlas: the page, then the corner and the side's share of the page (as
+    // texture coordinates) and the side in texels.
+    page: u32,
+    tile: vec4<f32>,
 };
 
 // Distance from the light along the layer's view axis of map depth `z`, as

@@ -1,10 +1,11 @@
 // Shadow-map lookups, one named function per method, apart from the lighting: everything they
 // need comes in as parameters or from their own bindings.
 
+// The shadow atlas: pages of depth, each layer a tile of one page.
 @group(0) @binding(1) var shadow_maps: texture_depth_2d_array;
 @group(0) @binding(2) var shadow_sampler: sampler_comparison;
-// The moment maps, slot for slot with the depth maps (only layers of lights that use moments
-// hold any), read with bilinear filtering.
+// The colour atlas, tile for tile with the depth one (only tiles of lights whose method reads
+// a colour map hold any), read with bilinear filtering.
 @group(0) @binding(6) var moment_maps: texture_2d_array<f32>;
 @group(0) @binding(7) var moment_sampler: sampler;
 
@@ -30,11 +31,15 @@ struct Footprint {
     pixel: vec2<f32>,
 };
 
-// Where a lookup lands in a layer: the map position, the depth compared there, and how the
-// receiver's depth changes across the map (depth per unit of uv; zero when not used).
+// Where a lookup lands in a layer: the position in its tile (0..1 across it), the depth compared
+// there, and how the receiver's depth changes across the tile (depth per unit of uv; zero when
+// not used); the tile itself (see GpuLayer.tile) and its page.
 struct ShadowCoord {
     uv: vec2<f32>,
     layer: u32,
+    tile: vec4<f32>,
+    // Taps are kept inside the tile (see atlas_uv).
+    guard: bool,
     depth: f32,
     plane: vec2<f32>,
     pixel: vec2<f32>,
@@ -42,26 +47,38 @@ struct ShadowCoord {
     distance: f32,
 };
 
+// The guard against atlas seams: where the point `uv` of the tile (0..1 across it) lies on the
+// page, held half a texel inside the tile, so that no filter's 2x2 footprint reaches a
+// neighbour's texels; past the edge the edge texels repeat, as a map of its own would clamp.
+fn atlas_uv(c: ShadowCoord, uv: vec2<f32>) -> vec2<f32> {
+    if (!c.guard) {
+        return c.tile.xy + uv * c.tile.z;
+    }
+    let half = vec2<f32>(0.5 / c.tile.w);
+    return c.tile.xy + clamp(uv, half, 1.0 - half) * c.tile.z;
+}
+
 // A 2x2 comparison at `at` with the receiver's depth there: on its plane, not at the centre.
 fn compare_at(c: ShadowCoord, at: vec2<f32>) -> f32 {
     let depth = c.depth + dot(c.plane, at - c.uv);
-    return textureSampleCompareLevel(shadow_maps, shadow_sampler, at, c.layer, depth);
+    return textureSampleCompareLevel(shadow_maps, shadow_sampler, atlas_uv(c, at), c.layer, depth);
 }
 
-fn map_size() -> vec2<f32> {
-    return vec2<f32>(textureDimensions(shadow_maps));
+// The lookup's tile size in texels, along each side.
+fn map_size(c: ShadowCoord) -> vec2<f32> {
+    return vec2<f32>(c.tile.w);
 }
 
 // One comparison with the texel under `uv`: at a texel centre the bilinear weights are all on
 // that texel.
 fn shadow_nearest(c: ShadowCoord) -> f32 {
-    let centre = (floor(c.uv * map_size()) + 0.5) / map_size();
-    return textureSampleCompareLevel(shadow_maps, shadow_sampler, centre, c.layer, c.depth);
+    let centre = (floor(c.uv * map_size(c)) + 0.5) / map_size(c);
+    return textureSampleCompareLevel(shadow_maps, shadow_sampler, atlas_uv(c, centre), c.layer, c.depth);
 }
 
 // The hardware's 2x2 comparison filter.
 fn shadow_bilinear(c: ShadowCoord) -> f32 {
-    return textureSampleCompareLevel(shadow_maps, shadow_sampler, c.uv, c.layer, c.depth);
+    return compare_at(c, c.uv);
 }
 
 // Percentage-closer filtering (Reeves, Salesin and Cook 1987): a (2r + 1)² grid of 2x2
@@ -70,7 +87,7 @@ fn shadow_pcf(c: ShadowCoord, r: i32) -> f32 {
     var sum = 0.0;
     for (var y = -r; y <= r; y += 1) {
         for (var x = -r; x <= r; x += 1) {
-            sum += compare_at(c, c.uv + vec2<f32>(f32(x), f32(y)) / map_size());
+            sum += compare_at(c, c.uv + vec2<f32>(f32(x), f32(y)) / map_size(c));
         }
     }
     let n = f32((2 * r + 1) * (2 * r + 1));
@@ -83,7 +100,7 @@ fn shadow_pcf(c: ShadowCoord, r: i32) -> f32 {
 // each axis, with s the point's place between two texel centres, the three taps weigh 4 - 3s, 7
 // and 1 + 3s (12 in all) and sit where those weights split between their texels.
 fn shadow_gauss5(c: ShadowCoord) -> f32 {
-    let t = c.uv * map_size() + 0.5;
+    let t = c.uv * map_size(c) + 0.5;
     let base = floor(t) - 0.5;
     let s = t - floor(t);
     let w = array<vec2<f32>, 3>(4.0 - 3.0 * s, vec2<f32>(7.0), 1.0 + 3.0 * s);
@@ -91,7 +108,7 @@ fn shadow_gauss5(c: ShadowCoord) -> f32 {
     var sum = 0.0;
     for (var j = 0; j < 3; j += 1) {
         for (var i = 0; i < 3; i += 1) {
-            let at = (base + vec2<f32>(o[i].x, o[j].y)) / map_size();
+            let at = (base + vec2<f32>(o[i].x, o[j].y)) / map_size(c);
             sum += w[i].x * w[j].y * compare_at(c, at);
         }
     }
@@ -110,10 +127,11 @@ fn disc_turn(pixel: vec2<f32>) -> vec2<f32> {
     return vec2<f32>(cos(a), sin(a));
 }
 
-// Point `d` of a unit disc turned by `turn` and scaled to `radius` texels, as a uv offset.
-fn disc_offset(d: vec2<f32>, turn: vec2<f32>, radius: f32) -> vec2<f32> {
+// Point `d` of a unit disc turned by `turn` and scaled to `radius` texels of `c`'s tile, as a
+// uv offset.
+fn disc_offset(c: ShadowCoord, d: vec2<f32>, turn: vec2<f32>, radius: f32) -> vec2<f32> {
     let r = vec2<f32>(d.x * turn.x - d.y * turn.y, d.x * turn.y + d.y * turn.x);
-    return r * radius / map_size();
+    return r * radius / map_size(c);
 }
 
 // Poisson-disc PCF: comparisons spread evenly over a disc (points no two of which are close,
@@ -122,7 +140,7 @@ fn shadow_poisson16(c: ShadowCoord, radius: f32) -> f32 {
     let turn = disc_turn(c.pixel);
     var sum = 0.0;
     for (var i = 0; i < 16; i += 1) {
-        sum += compare_at(c, c.uv + disc_offset(POISSON_16[i], turn, radius));
+        sum += compare_at(c, c.uv + disc_offset(c, POISSON_16[i], turn, radius));
     }
     return sum / 16.0;
 }
@@ -131,17 +149,17 @@ fn shadow_poisson32(c: ShadowCoord, radius: f32) -> f32 {
     let turn = disc_turn(c.pixel);
     var sum = 0.0;
     for (var i = 0; i < 32; i += 1) {
-        sum += compare_at(c, c.uv + disc_offset(POISSON_32[i], turn, radius));
+        sum += compare_at(c, c.uv + disc_offset(c, POISSON_32[i], turn, radius));
     }
     return sum / 32.0;
 }
 
-// One layer as a lookup sees it: its slot in the array, its data, the size of its light (see
-// GpuLight.size), and whether PCSS searches it for blockers (else PCSS filters with a fixed
-// kernel).
+// One layer as a lookup sees it: its data (its tile with it), the size of its light (see
+// GpuLight.size), whether PCSS searches it for blockers (else PCSS filters with a fixed
+// kernel), and whether its taps are kept inside its tile.
 struct LayerRef {
-    index: u32,
     layer: GpuLayer,
+    guard: bool,
     light_size: f32,
     pcss_search: bool,
     // The light's multiplicative depth offset (see scaled_depth).
@@ -207,11 +225,12 @@ fn shadow_pcss(c: ShadowCoord, at: LayerRef) -> f32 {
     var blocked = 0.0;
     var beyond = 0.0;
     for (var i = 0; i < 16; i += 1) {
-        let tap = c.uv + disc_offset(POISSON_16[i], turn, widest);
+        let tap = c.uv + disc_offset(c, POISSON_16[i], turn, widest);
         let along = dot(c.plane, tap - c.uv);
-        blocked += 1.0 - textureSampleCompareLevel(shadow_maps, shadow_sampler, tap, c.layer, c.depth + along);
+        let at = atlas_uv(c, tap);
+        blocked += 1.0 - textureSampleCompareLevel(shadow_maps, shadow_sampler, at, c.layer, c.depth + along);
         for (var k = 0; k < PCSS_LEVELS; k += 1) {
-            beyond += 1.0 - textureSampleCompareLevel(shadow_maps, shadow_sampler, tap, c.layer, levels[k] + along);
+            beyond += 1.0 - textureSampleCompareLevel(shadow_maps, shadow_sampler, at, c.layer, levels[k] + along);
         }
     }
     if (blocked < 1e-3) {
@@ -223,7 +242,7 @@ fn shadow_pcss(c: ShadowCoord, at: LayerRef) -> f32 {
 
 // The moments of the lookup's layer around its point, bilinearly filtered from the blurred map.
 fn filtered_moments(c: ShadowCoord) -> vec4<f32> {
-    return textureSampleLevel(moment_maps, moment_sampler, c.uv, c.layer, 0.0);
+    return textureSampleLevel(moment_maps, moment_sampler, atlas_uv(c, c.uv), c.layer, 0.0);
 }
 
 // Chebyshev's one-sided inequality: of a distribution with this mean and mean square (its
@@ -307,13 +326,18 @@ fn shadow_msm(c: ShadowCoord, at: LayerRef) -> f32 {
 // point, each compared by hand with the receiver's `value` (lit where it is no farther) and
 // weighted bilinearly, as the hardware's comparison filter weighs a depth map's texels.
 fn compare_stored(c: ShadowCoord, value: f32) -> f32 {
-    let size = vec2<i32>(textureDimensions(moment_maps));
+    let size = vec2<i32>(map_size(c));
+    // The tile's first texel on the page; its texels are kept inside it (the seams' guard).
+    let origin = vec2<i32>(round(c.tile.xy * vec2<f32>(textureDimensions(moment_maps))));
     let at = c.uv * vec2<f32>(size) - 0.5;
     let base = floor(at);
     let f = at - base;
     var lit = vec4<f32>(0.0);
+    // Without the guard only the page's edge holds the texels in.
+    let low = select(-origin, vec2<i32>(0), c.guard);
+    let high = select(vec2<i32>(textureDimensions(moment_maps)) - 1 - origin, size - 1, c.guard);
     for (var k = 0; k < 4; k += 1) {
-        let texel = clamp(vec2<i32>(base) + vec2<i32>(k % 2, k / 2), vec2<i32>(0), size - 1);
+        let texel = origin + clamp(vec2<i32>(base) + vec2<i32>(k % 2, k / 2), low, high);
         lit[k] = select(0.0, 1.0, value <= textureLoad(moment_maps, texel, c.layer, 0).r);
     }
     return mix(mix(lit.x, lit.y, f.x), mix(lit.z, lit.w, f.x), f.y);
@@ -415,7 +439,7 @@ const MAX_PLANE_SLOPE: f32 = 10.0;
 // Safe where derivatives are not: a surface seen edge-on in the map (the two pixel steps land
 // on one line of it) or not finite gives no plane (the centre depth for every tap), and a plane
 // steeper than MAX_PLANE_SLOPE is laid down to it.
-fn receiver_plane(dx: vec3<f32>, dy: vec3<f32>, depth_per_metre: f32, texel: f32) -> vec2<f32> {
+fn receiver_plane(dx: vec3<f32>, dy: vec3<f32>, depth_per_metre: f32, texel: f32, size: f32) -> vec2<f32> {
     let du = vec2<f32>(dx.x, dy.x) * 0.5;
     let dv = vec2<f32>(dx.y, dy.y) * -0.5;
     let det = du.x * dv.y - du.y * dv.x;
@@ -424,7 +448,7 @@ fn receiver_plane(dx: vec3<f32>, dy: vec3<f32>, depth_per_metre: f32, texel: f32
         return vec2<f32>(0.0);
     }
     let plane = vec2<f32>(dx.z * dv.y - dy.z * dv.x, dy.z * du.x - dx.z * du.y) / det;
-    let steepest = MAX_PLANE_SLOPE * abs(depth_per_metre) * texel * map_size().x;
+    let steepest = MAX_PLANE_SLOPE * abs(depth_per_metre) * texel * size;
     let len = length(plane);
     if (!(len <= 3.0e38)) {
         return vec2<f32>(0.0);
@@ -466,11 +490,11 @@ fn shadow_lookup(at: LayerRef, biased: vec3<f32>, method: u32, f: Footprint, pla
     }
     let depth = scaled_depth(at.layer, ndc.z, at.bias_scale);
     let distance = light_distance(at.layer, depth, biased, at.bias_scale);
-    var c = ShadowCoord(uv, at.index, depth, vec2<f32>(0.0), f.pixel, distance);
+    var c = ShadowCoord(uv, at.layer.page, at.layer.tile, at.guard, depth, vec2<f32>(0.0), f.pixel, distance);
     if (plane_on && method_spreads(method)) {
         let dx = ndc_change(clip_from_world, clip, f.dp_dx);
         let dy = ndc_change(clip_from_world, clip, f.dp_dy);
-        c.plane = receiver_plane(dx, dy, ndc_change(clip_from_world, clip, l).z, texel);
+        c.plane = receiver_plane(dx, dy, ndc_change(clip_from_world, clip, l).z, texel, at.layer.tile.w);
     }
     return sample_shadow(method, c, at);
 }

@@ -39,6 +39,7 @@ pub mod assets;
 pub mod biases;
 pub mod components;
 pub mod eval;
+pub mod lanterns;
 pub mod light;
 pub mod play;
 pub mod render;
@@ -128,6 +129,8 @@ impl App {
         settings.validate()?;
         let mut world = World::new();
         world.insert_resource(Time { dt: settings.dt, ..Default::default() });
+        let caps = systems::ShadowCaps::default();
+        world.insert_resource(systems::ShadowAtlas::for_settings(&settings, caps, [settings.method].into_iter()));
         world.insert_resource(settings);
         world.insert_resource(Input::default());
         world.insert_resource(Viewport { width: 1280, height: 720 });
@@ -145,6 +148,7 @@ impl App {
             (systems::pose_parts, systems::follow_nodes),
             systems::update_bounds,
             systems::track_casters,
+            systems::size_shadow_maps,
             systems::update_light_matrices,
         );
         update.add_systems(lights.chain().in_set(Stage::Lights));
@@ -196,6 +200,7 @@ impl App {
     }
 
     fn run_update(&mut self) {
+        self.world.resource_mut::<Time>().updates += 1;
         self.update.run(&mut self.world);
         // Mouse motion and the wheel are consumed by the step that saw them.
         let mut input = self.world.resource_mut::<Input>();

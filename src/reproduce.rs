@@ -70,6 +70,22 @@ pub fn parse_size(s: &str) -> Result<(String, LightSetting), String> {
     }
 }
 
+/// Reads a count of texels: a whole number, or one with K (x1024) or M (x1024²) after it.
+pub fn parse_texels(s: &str) -> Result<u32, String> {
+    let t = s.trim();
+    let (digits, scale) = match t.char_indices().last() {
+        Some((i, 'k' | 'K')) => (&t[..i], 1u64 << 10),
+        Some((i, 'm' | 'M')) => (&t[..i], 1u64 << 20),
+        _ => (t, 1),
+    };
+    digits
+        .trim()
+        .parse::<u64>()
+        .ok()
+        .and_then(|n| u32::try_from(n.checked_mul(scale)?).ok())
+        .ok_or(format!("`{s}` is not a count of texels: give a whole number, or one with K or M (such as 4M)"))
+}
+
 /// The light called `name`; a name no light has is an error that lists the lights.
 pub fn light_named(world: &mut World, name: &str) -> Result<Light, AppError> {
     let lights = light_list(world);
@@ -181,6 +197,7 @@ fn settings_options(s: &Settings) -> Vec<String> {
     flag(!s.reuse_shadow_maps, "redraw-shadows");
     flag(!s.instancing, "no-instancing");
     flag(!s.static_cache, "no-static-cache");
+    flag(!s.atlas_guard, "no-atlas-guard");
     flag(!s.character, "no-character");
     flag(!s.ground_grid, "no-ground-grid");
     flag(s.light_volumes, "light-volumes");
@@ -190,12 +207,15 @@ fn settings_options(s: &Settings) -> Vec<String> {
         }
     };
     value(s.shadow_map_size != d.shadow_map_size, "shadow-map-size", s.shadow_map_size.to_string());
+    value(s.shadow_memory != d.shadow_memory, "shadow-memory", s.shadow_memory.to_string());
+    value(s.shadow_updates != d.shadow_updates, "shadow-updates", s.shadow_updates.to_string());
     value(s.shadow_strength != d.shadow_strength, "shadow-strength", s.shadow_strength.to_string());
     value(s.depth_bias != d.depth_bias, "depth-bias", s.depth_bias.to_string());
     value(s.slope_bias != d.slope_bias, "slope-bias", s.slope_bias.to_string());
     value(s.normal_bias != d.normal_bias, "normal-bias", s.normal_bias.to_string());
     value(s.bias_scale != d.bias_scale, "bias-scale", s.bias_scale.to_string());
     value(s.cubes != d.cubes, "cubes", s.cubes.to_string());
+    value(s.lanterns != d.lanterns, "lanterns", s.lanterns.to_string());
     value(s.cascades != d.cascades, "cascades", s.cascades.to_string());
     value(s.split_lambda != d.split_lambda, "split-lambda", s.split_lambda.to_string());
     value(s.cascade_blend != d.cascade_blend, "cascade-blend", s.cascade_blend.to_string());
@@ -209,6 +229,7 @@ fn settings_options(s: &Settings) -> Vec<String> {
     value(s.toon_bands != d.toon_bands, "toon", s.toon_bands.to_string());
     value(s.caster_culling != d.caster_culling, "culling", s.caster_culling.name().into());
     value(s.shadow_faces != d.shadow_faces, "shadow-faces", s.shadow_faces.name().into());
+    value(s.tile_sizes != d.tile_sizes, "tile-sizes", s.tile_sizes.name().into());
     value(s.exposure != d.exposure, "exposure", s.exposure.to_string());
     if let Some(light) = &s.texel_density {
         value(true, "texel-density", light.clone());
@@ -225,6 +246,17 @@ fn settings_options(s: &Settings) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn texel_counts_take_k_and_m_and_refuse_the_rest() {
+        assert_eq!(parse_texels("4096"), Ok(4096));
+        assert_eq!(parse_texels("4M"), Ok(4 << 20));
+        assert_eq!(parse_texels(" 16k "), Ok(16 << 10));
+        assert_eq!(parse_texels("0"), Ok(0));
+        for bad in ["", "M", "-1", "1.5M", "4G", "5000M", "nan"] {
+            assert!(parse_texels(bad).unwrap_err().contains("count of texels"), "{bad}");
+        }
+    }
 
     #[test]
     fn light_options_read_what_they_write_and_name_what_is_wrong() {

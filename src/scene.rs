@@ -61,7 +61,7 @@ pub fn spawn_sample_scene(world: &mut World, settings: &Settings) -> Result<(), 
     let sun = DirectionalLight {
         direction: SUN_DIRECTION.normalize(),
         color: Vec3::new(1.0, 0.95, 0.85),
-        intensity: 1.0,
+        intensity: if settings.lanterns > 0 { crate::lanterns::DUSK } else { 1.0 },
         ..Default::default()
     };
     world.spawn((sun, ShadowMap::default()));
@@ -75,6 +75,7 @@ pub fn spawn_sample_scene(world: &mut World, settings: &Settings) -> Result<(), 
 
     let (lamp, at) = sample_lamp();
     world.spawn((lamp, Transform::from_translation(at), ShadowMap::default()));
+    crate::lanterns::spawn_lanterns(world, settings.lanterns);
 
     if settings.character {
         let character = parse_model(CHARACTER_GLB, None, "character.glb")?;

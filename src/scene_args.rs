@@ -5,8 +5,8 @@ use clap::Args;
 use std::path::PathBuf;
 use umbra::Settings;
 use umbra::components::ShadowMethod;
-use umbra::reproduce::{LightSetting, parse_bias, parse_method, parse_size as parse_light_size};
-use umbra::settings::{CasterCulling, MomentBits, ShadowDepth, ShadowFaces};
+use umbra::reproduce::{LightSetting, parse_bias, parse_method, parse_size as parse_light_size, parse_texels};
+use umbra::settings::{CasterCulling, MomentBits, ShadowDepth, ShadowFaces, TileSizes};
 use umbra::shadow::FitMode;
 
 /// Settings shared by every command.
@@ -15,9 +15,19 @@ pub struct SceneArgs {
     /// Turn shadows off.
     #[arg(long)]
     pub no_shadows: bool,
-    /// Shadow-map layer size in texels.
+    /// Shadow-map layer size in texels: a sun cascade's, and the largest any other light's.
     #[arg(long, value_name = "TEXELS")]
     pub shadow_map_size: Option<u32>,
+    /// Shadow memory in MiB (16..16384): every light's shadow takes tiles of one atlas this big.
+    #[arg(long, value_name = "MIB")]
+    pub shadow_memory: Option<u32>,
+    /// Texels of shadow tiles redrawn per frame at most, as a number or with K or M (x1024,
+    /// x1024²): `4M` is four 1024² tiles. 0 (the default): no limit.
+    #[arg(long, value_name = "TEXELS", value_parser = parse_texels)]
+    pub shadow_updates: Option<u32>,
+    /// Let filters read past their tile into a neighbour's texels (the atlas-seams case).
+    #[arg(long)]
+    pub no_atlas_guard: bool,
     /// How dark shadows are, 0..1.
     #[arg(long, value_name = "0..1", allow_negative_numbers = true)]
     pub shadow_strength: Option<f32>,
@@ -37,6 +47,9 @@ pub struct SceneArgs {
     /// Number of animated cubes.
     #[arg(long)]
     pub cubes: Option<u32>,
+    /// Shadowed lanterns hung over the sample scene, point and spot mixed, some moving (0..4096).
+    #[arg(long, value_name = "N")]
+    pub lanterns: Option<u32>,
     /// Cascades of the sun's shadow, 1..4.
     #[arg(long, value_name = "N")]
     pub cascades: Option<u32>,
@@ -87,6 +100,10 @@ pub struct SceneArgs {
     /// Which caster faces shadow maps take: both, or back (only those turned away from the light).
     #[arg(long, value_name = "FACES")]
     pub shadow_faces: Option<ShadowFaces>,
+    /// How big lights' shadow tiles are: screen (by what each shows, the default), fixed (every
+    /// layer at the map size) or bevy (spots at the map size, point lights' faces at half).
+    #[arg(long, value_name = "POLICY")]
+    pub tile_sizes: Option<TileSizes>,
     /// Draw every shadow map every frame instead of only those of dirty lights.
     #[arg(long)]
     pub redraw_shadows: bool,
@@ -206,12 +223,16 @@ impl SceneArgs {
         Ok(Settings {
             shadows: !self.no_shadows,
             shadow_map_size: self.shadow_map_size.unwrap_or(d.shadow_map_size),
+            shadow_memory: self.shadow_memory.unwrap_or(d.shadow_memory),
+            atlas_guard: !self.no_atlas_guard,
+            shadow_updates: self.shadow_updates.unwrap_or(d.shadow_updates),
             shadow_strength: self.shadow_strength.unwrap_or(d.shadow_strength),
             depth_bias: self.depth_bias.unwrap_or(d.depth_bias),
             slope_bias: self.slope_bias.unwrap_or(d.slope_bias),
             normal_bias: self.normal_bias.unwrap_or(d.normal_bias),
             bias_scale: self.bias_scale.unwrap_or(d.bias_scale),
             cubes: self.cubes.unwrap_or(d.cubes),
+            lanterns: self.lanterns.unwrap_or(d.lanterns),
             cascades: self.cascades.unwrap_or(d.cascades),
             split_lambda: self.split_lambda.unwrap_or(d.split_lambda),
             cascade_blend: self.cascade_blend.unwrap_or(d.cascade_blend),
@@ -241,6 +262,7 @@ impl SceneArgs {
             camera: self.eye.zip(self.target),
             caster_culling: self.culling.unwrap_or(d.caster_culling),
             shadow_faces: self.shadow_faces.unwrap_or(d.shadow_faces),
+            tile_sizes: self.tile_sizes.unwrap_or(d.tile_sizes),
             reuse_shadow_maps: !self.redraw_shadows,
             instancing: !self.no_instancing,
             static_cache: !self.no_static_cache,

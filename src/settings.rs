@@ -11,8 +11,20 @@ pub struct Settings {
     pub shadows: bool,
     /// How dark a full shadow is: 0 = no darkening, 1 = only ambient light remains.
     pub shadow_strength: f32,
-    /// Width and height of each shadow-map layer in texels.
+    /// Width and height of a sun cascade's layer in texels, and the largest any other light's
+    /// layers get (their tiles are sized by what they show; see [`crate::systems::size_shadow_maps`]).
     pub shadow_map_size: u32,
+    /// Shadow memory in MiB: the atlas every light's layers take tiles of (depth, its static copy
+    /// and any colour map together) holds no more.
+    pub shadow_memory: u32,
+    /// Lookups keep every filter's taps inside their own tile of the atlas (the guard against
+    /// atlas seams); off only to show what reading a neighbour's texels does.
+    pub atlas_guard: bool,
+    /// Texels of shadow tiles redrawn per frame at most (0: no limit). Layers whose light or
+    /// casters moved wait their turn by priority, sampled meanwhile as they were last drawn; a
+    /// tile new to its layer holds nothing yet and is drawn whatever the budget (see
+    /// [`crate::shadow::plan_updates`]).
+    pub shadow_updates: u32,
     /// Constant depth bias, in shadow-map texels, for every light without a bias of its own.
     pub depth_bias: f32,
     /// Depth bias per unit of surface slope (tan of the light angle), in texels.
@@ -51,6 +63,9 @@ pub struct Settings {
     pub caster_culling: CasterCulling,
     /// Which faces of the casters are drawn into shadow maps.
     pub shadow_faces: ShadowFaces,
+    /// How big each light's shadow tiles are (umbra's by screen coverage, or fixed as in the
+    /// bench's baselines).
+    pub tile_sizes: TileSizes,
     /// Keep a light's shadow maps until it is dirty (true), or draw every map every frame.
     pub reuse_shadow_maps: bool,
     /// In a depth-only layer, the opaque rigid casters that share a mesh are drawn in one
@@ -101,6 +116,8 @@ pub struct Settings {
     pub ambient: f32,
     /// Number of animated cubes in the sample scene.
     pub cubes: u32,
+    /// Shadowed lanterns hung over the sample scene (see [`crate::lanterns`]).
+    pub lanterns: u32,
     /// The walking character is in the sample scene.
     pub character: bool,
     /// A glTF model of the user's to place in the middle of the sample scene.
@@ -122,6 +139,11 @@ impl Default for Settings {
             shadows: true,
             shadow_strength: 1.0,
             shadow_map_size: 2048,
+            // Holds the sample scene's four 2048² cascades, its two spots at 2048² and its
+            // lantern's cube at 1024² a face, with their static copies; and 64 shadowed lamps.
+            shadow_memory: 256,
+            atlas_guard: true,
+            shadow_updates: 0,
             // The same as a light's default bias (see `ShadowBias::default`).
             depth_bias: 0.5,
             slope_bias: 0.5,
@@ -140,6 +162,7 @@ impl Default for Settings {
             camera: None,
             caster_culling: CasterCulling::LightVolume,
             shadow_faces: ShadowFaces::Both,
+            tile_sizes: TileSizes::Screen,
             reuse_shadow_maps: true,
             instancing: true,
             static_cache: true,
@@ -158,6 +181,7 @@ impl Default for Settings {
             spot_map_limit: crate::shadow::MAX_MAP_HALF_ANGLE,
             ambient: 0.12,
             cubes: 10,
+            lanterns: 0,
             character: true,
             model: None,
             scene: None,
@@ -231,6 +255,21 @@ pub enum ShadowFaces {
     Back,
 }
 
+/// How big each shadowed light's tiles are (see [`crate::systems::size_shadow_maps`]); the sun's
+/// cascades take the map size in every one.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum TileSizes {
+    /// In proportion to the share of the screen the light's reach covers, with hysteresis.
+    #[default]
+    Screen,
+    /// Every layer at the map size, cube faces too: umbra before its atlas.
+    Fixed,
+    /// A spot's map at the map size, a point light's cube faces at half of it (Bevy's defaults
+    /// at 2048: spots 2048², point lights 1024² a face).
+    Bevy,
+}
+
+named_choices!(TileSizes, "a tile-size policy", Screen = "screen", Fixed = "fixed", Bevy = "bevy");
 named_choices!(FitMode, "a fit mode", Stable = "stable", Unsnapped = "unsnapped", Tight = "tight", Sdsm = "sdsm");
 named_choices!(ShadowFaces, "a face choice", Both = "both", Back = "back");
 named_choices!(
@@ -281,6 +320,13 @@ pub const DEFAULT_SPLIT_LAMBDA: f32 = 0.75;
 /// samples.
 pub const CUBE_MARGIN: u32 = 4;
 
+/// Least shadow memory, in MiB: an atlas of 16 MiB still holds hundreds of small tiles.
+pub const MIN_SHADOW_MEMORY: u32 = 16;
+/// The smallest update budget: the smallest tile ([`crate::shadow::MIN_TILE`]²).
+pub const MIN_SHADOW_UPDATES: u32 = crate::shadow::MIN_TILE * crate::shadow::MIN_TILE;
+/// Most shadow memory, in MiB.
+pub const MAX_SHADOW_MEMORY: u32 = 16384;
+
 /// Largest shadow-map layer accepted (the device may allow less; the renderer checks again).
 pub const MAX_SHADOW_MAP_SIZE: u32 = 8192;
 
@@ -311,6 +357,12 @@ impl Settings {
         }
         if !(16..=MAX_SHADOW_MAP_SIZE).contains(&self.shadow_map_size) {
             return bad("shadow_map_size", self.shadow_map_size, "must be between 16 and 8192 texels");
+        }
+        if !(MIN_SHADOW_MEMORY..=MAX_SHADOW_MEMORY).contains(&self.shadow_memory) {
+            return bad("shadow_memory", self.shadow_memory, "must be between 16 and 16384 MiB");
+        }
+        if self.shadow_updates != 0 && self.shadow_updates < MIN_SHADOW_UPDATES {
+            return bad("shadow_updates", self.shadow_updates, "must be 0 (no limit) or at least 1024 texels (a 32² tile)");
         }
         for (name, v) in
             [("depth_bias", self.depth_bias), ("slope_bias", self.slope_bias), ("normal_bias", self.normal_bias)]
@@ -377,6 +429,9 @@ impl Settings {
         if self.cubes > MAX_CUBES {
             return bad("cubes", self.cubes, "must be at most 100000");
         }
+        if self.lanterns > crate::lanterns::MAX_LANTERNS {
+            return bad("lanterns", self.lanterns, "must be at most 4096");
+        }
         if !(self.dt.is_finite() && self.dt > 0.0 && self.dt <= 1.0) {
             return bad("dt", self.dt, "must be a step above 0 and at most 1 second");
         }
@@ -416,8 +471,9 @@ mod tests {
     #[test]
     fn nonsense_is_named() {
         type Case = (fn(&mut Settings), &'static str);
-        let cases: [Case; 17] = [
+        let cases: [Case; 21] = [
             (|s| s.cubes = MAX_CUBES + 1, "cubes"),
+            (|s| s.lanterns = 5000, "lanterns"),
             (|s| s.camera = Some((glam::Vec3::ONE, glam::Vec3::ONE)), "camera"),
             (|s| s.bias_scale = 0.9, "bias_scale"),
             (|s| s.toon_bands = 1, "toon_bands"),
@@ -428,6 +484,9 @@ mod tests {
             (|s| s.cascade_blend = 0.9, "cascade_blend"),
             (|s| s.shadow_strength = 2.0, "shadow_strength"),
             (|s| s.shadow_map_size = 0, "shadow_map_size"),
+            (|s| s.shadow_memory = 8, "shadow_memory"),
+            (|s| s.shadow_memory = u32::MAX, "shadow_memory"),
+            (|s| s.shadow_updates = 5, "shadow_updates"),
             (|s| s.slope_bias = f32::NAN, "slope_bias"),
             (|s| s.shadow_distance = -1.0, "shadow_distance"),
             (|s| s.ambient = f32::INFINITY, "ambient"),

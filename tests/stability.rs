@@ -126,6 +126,13 @@ fn a_point_lights_shadow_holds_across_its_cube_seams_but_not_without_seam_handli
 }
 
 #[test]
+fn filters_stay_inside_their_atlas_tile_but_darken_its_rim_without_the_guard() {
+    let (good, bad) = holds_and_breaks("atlas-seams", Settings { atlas_guard: false, ..Settings::default() });
+    assert_eq!(good.hits, 0, "nothing shades the open ground");
+    assert!(bad.value() > 0.1, "past the tile's edge the filter reads an empty page: {bad:?}");
+}
+
+#[test]
 fn a_170_degree_spot_is_shadowed_to_its_rim_but_not_through_one_map() {
     let one_map = Settings { spot_map_limit: 85f32.to_radians(), ..Settings::default() };
     holds_and_breaks("wide-spot", one_map);

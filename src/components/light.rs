@@ -97,6 +97,8 @@ pub struct ShadowLayer {
     pub clip_from_world: Mat4,
     /// World size of one texel: `texel.x + texel.y * distance from the light`.
     pub texel: Vec2,
+    /// Texels along its side.
+    pub resolution: u32,
     /// View depth at which this cascade ends (infinite for other layers).
     pub far: f32,
     /// Width of the band before `far` where this cascade blends into the next.
@@ -122,6 +124,15 @@ pub struct ShadowLayer {
 pub struct ShadowMap {
     /// The light's layers, nearest cascade first.
     pub layers: Vec<ShadowLayer>,
+    /// Texels along a side of each of its layers, as [`crate::systems::size_shadow_maps`] sizes
+    /// them for the atlas (0 until it has: then the settings' size).
+    pub resolution: u32,
+    /// The size class (log2 of the side) its light keeps with hysteresis, before the memory
+    /// budget halves it (0: none yet).
+    pub wanted: u32,
+    /// How much its light shows on screen (the radius of the disc its reach covers, as a share
+    /// of the screen's half height; infinite for a sun): what the update budget ranks it by.
+    pub shows: f32,
 }
 
 impl ShadowMap {

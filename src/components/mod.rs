@@ -358,11 +358,14 @@ pub struct Time {
     pub dt: f32,
     /// Steps taken.
     pub frame: u64,
+    /// Updates run, with the clock held or not: a frame of the world, however many pictures
+    /// are rendered of it (the shadow update budget is spent once per update).
+    pub updates: u64,
 }
 
 impl Default for Time {
     fn default() -> Self {
-        Time { t: 0.0, dt: 1.0 / 60.0, frame: 0 }
+        Time { t: 0.0, dt: 1.0 / 60.0, frame: 0, updates: 0 }
     }
 }
 

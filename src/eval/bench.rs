@@ -141,9 +141,10 @@ impl Run {
         if scenario.motion == Motion::OneCube {
             freeze_all_but_one_cube(&mut app.world);
         }
+        let renderer = Renderer::new(gpu, HEADLESS_FORMAT)?;
+        renderer.tell(&mut app.world);
         app.resize(width, height);
         app.set_time(2.0);
-        let renderer = Renderer::new(gpu, HEADLESS_FORMAT)?;
         let panel = (scenario.lab == Lab::Panel).then(|| {
             (crate::ui::Painter::new(gpu, HEADLESS_FORMAT), crate::ui::Lab { panel: true, ..Default::default() })
         });

@@ -101,6 +101,8 @@ pub enum CaseScene {
     LightBleeding,
     /// Walls at 1 m to 32 m from a spot.
     Precision,
+    /// A hard-edged spot over an open ground, probed at the edge of its tile.
+    AtlasSeams,
 }
 
 /// The truth of a frame: one column per light in the frame's order (sun, then spots), one entry
@@ -160,6 +162,7 @@ impl<'g> Measurer<'g> {
                 let mut app = build(settings)?;
                 app.resize(self.size.0, self.size.1);
                 let renderer = Renderer::new(self.gpu, HEADLESS_FORMAT)?;
+                renderer.tell(&mut app.world);
                 e.insert(Subject { app, renderer })
             }
         };

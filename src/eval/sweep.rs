@@ -108,8 +108,18 @@ impl Config {
             moment_bits: self.moment_bits,
             shadow_depth: self.depth,
             bias_scale: self.bias_scale,
+            shadow_memory: self.memory_mib(),
             ..base.clone()
         }
+    }
+
+    /// Shadow memory in MiB that holds sixteen layers at this configuration's map size with
+    /// their static copies (at least the default): a sweep's map size is then what the sun's
+    /// cascades get, and no light's tile is halved for want of room.
+    pub fn memory_mib(&self) -> u32 {
+        let size = u64::from(self.map_size);
+        let bytes = 16 * size * size * u64::from(self.texel_bytes() + 4);
+        (bytes.div_ceil(1 << 20) as u32).clamp(Settings::default().shadow_memory, crate::settings::MAX_SHADOW_MEMORY)
     }
 
     /// Bytes a texel of one layer takes: the depth map's, and the colour map's where its method

@@ -98,12 +98,12 @@ pub struct LayerContext<'a> {
 }
 
 impl LayerContext<'_> {
-    /// The six faces of a shadow cube at `at` reaching `range`, with the margin the cube seams
-    /// take when they are handled.
+    /// The six faces of a shadow cube at `at` reaching `range`, `resolution` texels a side,
+    /// with the margin the cube seams take when they are handled.
     #[must_use]
-    pub fn cube(&self, at: Vec3, range: f32) -> Vec<LayerFit> {
+    pub fn cube(&self, at: Vec3, range: f32, resolution: u32) -> Vec<LayerFit> {
         let margin = if self.settings.cube_seams { crate::settings::CUBE_MARGIN } else { 0 };
-        cube_projections(at, range, self.settings.shadow_map_size, margin).map(LayerFit::everywhere).to_vec()
+        cube_projections(at, range, resolution, margin).map(LayerFit::everywhere).to_vec()
     }
 }
 
@@ -155,8 +155,8 @@ pub trait Kind {
     }
     /// How its shadow is laid out in layers.
     fn shape(&self, settings: &Settings) -> ShadowShape;
-    /// Its shadow's layers: their projections, in layer order.
-    fn layers(&self, context: &LayerContext) -> Vec<LayerFit>;
+    /// Its shadow's layers, `resolution` texels a side: their projections, in layer order.
+    fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit>;
     /// Its size as soft shadows take it: tan of a distant light's angular radius (a blocker's
     /// distance times it is the penumbra's half width), or a local light's radius in metres.
     fn penumbra_size(&self) -> f32;
@@ -209,8 +209,8 @@ impl Kind for LightKind {
     fn shape(&self, settings: &Settings) -> ShadowShape {
         each_kind!(self, k => k.shape(settings))
     }
-    fn layers(&self, context: &LayerContext) -> Vec<LayerFit> {
-        each_kind!(self, k => k.layers(context))
+    fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {
+        each_kind!(self, k => k.layers(context, resolution))
     }
     fn penumbra_size(&self) -> f32 {
         each_kind!(self, k => k.penumbra_size())
@@ -279,6 +279,8 @@ pub struct Light {
     pub cookie: Option<Cookie>,
     /// Its shadow's layers as the update fitted them (none when it casts no shadow).
     pub layers: Vec<ShadowLayer>,
+    /// How much it shows on screen (see [`ShadowMap::shows`]).
+    pub shows: f32,
 }
 
 impl Light {
@@ -347,6 +349,7 @@ pub fn light_list(world: &mut World) -> Vec<Light> {
                 method: world.get::<ShadowMethod>(entity).copied().unwrap_or(settings.method),
                 cookie: world.get::<Cookie>(entity).copied(),
                 layers: map.map(|m| m.layers.clone()).unwrap_or_default(),
+                shows: map.map_or(0.0, |m| m.shows),
             }
         })
         .collect()

@@ -37,8 +37,8 @@ impl Kind for Point {
         ShadowShape::Cube
     }
 
-    fn layers(&self, context: &LayerContext) -> Vec<LayerFit> {
-        context.cube(self.position, self.range)
+    fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {
+        context.cube(self.position, self.range, resolution)
     }
 
     fn penumbra_size(&self) -> f32 {

@@ -54,14 +54,13 @@ impl Kind for Spot {
         if self.outer <= settings.spot_map_limit { ShadowShape::Single } else { ShadowShape::Cube }
     }
 
-    fn layers(&self, context: &LayerContext) -> Vec<LayerFit> {
+    fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {
         match self.shape(context.settings) {
             ShadowShape::Single => {
-                let size = context.settings.shadow_map_size;
-                let cone = spot_projection(self.position, self.direction, self.outer, self.range, size);
+                let cone = spot_projection(self.position, self.direction, self.outer, self.range, resolution);
                 vec![LayerFit::everywhere(cone)]
             }
-            _ => context.cube(self.position, self.range),
+            _ => context.cube(self.position, self.range, resolution),
         }
     }
 

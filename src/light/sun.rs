@@ -48,8 +48,8 @@ impl Kind for Sun {
     }
 
     /// One layer per cascade, fitted to its slice of the camera's view; none without a camera.
-    fn layers(&self, context: &LayerContext) -> Vec<LayerFit> {
-        context.view.map_or_else(Vec::new, |view| cascades(self.direction, view, context))
+    fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {
+        context.view.map_or_else(Vec::new, |view| cascades(self.direction, view, context, resolution))
     }
 
     fn penumbra_size(&self) -> f32 {
@@ -92,7 +92,7 @@ impl Kind for Sun {
 /// width of its blend band. With the SDSM fit and what the camera saw, the splits span the view
 /// depths seen and each box holds its slice's visible pixels (a slice where nothing was seen is
 /// fitted stable).
-fn cascades(direction: Vec3, view: CameraView, context: &LayerContext) -> Vec<LayerFit> {
+fn cascades(direction: Vec3, view: CameraView, context: &LayerContext, res: u32) -> Vec<LayerFit> {
     let (settings, CameraView { camera, transform, aspect }) = (context.settings, view);
     let frustum =
         ViewFrustum { position: transform.translation, rotation: transform.rotation, fov_y: camera.fov_y, aspect };
@@ -107,7 +107,6 @@ fn cascades(direction: Vec3, view: CameraView, context: &LayerContext) -> Vec<La
     };
     let bands = blend_bands(&depths, settings.cascade_blend);
     let sun = SunScene::from_boxes(direction, context.scene.iter().copied());
-    let res = settings.shadow_map_size;
     (0..bands.len())
         .map(|i| {
             // A cascade starts inside the previous one's blend band, so both cover the band.

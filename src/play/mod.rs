@@ -148,6 +148,7 @@ impl Player {
         }
         surface.configure(&gpu.device, &config);
         let mut renderer = Renderer::new(&gpu, format)?;
+        renderer.tell(&mut self.app.world);
         renderer.enable_timing(&gpu);
         let gui = Gui::new(&window, &gpu, format);
         self.app.resize(config.width, config.height);

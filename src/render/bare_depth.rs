@@ -3,14 +3,16 @@
 //! placement (a skinned one unposed), one instanced call per mesh and layer; no culling of its
 //! own (it takes the frame's lists as given), no cache, no cut-outs, no bookkeeping.
 //! `umbra bench --shadow-pass` times umbra's shadow pass against it, drawing the same casters
-//! into layers of the same size and format.
+//! into tiles of the same size, place and format.
 
 use super::extract::FrameData;
 use super::instances::InstanceBuffer;
 use super::instances::{LayerCalls, layer_calls};
 use super::mesh::{AlphaClass, GpuMesh, PLACEMENT, Variant};
 use super::shaders::{BARE_DEPTH, Composed};
+use super::shadow_atlas::array_layers;
 use super::texture::LayeredTarget;
+use crate::shadow::AtlasShape;
 use super::uniform_array::UniformArray;
 use crate::assets::Vertex;
 use glam::Mat4;
@@ -78,18 +80,19 @@ impl BareDepth {
         self.format
     }
 
-    /// Draws every layer of `data` with its casters into maps of `size`² texels.
+    /// Draws every layer of `data` with its casters into its tile of an atlas of `shape`: per
+    /// page one pass, cleared whole, each tile drawn with the viewport on it.
     pub fn encode(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         encoder: &mut wgpu::CommandEncoder,
         data: &FrameData,
         meshes: &[Option<GpuMesh>],
-        size: u32,
+        shape: AtlasShape,
     ) {
-        let shape = (size, data.draws.len().max(2) as u32, self.format);
-        if self.maps.as_ref().is_none_or(|(_, s)| *s != shape) {
-            self.maps = Some((LayeredTarget::new(device, "bare depth", self.format, size, shape.1), shape));
+        let key = (shape.page, array_layers(shape.pages), self.format);
+        if self.maps.as_ref().is_none_or(|(_, s)| *s != key) {
+            self.maps = Some((LayeredTarget::new(device, "bare depth", self.format, key.0, key.1), key));
         }
         let matrices: Vec<Mat4> = data.draws.iter().map(|d| d.clip_from_world).collect();
         self.layers.write(device, queue, &matrices);
@@ -107,12 +110,16 @@ impl BareDepth {
             data.draws.iter().map(|l| layer_calls(&data.items, &l.casters, bare, true, &mut placements)).collect();
         self.instances.write(device, queue, &placements);
         let (maps, _) = self.maps.as_ref().expect("made above");
-        for (k, layer_calls) in calls.iter().enumerate() {
+        let mut pages: Vec<u32> = data.draws.iter().filter_map(|d| d.tile.map(|t| t.page)).collect();
+        pages.sort_unstable();
+        pages.dedup();
+        for page in pages {
+            let Some(view) = maps.layer_views.get(page as usize) else { continue };
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("bare depth"),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &maps.layer_views[k],
+                    view,
                     depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
                     stencil_ops: None,
                 }),
@@ -121,14 +128,19 @@ impl BareDepth {
                 multiview_mask: None,
             });
             pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &self.layers.bind_group, &[self.layers.offset(k)]);
             pass.set_vertex_buffer(1, self.instances.buffer().slice(..));
-            for batch in &layer_calls.batches {
-                let Some(Some(mesh)) = meshes.get(batch.mesh) else { continue };
-                let (vertices, indices, count) = mesh.buffers();
-                pass.set_vertex_buffer(0, vertices.slice(..));
-                pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..count, 0, batch.instances.clone());
+            for (k, (draw, layer_calls)) in data.draws.iter().zip(&calls).enumerate() {
+                let Some(tile) = draw.tile.filter(|t| t.page == page) else { continue };
+                let side = draw.resolution as f32;
+                pass.set_viewport(tile.x as f32, tile.y as f32, side, side, 0.0, 1.0);
+                pass.set_bind_group(0, &self.layers.bind_group, &[self.layers.offset(k)]);
+                for batch in &layer_calls.batches {
+                    let Some(Some(mesh)) = meshes.get(batch.mesh) else { continue };
+                    let (vertices, indices, count) = mesh.buffers();
+                    pass.set_vertex_buffer(0, vertices.slice(..));
+                    pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..count, 0, batch.instances.clone());
+                }
             }
         }
     }

@@ -4,13 +4,14 @@
 //! [`light_list`] becomes one [`GpuLight`], and its layers take the next slots of the shadow-map
 //! array: slots are the renderer's business, not the world's.
 
-use super::gpu_types::{Frame, GpuLayer, GpuLight, GpuPlanar, MAX_LAYERS, Object};
+use super::gpu_types::{Frame, GpuLayer, GpuLight, GpuPlanar, Object};
+use super::shadow_atlas::LayerKey;
 use super::planar::{MAX_PLANAR, ground, planar_draws};
 use crate::components::*;
 use crate::light::clusters::{ClusterView, LightGrid, Reach};
 use crate::light::{Kind, Light, LightLabel, ShadowShape, light_list};
 use crate::settings::{CasterCulling, Settings};
-use crate::shadow::{Aabb, CasterIndex, intersects_clip_volume};
+use crate::shadow::{Aabb, CasterIndex, Tile, intersects_clip_volume};
 use crate::systems::CastersAtRest;
 use bevy_ecs::prelude::*;
 use bytemuck::Zeroable;
@@ -43,8 +44,18 @@ pub struct DrawItem {
 pub struct LayerDraw {
     /// The light it belongs to.
     pub light: LightLabel,
-    /// Its slot in the shadow-map array.
+    /// Its name across frames (its light's entity and its place among the light's layers).
+    pub key: LayerKey,
+    /// Its index in [`FrameData::layers`].
     pub slot: u32,
+    /// Texels along its side.
+    pub resolution: u32,
+    /// Its tile of the atlas, once the renderer has placed it (none: it is not drawn).
+    pub tile: Option<Tile>,
+    /// Its tile is new to it this frame: what the tile holds is another layer's, or nothing.
+    pub fresh: bool,
+    /// How much its light shows on screen (see [`crate::components::ShadowMap::shows`]).
+    pub shows: f32,
     /// World to the layer's clip space.
     pub clip_from_world: Mat4,
     /// Version of its contents (see [`ShadowLayer::version`]).
@@ -139,8 +150,8 @@ pub struct PlanarDraw {
 /// Why a shadowed light is lit without its shadow in a frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Shadowless {
-    /// Its layers do not fit in the shadow-map array.
-    ArrayFull,
+    /// The shadow atlas had no room left for its layers.
+    AtlasFull,
     /// The stencil that planar shadows count their lights in has no number left for it.
     StencilFull,
 }
@@ -148,7 +159,7 @@ pub enum Shadowless {
 impl std::fmt::Display for Shadowless {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Shadowless::ArrayFull => write!(f, "the shadow-map array holds at most {MAX_LAYERS} layers"),
+            Shadowless::AtlasFull => write!(f, "the shadow atlas has no room left for them (see --shadow-memory)"),
             Shadowless::StencilFull => write!(f, "planar shadows count their lights in 8 bits, {MAX_PLANAR} at most"),
         }
     }
@@ -191,7 +202,7 @@ impl FrameData {
 /// the shadow shrinks (on the plates test, VSM drew no soft edge at all). So in a moment method
 /// a receiver shadows what lies behind it from the light; in the sample nothing does.
 fn layer_draws(
-    (light, method): (LightLabel, ShadowMethod),
+    (entity, light, method, shows): (Entity, LightLabel, ShadowMethod, f32),
     layers: &[ShadowLayer],
     first_slot: usize,
     (items, index): (&[(DrawItem, Aabb)], &CasterIndex),
@@ -206,7 +217,12 @@ fn layer_draws(
         .enumerate()
         .map(|(k, l)| LayerDraw {
             light,
+            key: (entity.to_bits(), k as u32),
             slot: (first_slot + k) as u32,
+            resolution: l.resolution,
+            tile: None,
+            fresh: false,
+            shows,
             clip_from_world: l.clip_from_world,
             version: l.version,
             static_version: l.static_version,
@@ -304,21 +320,15 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
     let (mut lights, mut layers, mut draws, mut methods) = (Vec::new(), Vec::new(), Vec::new(), 0);
     let mut shadowless = Vec::new();
     for light in light_list(world) {
-        // A light whose layers do not all fit in the array is lit without a shadow (and said
-        // so), and a planar light has none (its shadow is drawn over the ground instead).
-        let mapped = light.method != ShadowMethod::Planar;
-        let fits = layers.len() + light.layers.len() <= MAX_LAYERS;
-        if mapped && !fits {
-            shadowless.push((light.label, Shadowless::ArrayFull));
-        }
-        let count = if fits && mapped { light.layers.len() } else { 0 };
+        // A planar light has no layers (its shadow is drawn over the ground instead).
+        let count = if light.method != ShadowMethod::Planar { light.layers.len() } else { 0 };
         if count > 0 {
             // With shadows off the pipeline holds no sampling code at all: on a software
             // rasterizer a wide filter's code slows every fragment even where it never runs.
             if settings.shadows {
                 methods |= 1 << light.method as u32;
             }
-            let of = (light.label, light.method);
+            let of = (light.entity, light.label, light.method, light.shows);
             draws.extend(layer_draws(of, &light.layers, layers.len(), (&items, &index), cull_to));
             // Where a light at a point is; nothing for one infinitely far away (w = 0).
             let at = light.kind.homogeneous();
@@ -359,6 +369,7 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
         shadows_on: settings.shadows as u32,
         cascade_debug: settings.cascade_debug as u32,
         light_count: lights.len() as u32,
+        atlas_guard: settings.atlas_guard as u32,
         cluster_near: clusters.0,
         cluster_far: clusters.1,
         cube_seams: settings.cube_seams as u32,

@@ -93,7 +93,8 @@ gpu_struct! {
         pub cluster_near: f32,
         /// View depth where the last slice of light clusters ends.
         pub cluster_far: f32,
-        pub _pad_frame0: u32,
+        /// 1 when lookups keep their taps inside their own tile of the atlas.
+        pub atlas_guard: u32,
     }
 }
 
@@ -177,7 +178,11 @@ gpu_struct! {
         pub bleed: f32,
         /// Where its light is (spots and points), from which R16F radial measures distance.
         pub origin: [f32; 3],
-        pub _pad0: u32,
+        /// The atlas page its tile is on.
+        pub page: u32,
+        /// Its tile: the corner's place on the page and the side's share of it (both as
+        /// texture coordinates of the page), then the side in texels.
+        pub tile: [f32; 4],
     }
 }
 
@@ -203,14 +208,31 @@ gpu_struct! {
 }
 
 gpu_struct! {
-    /// The layer a moment-blur pass reads and how far it reaches (`Blur` in blur.wgsl).
+    /// The tile a moment-blur pass reads and how far it reaches (`Blur` in blur.wgsl).
     pub struct Blur {
         /// Layer of the moment array.
         pub layer: u32,
         /// Texels weighed each side of the centre.
         pub radius: i32,
+        /// Texels along the side of the tile it blurs.
+        pub size: u32,
+        pub _pad0: u32,
+        /// The tile's first texel on the page.
+        pub origin: [u32; 2],
+        pub _pad1: [u32; 2],
+    }
+}
+
+gpu_struct! {
+    /// How an atlas tile is filled before its casters are drawn (`Fill` in tile.wgsl).
+    pub struct Fill {
+        /// What its colour map keeps where nothing was drawn.
+        pub colour: [f32; 4],
+        /// Its page in the static atlas.
+        pub page: u32,
         pub _pad0: u32,
         pub _pad1: u32,
+        pub _pad2: u32,
     }
 }
 

@@ -7,7 +7,7 @@ use super::growing::{GrowingBuffer, GrowingRows};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
 use super::planar::{PlanarPass, PlanarTargets};
 use super::shaders::{Composed, MAIN_MODULE, PLANAR_MODULE};
-use super::shadow_pass::ShadowMaps;
+use super::shadow_atlas::ShadowMaps;
 use super::texture::MaterialTextures;
 use super::timing::PassTimer;
 use crate::assets::{COOKIE_SIZE, cookie_image};
@@ -34,8 +34,9 @@ pub struct MainPass {
     pipelines: Pipelines,
     /// The measuring pipelines (world position, normal, visibility), built on first use.
     debug: Option<Pipelines>,
-    /// The probe pipeline (shadow tests at given points), built on first use.
-    probe: Option<wgpu::RenderPipeline>,
+    /// The probe pipelines (shadow tests at given points), one for each set of shadow methods
+    /// a frame of probes used, built on first use.
+    probe: std::collections::HashMap<u32, wgpu::RenderPipeline>,
     module: wgpu::ShaderModule,
     object_layout: wgpu::BindGroupLayout,
     frame: FrameResources,
@@ -227,7 +228,7 @@ impl FrameResources {
     fn entries<'a>(&'a self, maps: &'a ShadowMaps) -> Vec<wgpu::BindGroupEntry<'a>> {
         vec![
             wgpu::BindGroupEntry { binding: 0, resource: self.buffer.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&maps.array_view) },
+            wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&maps.pages.array_view) },
             wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
             wgpu::BindGroupEntry { binding: 3, resource: self.cookies.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 4, resource: self.lights.buffer.as_entire_binding() },
@@ -306,7 +307,7 @@ impl MainPass {
         MainPass {
             pipelines,
             debug: None,
-            probe: None,
+            probe: std::collections::HashMap::new(),
             module,
             object_layout,
             frame,
@@ -361,9 +362,10 @@ impl MainPass {
         self.planar.bind(device, &self.frame.entries(maps));
     }
 
-    /// Builds the probe pipeline if it is not built yet.
-    pub fn ensure_probe(&mut self, device: &wgpu::Device) {
-        if self.probe.is_some() {
+    /// Builds the probe pipeline that samples with `methods` (a bit each, as the main pass's
+    /// `SHADOW_METHODS`) if it is not built yet.
+    pub fn ensure_probe(&mut self, device: &wgpu::Device, methods: u32) {
+        if self.probe.contains_key(&methods) {
             return;
         }
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -372,7 +374,8 @@ impl MainPass {
             immediate_size: 0,
         });
         const POINT: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
-        self.probe = Some(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        let constants = [("SHADOW_METHODS", methods as f64)];
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("probe"),
             layout: Some(&layout),
             vertex: wgpu::VertexState {
@@ -391,16 +394,18 @@ impl MainPass {
             fragment: Some(wgpu::FragmentState {
                 module: &self.module,
                 entry_point: Some("fs_probe"),
-                compilation_options: Default::default(),
+                compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
                 targets: &[Some(DEBUG_FORMAT.into())],
             }),
             multiview_mask: None,
             cache: None,
-        }));
+        });
+        self.probe.insert(methods, pipeline);
     }
 
     /// Draws `count` probe points from `points` into `target`, each into its own pixel, with the
-    /// shadow tests the main pass would make there; needs [`MainPass::ensure_probe`] first.
+    /// shadow tests the main pass would make there; needs [`MainPass::ensure_probe`] for the
+    /// frame's methods first.
     pub fn encode_probes(
         &self,
         queue: &wgpu::Queue,
@@ -409,7 +414,7 @@ impl MainPass {
         data: &FrameData,
         (points, count): (&wgpu::Buffer, u32),
     ) {
-        let Some(pipeline) = &self.probe else { return };
+        let Some(pipeline) = self.probe.get(&data.methods) else { return };
         self.frame.write(queue, data);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("probes"),

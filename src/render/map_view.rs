@@ -12,15 +12,21 @@ pub const COLUMNS: u32 = 4;
 /// The atlas's format, as egui shows textures.
 pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
-/// What the shader needs of layer `layer` to turn what it keeps back into distance and spread it
-/// over grey: its depth terms, its near and far distances, whether it is a perspective one, its
-/// light's method (which says which map to read) and EVSM's positive exponent.
+/// What the shader needs of layer `layer` to find its tile and turn what it keeps back into
+/// distance spread over grey: its depth terms, its near and far distances, whether it is a
+/// perspective one, its light's method (which says which map to read), EVSM's positive
+/// exponent, and its tile (corner and side as shares of the page) and page.
 #[must_use]
-pub fn view_terms(layer: &GpuLayer) -> [[f32; 4]; 2] {
+pub fn view_terms(layer: &GpuLayer) -> [[f32; 4]; 3] {
     let terms = glam::Vec2::from(layer.depth_terms);
     let perspective = layer.perspective == 1;
     let (near, far) = (view_distance(terms, 0.0, perspective), view_distance(terms, 1.0, perspective));
-    [[terms.x, terms.y, near, far], [perspective as u32 as f32, layer.method as f32, layer.warp[0], 0.0]]
+    let [x, y, side, _] = layer.tile;
+    [
+        [terms.x, terms.y, near, far],
+        [perspective as u32 as f32, layer.method as f32, layer.warp[0], 0.0],
+        [x, y, side, layer.page as f32],
+    ]
 }
 
 /// The size of the atlas for `layers` layers, in pixels.
@@ -107,7 +113,7 @@ impl MapView {
         });
         let terms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("map view terms"),
-            size: (MAX_LAYERS * 2 * 16) as u64,
+            size: (MAX_LAYERS * 3 * 16) as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -145,7 +151,7 @@ impl MapView {
             self.atlas = Some((texture, view));
             self.generation += 1;
         }
-        let terms: Vec<[[f32; 4]; 2]> = layers.iter().take(count as usize).map(view_terms).collect();
+        let terms: Vec<[[f32; 4]; 3]> = layers.iter().take(count as usize).map(view_terms).collect();
         queue.write_buffer(&self.terms, 0, bytemuck::cast_slice(&terms));
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("map view"),
@@ -195,7 +201,7 @@ mod tests {
             perspective: 1,
             ..GpuLayer::zeroed()
         };
-        let [[_, _, near, far], [p, ..]] = view_terms(&layer);
+        let [[_, _, near, far], [p, ..], _] = view_terms(&layer);
         assert!((near - 0.5).abs() < 1e-4 && (far - 20.0).abs() < 1e-2 && p == 1.0, "{near} {far}");
         let evsm = GpuLayer { method: ShadowMethod::Evsm as u32, warp: [5.0, 3.0], ..layer };
         assert_eq!(view_terms(&evsm)[1][1..3], [ShadowMethod::Evsm as u32 as f32, 5.0], "the method says which map");

@@ -21,9 +21,12 @@ mod planar;
 mod readback;
 mod renderer;
 mod shaders;
+mod shadow_atlas;
 mod shadow_pass;
+mod shadow_stats;
 mod static_maps;
 mod texture;
+mod tile_fill;
 mod timing;
 mod uniform_array;
 
@@ -33,7 +36,7 @@ pub use readback::{
     DebugFrame, HEADLESS_FORMAT, Image, probe_visibility, read_picture, render_debug_frame, render_headless, render_png,
 };
 pub use renderer::{MapAtlas, Renderer};
-pub use shadow_pass::{LightPasses, ShadowStats};
+pub use shadow_stats::{LightPasses, ShadowStats};
 pub use timing::PassTimes;
 
 /// Everything that can go wrong between the world and a finished frame.

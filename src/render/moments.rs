@@ -15,6 +15,7 @@ use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
 use crate::components::ShadowMethod;
 use crate::settings::MomentBits;
+use crate::shadow::Tile;
 
 /// The colour maps' format: four channels for moments, one for depth in colour, in 16- or
 /// 32-bit floats.
@@ -254,17 +255,27 @@ impl MomentBlur {
         self.format
     }
 
-    /// Blurs `slots` of `maps` by `radius` texels each way, two passes a layer, stamped by
-    /// `timer` as shadow passes `first`, `first + 1`, ... of `total`.
+    /// Blurs `tiles` of `maps` (each with its side in texels) by `radius` texels each way, two
+    /// passes a page (rows into the scratch page, columns back), stamped by `timer` as shadow
+    /// passes `first`, `first + 1`, ... of `total`. Each tile reads only its own texels.
     pub fn encode(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         encoder: &mut wgpu::CommandEncoder,
-        (maps, slots, radius): (&ColourMaps, &[u32], u32),
+        (maps, tiles, radius): (&ColourMaps, &[(Tile, u32)], u32),
         (mut timer, first, total): (Option<&mut PassTimer>, usize, usize),
     ) {
-        let terms: Vec<Blur> =
-            slots.iter().map(|&layer| Blur { layer, radius: radius as i32, _pad0: 0, _pad1: 0 }).collect();
+        let terms: Vec<Blur> = tiles
+            .iter()
+            .map(|(t, size)| Blur {
+                layer: t.page,
+                radius: radius as i32,
+                size: *size,
+                _pad0: 0,
+                origin: [t.x, t.y],
+                _pad1: [0; 2],
+            })
+            .collect();
         self.uniforms.write(device, queue, &terms);
         let group = |layout: &wgpu::BindGroupLayout, binding: u32, view: &wgpu::TextureView| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -275,30 +286,37 @@ impl MomentBlur {
         };
         let from_array = group(&self.source_layouts[0], 0, &maps.array_view);
         let from_scratch = group(&self.source_layouts[1], 1, &maps.scratch_view);
-        for (i, &slot) in slots.iter().enumerate() {
-            let Some(target) = maps.layer_views.get(slot as usize) else { continue };
+        let mut pages: Vec<u32> = tiles.iter().map(|(t, _)| t.page).collect();
+        pages.sort_unstable();
+        pages.dedup();
+        let mut stamp = first;
+        for page in pages {
+            let Some(target) = maps.layer_views.get(page as usize) else { continue };
             let passes = [(&self.rows, &from_array, &maps.scratch_view), (&self.columns, &from_scratch, target)];
-            for (k, (pipeline, source, view)) in passes.into_iter().enumerate() {
+            for (pipeline, source, view) in passes {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("moment blur"),
                     color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                         view,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                            store: wgpu::StoreOp::Store,
-                        },
+                        // The page's other tiles keep what they hold.
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
                     })],
                     depth_stencil_attachment: None,
-                    timestamp_writes: timer.as_deref_mut().and_then(|t| t.shadow_writes(first + 2 * i + k, total)),
+                    timestamp_writes: timer.as_deref_mut().and_then(|t| t.shadow_writes(stamp, total)),
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
+                stamp += 1;
                 pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &self.uniforms.bind_group, &[self.uniforms.offset(i)]);
                 pass.set_bind_group(1, source, &[]);
-                pass.draw(0..3, 0..1);
+                for (i, (tile, size)) in tiles.iter().enumerate().filter(|(_, (t, _))| t.page == page) {
+                    pass.set_viewport(tile.x as f32, tile.y as f32, *size as f32, *size as f32, 0.0, 1.0);
+                    pass.set_scissor_rect(tile.x, tile.y, *size, *size);
+                    pass.set_bind_group(0, &self.uniforms.bind_group, &[self.uniforms.offset(i)]);
+                    pass.draw(0..3, 0..1);
+                }
             }
         }
     }

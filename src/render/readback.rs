@@ -71,6 +71,7 @@ pub fn render_png(
 ) -> Result<(Gpu, Renderer, Image), RenderError> {
     let gpu = Gpu::headless()?;
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT)?;
+    renderer.tell(&mut app.world);
     app.resize(width, height);
     app.set_time(t);
     let image = render_headless(&gpu, &mut renderer, app, width, height)?;

@@ -10,7 +10,8 @@ use super::main_pass::MainPass;
 use super::map_view::MapView;
 use super::mesh::{Drawables, GpuMesh, JointPalette};
 use super::moments;
-use super::shadow_pass::{DrawOptions, ShadowPass, ShadowStats};
+use super::shadow_pass::{DrawOptions, ShadowPass};
+use super::shadow_stats::ShadowStats;
 use super::texture::MaterialTextures;
 use super::timing::{PassTimer, PassTimes};
 use super::uniform_array::UniformArray;
@@ -18,6 +19,7 @@ use super::{Gpu, RenderError};
 use crate::assets::{MeshLibrary, TextureLibrary};
 use crate::components::{Camera, DirectionalLight, Notices, SeenByCamera};
 use crate::settings::Settings;
+use crate::systems::{ShadowAtlas, ShadowCaps};
 use crate::shadow::FitMode;
 use crate::light::LightLabel;
 use bevy_ecs::prelude::*;
@@ -85,6 +87,8 @@ pub struct Renderer {
     atlas_stale: bool,
     /// The lights last said to be lit without their shadow.
     shadowless: Vec<(LightLabel, Shadowless)>,
+    /// What this device keeps of shadows per texel.
+    caps: ShadowCaps,
 }
 
 impl Renderer {
@@ -110,8 +114,8 @@ impl Renderer {
         );
         let joints = JointPalette::new(device);
         let textures = MaterialTextures::new(device, &gpu.queue);
-        let copies_depth = super::static_maps::copies_depth(&gpu.adapter);
-        let shadow = ShadowPass::new((device, copies_depth), &objects.layout, &joints, &textures, 16);
+        let reads_depth = super::static_maps::reads_depth(&gpu.adapter);
+        let shadow = ShadowPass::new((device, reads_depth), &objects.layout, &joints, &textures);
         let main = MainPass::new(device, &objects.layout, &joints, &textures, format, &shadow.maps);
         gpu.check_errors()?;
         Ok(Renderer {
@@ -133,6 +137,10 @@ impl Renderer {
             last_layers: Vec::new(),
             atlas_stale: true,
             shadowless: Vec::new(),
+            caps: ShadowCaps {
+                full_float_moments: super::moments::full_supported(&gpu.adapter, gpu.device.features()),
+                static_maps: reads_depth,
+            },
         })
     }
 
@@ -176,7 +184,6 @@ impl Renderer {
         (points, count): (&wgpu::Buffer, u32),
         first_light: usize,
     ) -> Result<(), RenderError> {
-        self.main.ensure_probe(&gpu.device);
         self.draw(gpu, world, grid, Output::Probes(target, grid, points, count, first_light))
     }
 
@@ -187,20 +194,22 @@ impl Renderer {
     }
 
     /// Draws `data`'s casters into its layers with the bare depth pass (see
-    /// [`super::bare_depth`]), in maps of `size`² texels of `depth`.
+    /// [`super::bare_depth`]), in the tiles umbra's shadow pass gives them, of `depth`.
     pub fn render_bare_depth(
         &mut self,
         gpu: &Gpu,
         data: &super::FrameData,
-        (size, depth): (u32, crate::settings::ShadowDepth),
+        depth: crate::settings::ShadowDepth,
     ) -> Result<(), RenderError> {
-        let format = super::shadow_pass::depth_texture(depth);
+        let format = super::shadow_atlas::depth_texture(depth);
+        let mut data = data.clone();
+        self.shadow.place(&mut data);
         if self.bare.as_ref().is_none_or(|b| b.format() != format) {
             self.bare = Some(BareDepth::new(&gpu.device, format));
         }
         let bare = self.bare.as_mut().expect("made above");
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("bare") });
-        bare.encode((&gpu.device, &gpu.queue), &mut encoder, data, &self.meshes, size);
+        bare.encode((&gpu.device, &gpu.queue), &mut encoder, &data, &self.meshes, self.shadow.maps.shape);
         gpu.queue.submit([encoder.finish()]);
         gpu.check_errors()
     }
@@ -212,7 +221,7 @@ impl Renderer {
         let view = self.map_view.get_or_insert_with(|| MapView::new(&gpu.device));
         if std::mem::take(&mut self.atlas_stale) || view.atlas().is_none() {
             let layers: Vec<GpuLayer> = self.last_layers.iter().map(|(l, _)| *l).collect();
-            let maps = (&self.shadow.maps.array_view, &self.shadow.maps.moments.array_view);
+            let maps = (&self.shadow.maps.pages.array_view, &self.shadow.maps.moments.array_view);
             view.draw(&gpu.device, &gpu.queue, maps, &layers);
         }
         let (atlas, generation) = view.atlas().expect("drawn above");
@@ -237,6 +246,27 @@ impl Renderer {
         self.timer.as_mut()?.poll(gpu)
     }
 
+    /// Tells `world` what this device keeps of shadows, so that its next update sizes the
+    /// shadow tiles for it. Call it when the world is made, before it first updates.
+    pub fn tell(&self, world: &mut World) {
+        world.insert_resource(self.caps);
+    }
+
+    /// [`Renderer::tell`] for a world that was not told before it updated: its tiles were sized
+    /// for the most any device keeps, so they are sized again, and the layers fitted again, for
+    /// this one before the frame is drawn.
+    fn tell_caps(&self, world: &mut World) {
+        if world.get_resource::<ShadowCaps>() == Some(&self.caps) {
+            return;
+        }
+        self.tell(world);
+        if world.contains_resource::<crate::systems::CasterChanges>() {
+            use bevy_ecs::system::RunSystemOnce;
+            let _ = world.run_system_once(crate::systems::size_shadow_maps);
+            let _ = world.run_system_once(crate::systems::update_light_matrices);
+        }
+    }
+
     fn draw(
         &mut self,
         gpu: &Gpu,
@@ -245,6 +275,7 @@ impl Renderer {
         output: Output<'_>,
     ) -> Result<(), RenderError> {
         let (device, queue) = (&gpu.device, &gpu.queue);
+        self.tell_caps(world);
         self.take_samples(gpu, world, false);
         let settings = world.resource::<Settings>().clone();
         let max = device.limits().max_texture_dimension_2d;
@@ -264,10 +295,17 @@ impl Renderer {
         if let Some(format) = format {
             moments::set_terms(&mut data.layers, format);
         }
-        let size = (settings.shadow_map_size, data.layers.len());
-        if self.shadow.ensure_maps(device, size, format, settings.shadow_depth) {
+        let atlas = world.get_resource::<ShadowAtlas>().copied();
+        let shape = atlas.unwrap_or_else(|| ShadowAtlas::for_settings(&settings, self.caps, std::iter::empty())).shape;
+        if shape.page > max {
+            return Err(RenderError::ShadowMapTooLarge { size: shape.page, max });
+        }
+        if self.shadow.ensure_maps(device, shape, format, settings.shadow_depth) {
             self.main.rebind(device, &self.shadow.maps);
         }
+        let how = DrawOptions::from(&settings);
+        let update = world.get_resource::<crate::components::Time>().map(|t| t.updates);
+        self.shadow.plan(&mut data, how, update);
         if lit {
             self.main.prepare((device, queue), &data, &self.shadow.maps)?;
             self.tell_shadowless(world, &data);
@@ -283,7 +321,6 @@ impl Renderer {
             timer.begin();
         }
         let stats = if settings.shadows {
-            let how = DrawOptions::from(&settings);
             self.shadow.encode((device, queue), &mut encoder, &data, drawables, how, self.timer.as_mut())
         } else {
             ShadowStats::default()
@@ -310,6 +347,7 @@ impl Renderer {
                 self.main.encode_debug(queue, &mut encoder, (targets, &depth), &data, drawables, timer)
             }
             Output::Probes(target, (w, h), points, count, first) => {
+                self.main.ensure_probe(device, data.methods);
                 data.set_probe_grid(w, h);
                 data.measure_from(first);
                 self.main.encode_probes(queue, &mut encoder, target, &data, (points, count));

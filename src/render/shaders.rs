@@ -45,6 +45,8 @@ pub const MAP_VIEW: ShaderFile = shader_file!("map_view.wgsl");
 pub const BARE_DEPTH: ShaderFile = shader_file!("bare_depth.wgsl");
 /// The depth reduction of sample distribution shadow maps.
 pub const SDSM: ShaderFile = shader_file!("sdsm.wgsl");
+/// Filling an atlas tile before its casters: cleared, or its casters at rest put back.
+pub const TILE: ShaderFile = shader_file!("tile.wgsl");
 
 /// The shadow pass's files, in dependency order.
 pub const SHADOW_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, SHADOW];
@@ -165,12 +167,13 @@ mod tests {
         check(&Composed::new(BLUR_MODULE)).unwrap();
         check(&Composed::new(&[LINES])).unwrap();
         check(&Composed::new(&[BARE_DEPTH])).unwrap();
+        check(&Composed::new(&[TILE])).unwrap();
         let (module, _) = check(&Composed::new(&[MAP_VIEW])).unwrap();
-        // The viewer's uniform holds two vectors for every layer there can be.
+        // The viewer's uniform holds three vectors for every layer it shows.
         let terms = module.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some("view_layers")).unwrap().1;
         match module.types[terms.ty].inner {
             naga::TypeInner::Array { size: naga::ArraySize::Constant(n), .. } => {
-                assert_eq!(n.get() as usize, 2 * gpu_types::MAX_LAYERS)
+                assert_eq!(n.get() as usize, 3 * gpu_types::MAX_LAYERS)
             }
             ref other => panic!("view_layers is {other:?}"),
         }
@@ -213,8 +216,11 @@ mod tests {
         let planar_struct = ("GpuPlanar", gpu_types::GpuPlanar::FIELDS, size_of::<gpu_types::GpuPlanar>());
         let (sdsm, _) = check(&Composed::new(&[SDSM])).unwrap();
         let reduce_struct = ("Reduce", gpu_types::Reduce::FIELDS, size_of::<gpu_types::Reduce>());
+        let (tile, _) = check(&Composed::new(&[TILE])).unwrap();
+        let fill_struct = ("Fill", gpu_types::Fill::FIELDS, size_of::<gpu_types::Fill>());
         let each = shared.iter().map(|s| (&module, *s)).chain([
             (&sdsm, reduce_struct),
+            (&tile, fill_struct),
             (&blur, blur_struct),
             (&shadow, shadow_layer),
             (&planar, planar_struct),

@@ -1,50 +1,31 @@
-//! The shadow pass: depth, one layer of a 2D array texture per spot light, sun cascade or cube
-//! face, and for a light whose method reads a colour map (moments, blurred once drawn, or depth
-//! in colour) that map in the same slot of a colour array.
+//! The shadow pass: each layer (a sun cascade, a spot's map, a cube face) drawn into its tile of
+//! the shadow atlas ([`super::shadow_atlas`]), and for a light whose method reads a colour map
+//! (moments, blurred once drawn, or depth in colour) that map in the same tile of the colour
+//! atlas. A page's tiles are drawn in one render pass, each tile filled first (cleared, or its
+//! casters at rest put back: [`super::tile_fill`]) with the viewport on it.
 //!
 //! A layer's map is kept from frame to frame and drawn (and blurred) again only when the version
-//! the world gives it differs from the one it was drawn at (its light was dirty).
+//! the world gives it differs from the one it was drawn at (its light was dirty), or its tile is
+//! new to it; with an update budget, the out-of-date layers take turns ([`plan_updates`]) and
+//! those left waiting are sampled with the projection their map was drawn with.
 
 use super::extract::{DrawItem, FrameData, LayerDraw};
-use super::gpu_types::GpuLayer;
+use super::gpu_types::{Fill, GpuLayer};
 use super::instances::{InstanceBuffer, LayerCalls, layer_calls};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
-use super::moments::{ColourFormat, ColourMaps, MomentBlur, far_moments};
+use super::moments::{ColourFormat, MomentBlur, far_moments};
 use super::shaders::{Composed, SHADOW_MODULE};
+use super::shadow_atlas::{LayerKey, Placement, ShadowMaps, depth_texture};
+use super::shadow_stats::ShadowStats;
 use super::static_maps::StaticMaps;
-use super::texture::{LayeredTarget, MaterialTextures};
+use super::texture::MaterialTextures;
+use super::tile_fill::{FillKind, TileFill};
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
 use crate::components::{AlphaMode, ShadowMethod};
 use crate::settings::{ShadowDepth, ShadowFaces};
-use crate::light::LightLabel;
-use bevy_ecs::prelude::*;
-
-/// The shadow-map array and the views the two passes use.
-pub struct ShadowMaps {
-    /// Width and height of each layer.
-    pub size: u32,
-    /// Number of layers (see [`array_layers`]).
-    pub layers: u32,
-    /// Their depth format.
-    pub depth: ShadowDepth,
-    /// The depth texture (a copy destination where depth can be copied).
-    texture: wgpu::Texture,
-    /// One render view per layer.
-    layer_views: Vec<wgpu::TextureView>,
-    /// The whole array, for sampling.
-    pub array_view: wgpu::TextureView,
-    /// The colour maps, slot for slot (a stand-in when no light uses one).
-    pub moments: ColourMaps,
-}
-
-/// The texture format of depth maps of `depth`.
-pub(super) fn depth_texture(depth: ShadowDepth) -> wgpu::TextureFormat {
-    match depth {
-        ShadowDepth::Float32 => wgpu::TextureFormat::Depth32Float,
-        ShadowDepth::Unorm16 => wgpu::TextureFormat::Depth16Unorm,
-    }
-}
+use crate::shadow::{AtlasShape, MIN_TILE, Tile, TileState, Update, plan_updates};
+use std::collections::{HashMap, HashSet};
 
 /// The pipelines that draw into depth maps of one format: depth alone, and depth with a colour
 /// map of each [`ColourFormat`] (indexed by it).
@@ -67,7 +48,7 @@ impl PipelineSet {
     }
 }
 
-/// Pipelines, per-layer matrices and the shadow-map array.
+/// Pipelines, per-layer matrices, the atlas and where its layers are.
 pub struct ShadowPass {
     /// The pipelines for each [`ShadowDepth`] (indexed by it).
     sets: [PipelineSet; 2],
@@ -75,121 +56,54 @@ pub struct ShadowPass {
     layer_uniforms: UniformArray,
     /// The placements of this frame's instanced casters.
     instances: InstanceBuffer,
-    /// The current shadow maps.
+    fill: TileFill,
+    /// The current atlas.
     pub maps: ShadowMaps,
-    /// What each layer of `maps` was last drawn as.
-    drawn: Vec<Option<Drawn>>,
-    /// The device can copy depth textures, so the static maps can be used.
-    copies_depth: bool,
-    /// The static part of the depth maps, made when first needed.
+    placement: Placement,
+    /// What each layer's tile was last drawn as.
+    drawn: HashMap<LayerKey, Drawn>,
+    /// The static atlas, made when first needed.
     statics: Option<StaticMaps>,
+    /// The device can read a depth texture's values, which putting a static map back needs.
+    reads_depth: bool,
+    /// Frames planned so far: the clock stale layers' ages are counted in.
+    frame: u64,
+    /// The world's update the last plan was for (see [`crate::components::Time::updates`]).
+    planned_for: Option<u64>,
+    /// The frame each layer left waiting went out of date.
+    stale_since: HashMap<LayerKey, u64>,
+    /// This frame's plan, by index in its layers: drawn, or left stale (and for how long).
+    plan: Vec<Planned>,
 }
 
-/// What a layer's maps hold: the version of its light's layer they were drawn at and, for a
-/// moment layer, the method whose moments it stores and the blur it got. A light's method or the
-/// blur can change with no layer dirty (they do not move a shadow); a moment map drawn for
-/// another of them must be drawn again all the same.
+/// What the plan does with one layer this frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Planned {
+    draw: bool,
+    /// Frames it has waited, if it is out of date and left waiting.
+    waits: Option<u32>,
+}
+
+/// What a layer's tile holds: the version of its light's layer it was drawn at, where, for a
+/// moment layer the method whose moments it stores and the blur it got, and the layer's uniform
+/// as it was drawn (a stale map is sampled with it). A light's method or the blur can change with
+/// no layer dirty (they do not move a shadow); a moment map drawn for another of them must be
+/// drawn again all the same.
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Drawn {
     version: u64,
+    tile: Tile,
     moments: Option<(ShadowMethod, u32)>,
-}
-
-/// Shadow passes of one frame: per light, how many layers were drawn and how many kept.
-#[derive(Resource, Clone, Debug, Default, PartialEq, Eq)]
-pub struct ShadowStats {
-    /// One entry per light, in layer order.
-    pub lights: Vec<LightPasses>,
-}
-
-/// One light's shadow passes in a frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct LightPasses {
-    /// Which light.
-    pub light: LightLabel,
-    /// Layers drawn this frame.
-    pub drawn: u32,
-    /// Layers whose map was kept from an earlier frame.
-    pub kept: u32,
-    /// Moment layers blurred this frame.
-    pub blurred: u32,
-    /// Draw calls this frame's layers took (an instanced batch is one).
-    pub calls: u32,
-    /// Layers drawn over a copy of their static map (only their moving casters drawn).
-    pub from_static: u32,
-}
-
-impl ShadowStats {
-    /// Layers drawn this frame, all lights together.
-    pub fn drawn(&self) -> u32 {
-        self.lights.iter().map(|l| l.drawn).sum()
-    }
-
-    /// Layers kept this frame, all lights together.
-    pub fn kept(&self) -> u32 {
-        self.lights.iter().map(|l| l.kept).sum()
-    }
-
-    /// Draw calls of this frame's layers, all lights together.
-    pub fn calls(&self) -> u32 {
-        self.lights.iter().map(|l| l.calls).sum()
-    }
-
-    /// Moment layers blurred this frame, all lights together.
-    pub fn blurred(&self) -> u32 {
-        self.lights.iter().map(|l| l.blurred).sum()
-    }
-
-    fn count(&mut self, light: LightLabel, drawn: bool) {
-        if self.lights.last().is_none_or(|l| l.light != light) {
-            self.lights.push(LightPasses { light, drawn: 0, kept: 0, blurred: 0, calls: 0, from_static: 0 });
-        }
-        let entry = self.lights.last_mut().expect("pushed above");
-        if drawn { entry.drawn += 1 } else { entry.kept += 1 }
-    }
-
-    /// Layers drawn over a copy of their static map, all lights together.
-    pub fn from_static(&self) -> u32 {
-        self.lights.iter().map(|l| l.from_static).sum()
-    }
-
-    fn count_static(&mut self, light: LightLabel, over_static: bool) {
-        if let Some(entry) = self.lights.iter_mut().find(|l| l.light == light) {
-            entry.from_static += over_static as u32;
-        }
-    }
-
-    fn count_calls(&mut self, light: LightLabel, calls: usize) {
-        if let Some(entry) = self.lights.iter_mut().find(|l| l.light == light) {
-            entry.calls += calls as u32;
-        }
-    }
-
-    fn count_blur(&mut self, light: LightLabel) {
-        if let Some(entry) = self.lights.iter_mut().find(|l| l.light == light) {
-            entry.blurred += 1;
-        }
-    }
-}
-
-impl std::fmt::Display for ShadowStats {
-    /// "sun 1/3 · spot 1 0/1": layers drawn / kept, per light.
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        for (i, l) in self.lights.iter().enumerate() {
-            write!(f, "{}{} {}/{}", if i > 0 { " · " } else { "" }, l.light, l.drawn, l.kept)?;
-        }
-        Ok(())
-    }
+    gpu: GpuLayer,
 }
 
 impl ShadowPass {
     /// Builds the shadow pipelines; `object_layout` is the per-object bind group layout.
     pub fn new(
-        (device, copies_depth): (&wgpu::Device, bool),
+        (device, reads_depth): (&wgpu::Device, bool),
         object_layout: &wgpu::BindGroupLayout,
         palette: &JointPalette,
         textures: &MaterialTextures,
-        size: u32,
     ) -> Self {
         let stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let layer_uniforms = UniformArray::new(device, "shadow layers", size_of::<GpuLayer>() as u64, stages);
@@ -219,28 +133,44 @@ impl ShadowPass {
             PipelineSet { depth: pipelines("fs_shadow", Vec::new()), colour }
         };
         let sets = [set(ShadowDepth::Float32), set(ShadowDepth::Unorm16)];
-        let maps = ShadowMaps::new(device, (size, 2, copies_depth), None, ShadowDepth::default());
-        let instances = InstanceBuffer::new(device);
-        let drawn = vec![None; 2];
-        ShadowPass { sets, blur: None, layer_uniforms, instances, maps, drawn, copies_depth, statics: None }
+        let shape = AtlasShape { page: MIN_TILE, pages: 1 };
+        let maps = ShadowMaps::new(device, shape, None, ShadowDepth::default());
+        ShadowPass {
+            sets,
+            blur: None,
+            layer_uniforms,
+            instances: InstanceBuffer::new(device),
+            fill: TileFill::new(device),
+            maps,
+            placement: Placement::new(shape),
+            drawn: HashMap::new(),
+            statics: None,
+            reads_depth,
+            frame: 0,
+            planned_for: None,
+            stale_since: HashMap::new(),
+            plan: Vec::new(),
+        }
     }
 
-    /// Makes sure the maps are `size` texels of `depth`, hold `layers` and have colour maps of
-    /// `colour`; true if they were re-created (then every layer must be drawn again).
+    /// Makes sure the atlas has `shape`, depth `depth` and colour pages of `colour`; true if it
+    /// was made anew (then every layer is drawn again, and whoever samples it must bind it again).
     pub fn ensure_maps(
         &mut self,
         device: &wgpu::Device,
-        (size, layers): (u32, usize),
+        shape: AtlasShape,
         colour: Option<ColourFormat>,
         depth: ShadowDepth,
     ) -> bool {
-        let layers = array_layers(layers);
         let m = &self.maps;
-        if m.size == size && m.layers >= layers && m.moments.format == colour && m.depth == depth {
+        if m.shape == shape && m.moments.format == colour && m.depth == depth {
             return false;
         }
-        self.maps = ShadowMaps::new(device, (size, layers, self.copies_depth), colour, depth);
-        self.drawn = vec![None; layers as usize];
+        self.maps = ShadowMaps::new(device, shape, colour, depth);
+        if self.placement.shape() != shape {
+            self.placement = Placement::new(shape);
+        }
+        self.drawn.clear();
         self.statics = None;
         if let Some(format) = colour.filter(|f| f.moments())
             && self.blur.as_ref().is_none_or(|b| b.format() != format)
@@ -250,10 +180,82 @@ impl ShadowPass {
         true
     }
 
-    /// Makes the static maps, of the shadow maps' shape, unless they are there.
+    /// Gives every layer of `data` its tile of the atlas (see [`Placement::place`]).
+    pub fn place(&mut self, data: &mut FrameData) {
+        self.placement.place(data);
+    }
+
+    /// Places `data`'s layers and chooses those drawn this frame within the update budget of
+    /// `how` ([`plan_updates`]); a layer left waiting is sampled as it was drawn (its uniform in
+    /// `data` takes the projection its map has). Call before the main pass uploads `data`.
+    ///
+    /// The budget is spent once per `update` of the world: another picture of the same update
+    /// (a measurement's second pass) draws only empty tiles, so every picture of it agrees.
+    pub fn plan(&mut self, data: &mut FrameData, how: DrawOptions, update: Option<u64>) {
+        self.place(data);
+        let again = update.is_some() && update == self.planned_for;
+        self.planned_for = update;
+        self.frame += u64::from(!again);
+        let present: HashSet<LayerKey> = data.draws.iter().map(|d| d.key).collect();
+        self.drawn.retain(|k, _| present.contains(k));
+        self.stale_since.retain(|k, _| present.contains(k));
+        let updates: Vec<Update> = data
+            .draws
+            .iter()
+            .map(|l| Update {
+                state: l.tile.map_or(TileState::Current, |t| self.state(l, t, how)),
+                texels: u64::from(l.resolution).pow(2),
+                shows: l.shows,
+            })
+            .collect();
+        let budget = (how.reuse && how.updates > 0).then_some(u64::from(how.updates));
+        let draw = match budget {
+            Some(_) if again => updates.iter().map(|u| u.state == TileState::Empty).collect(),
+            _ => plan_updates(&updates, budget),
+        };
+        self.plan = updates
+            .iter()
+            .zip(draw)
+            .map(|(u, draw)| match u.state {
+                TileState::Stale { age } if !draw => Planned { draw, waits: Some(age) },
+                _ => Planned { draw, waits: None },
+            })
+            .collect();
+        for (layer, planned) in data.draws.iter().zip(&self.plan) {
+            if planned.waits.is_none() {
+                self.stale_since.remove(&layer.key);
+                continue;
+            }
+            self.stale_since.entry(layer.key).or_insert(self.frame);
+            if let Some(drawn) = self.drawn.get(&layer.key) {
+                let slot = layer.slot as usize;
+                data.layers[slot] = as_drawn(data.layers[slot], &drawn.gpu);
+            }
+        }
+    }
+
+    /// What `layer`'s `tile` holds against what the layer is now (every map is empty without
+    /// `how.reuse`).
+    fn state(&self, layer: &LayerDraw, tile: Tile, how: DrawOptions) -> TileState {
+        let Some(drawn) = self.drawn.get(&layer.key).filter(|_| how.reuse && !layer.fresh) else {
+            return TileState::Empty;
+        };
+        let blur = if layer.method.moments() { how.blur } else { 0 };
+        let moments = self.colour_format(layer).map(|_| (layer.method, blur));
+        if drawn.tile != tile || drawn.moments != moments {
+            TileState::Empty
+        } else if drawn.version == layer.version {
+            TileState::Current
+        } else {
+            let since = self.stale_since.get(&layer.key).copied().unwrap_or(self.frame);
+            TileState::Stale { age: u32::try_from(self.frame - since).unwrap_or(u32::MAX) }
+        }
+    }
+
+    /// Makes the static atlas, of the atlas's shape, unless it is there.
     fn ensure_statics(&mut self, device: &wgpu::Device) {
         let m = &self.maps;
-        let shape = (m.size, m.layers, depth_texture(m.depth));
+        let shape = (m.shape.page, m.pages.layer_views.len() as u32, depth_texture(m.depth));
         if self.statics.as_ref().is_none_or(|s| !s.fits(shape)) {
             self.statics = Some(StaticMaps::new(device, shape.0, shape.1, shape.2));
         }
@@ -265,22 +267,19 @@ impl ShadowPass {
         self.maps.moments.format.filter(|_| layer.method.colour_map())
     }
 
-    /// What `layer` is drawn as with moment maps blurred by `blur` texels.
-    fn drawn_as(&self, layer: &LayerDraw, blur: u32) -> Drawn {
+    /// What `layer` is drawn as in `tile` with moment maps blurred by `blur` texels, with `gpu`
+    /// its uniform.
+    fn drawn_as(&self, layer: &LayerDraw, tile: Tile, blur: u32, gpu: GpuLayer) -> Drawn {
         let blur = if layer.method.moments() { blur } else { 0 };
-        Drawn { version: layer.version, moments: self.colour_format(layer).map(|_| (layer.method, blur)) }
+        let moments = self.colour_format(layer).map(|_| (layer.method, blur));
+        Drawn { version: layer.version, tile, moments, gpu }
     }
 
-    /// True when `layer` must be drawn: its slot holds something else, or nothing is reused.
-    fn needs_drawing(&self, layer: &LayerDraw, reuse: bool, blur: u32) -> bool {
-        !reuse || self.drawn.get(layer.slot as usize).copied().flatten() != Some(self.drawn_as(layer, blur))
-    }
-
-    /// Draws the layers that need it (all of them unless `reuse`), each cleared to far and then
-    /// given the casters inside its volume (with `instancing`, a depth-only layer's rigid opaque
-    /// casters in one call per mesh; with the static cache, only its moving casters over a copy
-    /// of its static map), and blurs the moment layers among them by `blur` texels; the others
-    /// keep their maps. Returns what it did.
+    /// Draws the layers [`ShadowPass::plan`] chose, each tile filled and then given the casters
+    /// inside its volume (with `instancing`, a depth-only layer's rigid opaque
+    /// casters in one call per mesh; with the static cache, only its moving casters over its
+    /// casters at rest put back), and blurs the moment layers among them by `blur` texels; the
+    /// others keep their maps. Returns what it did.
     pub fn encode(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
@@ -288,121 +287,247 @@ impl ShadowPass {
         data: &FrameData,
         with: Drawables<'_>,
         how: DrawOptions,
-        mut timer: Option<&mut PassTimer>,
+        timer: Option<&mut PassTimer>,
     ) -> ShadowStats {
-        let DrawOptions { reuse, faces, blur, instancing, static_cache } = how;
+        let DrawOptions { reuse, faces, blur, instancing, static_cache, .. } = how;
+        if let Some(statics) = &mut self.statics {
+            statics.forget_others(&data.draws.iter().map(|d| d.key).collect());
+        }
         let mut stats = ShadowStats::default();
-        let todo: Vec<&LayerDraw> = data
+        let everything = Planned { draw: true, waits: None };
+        let plan = self.plan.iter().copied().chain(std::iter::repeat(everything));
+        let todo: Vec<(&LayerDraw, Tile)> = data
             .draws
             .iter()
-            .filter(|l| {
-                let draw = self.needs_drawing(l, reuse, blur);
-                stats.count(l.light, draw);
-                draw
+            .zip(plan)
+            .filter_map(|(l, planned)| {
+                let tile = l.tile?;
+                stats.count(l.light, planned.draw, planned.waits);
+                planned.draw.then(|| {
+                    stats.count_texels(u64::from(l.resolution).pow(2));
+                    (l, tile)
+                })
             })
-            .filter(|l| (l.slot as usize) < self.maps.layer_views.len())
             .collect();
-        let uniforms: Vec<GpuLayer> = todo.iter().map(|l| data.layers[l.slot as usize]).collect();
+        let uniforms: Vec<GpuLayer> = todo.iter().map(|(l, _)| data.layers[l.slot as usize]).collect();
         self.layer_uniforms.write(device, queue, &uniforms);
-        let split = reuse && static_cache && self.copies_depth;
-        if split && todo.iter().any(|l| self.colour_format(l).is_none()) {
+        let split = reuse && static_cache && self.reads_depth;
+        if split && todo.iter().any(|(l, _)| self.colour_format(l).is_none()) {
             self.ensure_statics(device);
         }
+        let jobs = self.jobs((device, queue), data, &todo, (split, instancing, faces));
+        self.prepare((device, queue), data, &jobs, &mut stats);
+        let blurred: Vec<(Tile, u32)> = jobs
+            .iter()
+            .filter(|j| blur > 0 && j.layer.method.moments() && j.colour.is_some())
+            .map(|j| (j.tile, j.layer.resolution))
+            .collect();
+        let blur_passes = 2 * distinct_pages(blurred.iter().map(|(t, _)| t.page)).len();
+        let mut stamps = Stamps { timer, next: 0, total: self.passes(&jobs) + blur_passes };
+        self.encode_jobs((device, encoder), data, &jobs, with, &mut stamps);
+        if let Some(moment_blur) = self.blur.as_mut().filter(|_| !blurred.is_empty()) {
+            let Stamps { timer, next, total } = stamps;
+            moment_blur.encode((device, queue), encoder, (&self.maps.moments, &blurred, blur), (timer, next, total));
+        }
+        for job in &jobs {
+            let done = self.drawn_as(job.layer, job.tile, blur, uniforms[job.uniform]);
+            self.drawn.insert(job.layer.key, done);
+            if job.statics.is_some()
+                && let Some(statics) = self.statics.as_mut()
+            {
+                statics.mark_drawn(job.layer.key, job.tile, job.layer.static_version);
+            }
+        }
+        for job in jobs.iter().filter(|j| blur > 0 && j.layer.method.moments() && j.colour.is_some()) {
+            stats.count_blur(job.layer.light);
+        }
+        stats
+    }
+
+    /// The passes the jobs take: per page, one over the static atlas if a static map on it is
+    /// redrawn, one for its depth-only tiles, one for its tiles with a colour map.
+    fn passes(&self, jobs: &[Job]) -> usize {
+        let statics = distinct_pages(jobs.iter().filter(|j| j.statics.is_some()).map(|j| j.tile.page)).len();
+        statics + groups(jobs).len()
+    }
+
+    /// How each layer of `todo` (with its tile) is drawn: the calls that draw it, and, with the
+    /// static cache (`split`), those that draw its static map first when that must be redrawn.
+    fn jobs<'a>(
+        &mut self,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        data: &'a FrameData,
+        todo: &[(&'a LayerDraw, Tile)],
+        (split, instancing, faces): (bool, bool, ShadowFaces),
+    ) -> Vec<Job<'a>> {
         let mut placements = Vec::new();
         let mut calls_of = |casters: &[usize], batch: bool| {
             layer_calls(&data.items, casters, |item| shadow_variant(item, faces), batch, &mut placements)
         };
-        let jobs: Vec<Job> = todo
+        let jobs = todo
             .iter()
             .enumerate()
-            .map(|(uniform, &layer)| {
-                let depth_only = self.colour_format(layer).is_none();
-                let batch = instancing && depth_only;
-                if !(split && depth_only) {
-                    return Job {
-                        layer,
-                        uniform,
-                        statics: None,
-                        over_static: false,
-                        calls: calls_of(&layer.casters, batch),
-                    };
+            .map(|(uniform, &(layer, tile))| {
+                let colour = self.colour_format(layer);
+                let batch = instancing && colour.is_none();
+                let job = |statics, over_static, calls| Job { layer, tile, uniform, colour, statics, over_static, calls };
+                if !(split && colour.is_none()) {
+                    return job(None, false, calls_of(&layer.casters, batch));
                 }
                 let (rest, moving): (Vec<usize>, Vec<usize>) =
                     layer.casters.iter().partition(|&&i| data.items[i].at_rest);
-                let held = self.statics.as_ref().is_some_and(|s| s.holds(layer.slot, layer.static_version));
+                let held = !layer.fresh
+                    && self.statics.as_ref().is_some_and(|s| s.holds(layer.key, tile, layer.static_version));
                 let statics = (!held).then(|| calls_of(&rest, batch));
-                Job { layer, uniform, statics, over_static: true, calls: calls_of(&moving, batch) }
+                job(statics, true, calls_of(&moving, batch))
             })
             .collect();
         self.instances.write(device, queue, &placements);
-        for job in &jobs {
-            let format = self.colour_format(job.layer);
-            let pipelines = self.sets[self.maps.depth as usize].get_mut(format);
+        jobs
+    }
+
+    /// Builds the pipelines the jobs draw with and uploads their fills: a static map's clear
+    /// first, then the tile's own fill (its casters at rest put back, or a clear), job by job.
+    fn prepare(
+        &mut self,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        data: &FrameData,
+        jobs: &[Job],
+        stats: &mut ShadowStats,
+    ) {
+        let depth = depth_texture(self.maps.depth);
+        let mut fills = Vec::new();
+        for job in jobs {
+            let pipelines = self.sets[self.maps.depth as usize].get_mut(job.colour);
             for calls in job.statics.iter().chain([&job.calls]) {
                 pipelines
                     .prepare(device, calls.singles.iter().map(|s| s.1).chain(calls.batches.iter().map(|b| b.variant)));
                 stats.count_calls(job.layer.light, calls.calls());
             }
             stats.count_static(job.layer.light, job.over_static);
+            let page = job.tile.page;
+            if job.statics.is_some() {
+                self.fill.prepare(device, depth, FillKind::Clear(None));
+                fills.push(Fill { colour: [0.0; 4], page, _pad0: 0, _pad1: 0, _pad2: 0 });
+            }
+            self.fill.prepare(device, depth, job.fill_kind());
+            let far = far_moments(&data.layers[job.layer.slot as usize]);
+            let colour = [far.r as f32, far.g as f32, far.b as f32, far.a as f32];
+            fills.push(Fill { colour, page, _pad0: 0, _pad1: 0, _pad2: 0 });
         }
-        let blurred: Vec<&LayerDraw> = todo
+        self.fill.write(device, queue, &fills);
+    }
+
+    /// Records the jobs' passes (see [`ShadowPass::passes`]), each tile filled and then drawn.
+    fn encode_jobs(
+        &self,
+        (device, encoder): (&wgpu::Device, &mut wgpu::CommandEncoder),
+        data: &FrameData,
+        jobs: &[Job],
+        with: Drawables<'_>,
+        stamps: &mut Stamps<'_>,
+    ) {
+        let depth = depth_texture(self.maps.depth);
+        let set = &self.sets[self.maps.depth as usize];
+        // The fills' places in the order `prepare` wrote them: a static clear, then the tile's.
+        let mut next_fill = 0..;
+        let fills: Vec<(usize, usize)> = jobs
             .iter()
-            .copied()
-            .filter(|l| blur > 0 && l.method.moments() && self.colour_format(l).is_some())
+            .map(|j| {
+                let first = next_fill.next().unwrap_or(0);
+                if j.statics.is_some() { (first, next_fill.next().unwrap_or(0)) } else { (first, first) }
+            })
             .collect();
-        let passes = jobs.len() + jobs.iter().filter(|j| j.statics.is_some()).count() + 2 * blurred.len();
-        let mut next_pass = 0..;
         let drawing =
             Drawing { with, items: &data.items, layers: &self.layer_uniforms, instances: self.instances.buffer() };
-        for job in &jobs {
-            let (layer, slot) = (job.layer, job.layer.slot as usize);
-            let format = self.colour_format(layer);
-            let pipelines = self.sets[self.maps.depth as usize].get(format);
-            if let Some(calls) = &job.statics {
-                let statics = self.statics.as_mut().expect("made above");
-                statics.mark_drawn(layer.slot, layer.static_version);
-                let writes = next_pass.next().and_then(|i| timer.as_deref_mut()?.shadow_writes(i, passes));
-                let depth = (statics.view(layer.slot), wgpu::LoadOp::Clear(1.0));
-                drawing.pass(encoder, depth, None, writes, (job.uniform, pipelines), calls);
-            }
-            let load = if job.over_static {
-                self.statics.as_ref().expect("made above").copy_into(encoder, layer.slot, &self.maps.texture);
-                wgpu::LoadOp::Load
-            } else {
-                wgpu::LoadOp::Clear(1.0)
-            };
-            let colour = format.map(|_| wgpu::RenderPassColorAttachment {
-                view: &self.maps.moments.layer_views[slot],
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(far_moments(&data.layers[slot])),
-                    store: wgpu::StoreOp::Store,
-                },
-            });
-            let writes = next_pass.next().and_then(|i| timer.as_deref_mut()?.shadow_writes(i, passes));
-            drawing.pass(
-                encoder,
-                (&self.maps.layer_views[slot], load),
-                colour,
-                writes,
-                (job.uniform, pipelines),
-                &job.calls,
-            );
-            let done = self.drawn_as(layer, blur);
-            if let Some(drawn) = self.drawn.get_mut(slot) {
-                *drawn = Some(done);
+        let statics = self.statics.as_ref();
+        for page in distinct_pages(jobs.iter().filter(|j| j.statics.is_some()).map(|j| j.tile.page)) {
+            let Some(target) = statics.and_then(|s| s.pages.layer_views.get(page as usize)) else { continue };
+            let mut pass = begin(encoder, (target, None), stamps.next());
+            for (job, &(fill, _)) in jobs.iter().zip(&fills).filter(|(j, _)| j.tile.page == page) {
+                if let Some(calls) = &job.statics {
+                    let fill = (&self.fill, (depth, FillKind::Clear(None)), fill, None);
+                    drawing.tile(&mut pass, job, fill, (set.get(None), calls));
+                }
             }
         }
-        if let Some(moment_blur) = self.blur.as_mut().filter(|_| !blurred.is_empty()) {
-            let slots: Vec<u32> = blurred.iter().map(|l| l.slot).collect();
-            let stamps = (timer, next_pass.start, passes);
-            moment_blur.encode((device, queue), encoder, (&self.maps.moments, &slots, blur), stamps);
-            for layer in blurred {
-                stats.count_blur(layer.light);
+        let restore = statics.filter(|_| jobs.iter().any(|j| j.over_static)).map(|s| self.fill.statics(device, &s.pages.array_view));
+        for (page, coloured) in groups(jobs) {
+            let target = &self.maps.pages.layer_views[page as usize];
+            let colour = coloured.then(|| &self.maps.moments.layer_views[page as usize]);
+            let mut pass = begin(encoder, (target, colour), stamps.next());
+            let mine = jobs.iter().zip(&fills).filter(|(j, _)| j.tile.page == page && j.colour.is_some() == coloured);
+            for (job, &(_, fill)) in mine {
+                let fill = (&self.fill, (depth, job.fill_kind()), fill, restore.as_ref());
+                drawing.tile(&mut pass, job, fill, (set.get(job.colour), &job.calls));
             }
         }
-        stats
+    }
+}
+
+/// `now`, sampled as `drawn` was drawn: its projection, texel sizes, cascade range and EVSM
+/// warp (what the map holds was made with them); its method, bleeding reduction, moment
+/// stabiliser and tile stay `now`'s.
+fn as_drawn(now: GpuLayer, drawn: &GpuLayer) -> GpuLayer {
+    GpuLayer { method: now.method, moment_bias: now.moment_bias, bleed: now.bleed, page: now.page, tile: now.tile, ..*drawn }
+}
+
+/// The pages, each once, in order.
+fn distinct_pages(pages: impl Iterator<Item = u32>) -> Vec<u32> {
+    let mut pages: Vec<u32> = pages.collect();
+    pages.sort_unstable();
+    pages.dedup();
+    pages
+}
+
+/// The (page, with a colour map) groups the jobs' tiles fall in, each once, in order.
+fn groups(jobs: &[Job]) -> Vec<(u32, bool)> {
+    let mut groups: Vec<(u32, bool)> = jobs.iter().map(|j| (j.tile.page, j.colour.is_some())).collect();
+    groups.sort_unstable();
+    groups.dedup();
+    groups
+}
+
+/// A pass over a page of depth `target` (and of colour, if given), keeping what its other tiles
+/// hold.
+fn begin<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    (target, colour): (&wgpu::TextureView, Option<&wgpu::TextureView>),
+    timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+) -> wgpu::RenderPass<'e> {
+    let keep = |view| wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+    };
+    let colour = colour.map(keep);
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("shadow pass"),
+        color_attachments: if colour.is_some() { std::slice::from_ref(&colour) } else { &[] },
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: target,
+            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+            stencil_ops: None,
+        }),
+        timestamp_writes,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// Hands out the frame's shadow passes' timestamps: the first pass's start, the last's end.
+struct Stamps<'t> {
+    timer: Option<&'t mut PassTimer>,
+    next: usize,
+    total: usize,
+}
+
+impl Stamps<'_> {
+    fn next(&mut self) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let i = self.next;
+        self.next += 1;
+        self.timer.as_deref_mut()?.shadow_writes(i, self.total)
     }
 }
 
@@ -419,6 +544,8 @@ pub struct DrawOptions {
     pub instancing: bool,
     /// Keep casters at rest in static maps (with the cache, where depth can be copied).
     pub static_cache: bool,
+    /// Texels of out-of-date layers drawn per frame at most (0: no limit).
+    pub updates: u32,
 }
 
 impl From<&crate::Settings> for DrawOptions {
@@ -429,6 +556,7 @@ impl From<&crate::Settings> for DrawOptions {
             blur: s.moment_blur,
             instancing: s.instancing,
             static_cache: s.static_cache,
+            updates: s.shadow_updates,
         }
     }
 }
@@ -436,17 +564,28 @@ impl From<&crate::Settings> for DrawOptions {
 /// How one layer is drawn this frame.
 struct Job<'a> {
     layer: &'a LayerDraw,
+    /// Its tile.
+    tile: Tile,
     /// Its index in the frame's layer uniforms.
     uniform: usize,
+    /// Its colour map's format, if it has one.
+    colour: Option<ColourFormat>,
     /// The calls that draw its static map first, when that must be drawn again.
     statics: Option<LayerCalls>,
-    /// Drawn over a copy of its static map (`calls` are then its moving casters only).
+    /// Drawn over its casters at rest put back (`calls` are then its moving casters only).
     over_static: bool,
     /// The calls that draw it.
     calls: LayerCalls,
 }
 
-/// What every layer pass of a frame draws with.
+impl Job<'_> {
+    /// How its tile is filled before its casters are drawn.
+    fn fill_kind(&self) -> FillKind {
+        if self.over_static { FillKind::Restore } else { FillKind::Clear(self.colour.map(ColourFormat::texture)) }
+    }
+}
+
+/// What every tile of a frame draws with.
 struct Drawing<'a> {
     with: Drawables<'a>,
     items: &'a [DrawItem],
@@ -454,33 +593,22 @@ struct Drawing<'a> {
     instances: &'a wgpu::Buffer,
 }
 
+/// A fill: the pipelines, which one (depth format and kind), its uniform's index and the static
+/// atlas's bind group (for a restore).
+type FillWith<'a> = (&'a TileFill, (wgpu::TextureFormat, FillKind), usize, Option<&'a wgpu::BindGroup>);
+
 impl Drawing<'_> {
-    /// One render pass into `depth` (loaded or cleared as it says) and `colour`, drawing
-    /// `calls` with `pipelines` and layer uniform `uniform`.
-    fn pass(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        (depth, load): (&wgpu::TextureView, wgpu::LoadOp<f32>),
-        colour: Option<wgpu::RenderPassColorAttachment<'_>>,
-        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
-        (uniform, pipelines): (usize, &Pipelines),
-        calls: &LayerCalls,
-    ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("shadow pass"),
-            color_attachments: if colour.is_some() { std::slice::from_ref(&colour) } else { &[] },
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
-                depth_ops: Some(wgpu::Operations { load, store: wgpu::StoreOp::Store }),
-                stencil_ops: None,
-            }),
-            timestamp_writes,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_bind_group(0, &self.layers.bind_group, &[self.layers.offset(uniform)]);
-        pipelines.draw(&mut pass, self.with, self.items, calls.singles.iter().copied());
-        pipelines.draw_batches(&mut pass, self.with, &calls.batches, self.instances);
+    /// Draws `job` into its tile of `pass`: the viewport and scissor on the tile, the tile
+    /// filled, then `calls` with `pipelines` and the layer's uniform.
+    fn tile(&self, pass: &mut wgpu::RenderPass<'_>, job: &Job, fill: FillWith<'_>, (pipelines, calls): (&Pipelines, &LayerCalls)) {
+        let (x, y, side) = (job.tile.x, job.tile.y, job.layer.resolution);
+        pass.set_viewport(x as f32, y as f32, side as f32, side as f32, 0.0, 1.0);
+        pass.set_scissor_rect(x, y, side, side);
+        let (fills, which, index, statics) = fill;
+        fills.draw(pass, which, index, statics);
+        pass.set_bind_group(0, &self.layers.bind_group, &[self.layers.offset(job.uniform)]);
+        pipelines.draw(pass, self.with, self.items, calls.singles.iter().copied());
+        pipelines.draw_batches(pass, self.with, &calls.batches, self.instances);
     }
 }
 
@@ -496,40 +624,4 @@ fn shadow_variant(item: &DrawItem, faces: ShadowFaces) -> Variant {
     // Opaque casters have no fragment stage, so whether they have a texture does not matter.
     let textured = alpha == AlphaClass::Mask && item.texture.is_some();
     Variant { skinned: item.skinned, cull, alpha, textured, methods: 0, instanced: false }
-}
-
-/// Layers to allocate for `needed`: at least 2 (GL cannot view a single-layer texture as an
-/// array) and never a multiple of 6, which the GL backend takes for a cube map or cube array.
-fn array_layers(needed: usize) -> u32 {
-    let layers = (needed as u32).max(2);
-    if layers.is_multiple_of(6) { layers + 1 } else { layers }
-}
-
-impl ShadowMaps {
-    fn new(
-        device: &wgpu::Device,
-        (size, layers, copies): (u32, u32, bool),
-        colour: Option<ColourFormat>,
-        depth: ShadowDepth,
-    ) -> Self {
-        let extra = if copies { wgpu::TextureUsages::COPY_DST } else { wgpu::TextureUsages::empty() };
-        let LayeredTarget { texture, layer_views, array_view } =
-            LayeredTarget::copyable(device, "shadow maps", depth_texture(depth), (size, layers), extra);
-        let moments = ColourMaps::new(device, colour, size, layers);
-        ShadowMaps { size, layers, depth, texture, layer_views, array_view, moments }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::array_layers;
-
-    #[test]
-    fn layer_counts_avoid_what_gl_takes_for_cube_maps() {
-        assert_eq!(array_layers(0), 2);
-        assert_eq!(array_layers(1), 2);
-        assert_eq!(array_layers(5), 5);
-        assert_eq!(array_layers(6), 7);
-        assert_eq!(array_layers(12), 13);
-    }
 }

@@ -160,10 +160,8 @@ fn sampler(device: &wgpu::Device, s: Sampling) -> wgpu::Sampler {
 }
 
 /// A texture array both drawn into (one view per layer) and sampled (one view of all of them):
-/// the shadow maps and the moment maps.
+/// the shadow atlas's pages, the static atlas's and the colour atlas's.
 pub struct LayeredTarget {
-    /// The texture.
-    pub texture: wgpu::Texture,
     /// One render view per layer.
     pub layer_views: Vec<wgpu::TextureView>,
     /// The whole array, for sampling.
@@ -178,18 +176,6 @@ pub fn render_target(
     size: u32,
     layers: u32,
 ) -> wgpu::Texture {
-    copyable_target(device, label, format, size, layers, wgpu::TextureUsages::empty())
-}
-
-/// [`render_target`] with `extra` usages too (copies).
-pub fn copyable_target(
-    device: &wgpu::Device,
-    label: &str,
-    format: wgpu::TextureFormat,
-    size: u32,
-    layers: u32,
-    extra: wgpu::TextureUsages,
-) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: layers },
@@ -197,26 +183,15 @@ pub fn copyable_target(
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | extra,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         view_formats: &[],
     })
 }
 
 impl LayeredTarget {
-    /// `layers` layers of `size`² texels in `format`.
+    /// `layers` layers of `size`² texels in `format` (the views keep the texture alive).
     pub fn new(device: &wgpu::Device, label: &str, format: wgpu::TextureFormat, size: u32, layers: u32) -> Self {
-        Self::copyable(device, label, format, (size, layers), wgpu::TextureUsages::empty())
-    }
-
-    /// [`LayeredTarget::new`] with `extra` usages too (copies).
-    pub fn copyable(
-        device: &wgpu::Device,
-        label: &str,
-        format: wgpu::TextureFormat,
-        (size, layers): (u32, u32),
-        extra: wgpu::TextureUsages,
-    ) -> Self {
-        let texture = copyable_target(device, label, format, size, layers, extra);
+        let texture = render_target(device, label, format, size, layers);
         let layer_views = (0..layers)
             .map(|layer| {
                 texture.create_view(&wgpu::TextureViewDescriptor {
@@ -233,6 +208,6 @@ impl LayeredTarget {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        LayeredTarget { texture, layer_views, array_view }
+        LayeredTarget { layer_views, array_view }
     }
 }

@@ -3,6 +3,7 @@
 //! Everything here is a pure function of its arguments so it can be tested exhaustively and
 //! reused by the renderer, the ECS systems and the evaluation harness alike.
 
+mod atlas;
 mod bounds;
 mod cascade;
 mod cull;
@@ -10,9 +11,12 @@ mod fit;
 mod planar;
 mod poisson;
 mod sdsm;
+mod tile_size;
+mod updates;
 #[cfg(test)]
 pub(crate) mod test_rng;
 
+pub use atlas::{Atlas, AtlasShape, MAX_PAGE, MIN_TILE, Placed, Tile};
 pub use bounds::{Aabb, ClipVolume, MAX_WORLD_EXTENT, frustum_corners, intersects_clip_volume};
 pub use cascade::{
     FitMode, MAX_CASCADES, SceneBounds, SunScene, ViewFrustum, blend_bands, depth_step, fit_cascade, fit_seen,
@@ -25,4 +29,6 @@ pub use fit::{
 };
 pub use planar::{GROUND_PLANE, PLANAR_LIFT, flat_from_world, lights_plane};
 pub use poisson::{poisson_disc, wgsl_array};
+pub use tile_size::{HYSTERESIS, TileNeed, fit_budget, size_class, texels_for};
+pub use updates::{MAX_STALE, TileState, Update, plan_updates};
 pub use sdsm::{SDSM_BINS, SDSM_WORDS, VisibleSamples, bin_of, bin_start, from_order_key, initial_words, order_key};

@@ -49,7 +49,7 @@ mod tests {
 
     fn world_at(t: f64) -> World {
         let mut world = World::new();
-        world.insert_resource(Time { t, dt: 0.25, frame: 0 });
+        world.insert_resource(Time { t, dt: 0.25, frame: 0, updates: 0 });
         world
     }
 

@@ -133,7 +133,7 @@ mod tests {
 
     fn run(input: Input, fly: FlyCamera) -> (FlyCamera, Transform) {
         let mut world = World::new();
-        world.insert_resource(Time { t: 0.0, dt: 0.5, frame: 0 });
+        world.insert_resource(Time { t: 0.0, dt: 0.5, frame: 0, updates: 0 });
         world.insert_resource(input);
         let e = world.spawn((fly, Transform::default())).id();
         world.run_system_once(fly_camera).unwrap();
@@ -208,7 +208,7 @@ mod tests {
     #[test]
     fn only_one_camera_steers() {
         let mut world = World::new();
-        world.insert_resource(Time { t: 0.0, dt: 0.5, frame: 0 });
+        world.insert_resource(Time { t: 0.0, dt: 0.5, frame: 0, updates: 0 });
         let mut input = Input { drag_delta: glam::Vec2::new(50.0, 0.0), ..Default::default() };
         input.set(Key::Forward, true);
         world.insert_resource(input);

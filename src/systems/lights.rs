@@ -99,7 +99,9 @@ pub fn update_light_matrices(
     };
     for source in lights.all() {
         if let Ok(mut map) = maps.get_mut(source.entity) {
-            refresh_layers(&mut map, &source.kind.layers(&context), all_dirty, &changes);
+            let resolution = if map.resolution > 0 { map.resolution } else { settings.shadow_map_size };
+            let fits = source.kind.layers(&context, resolution);
+            refresh_layers(&mut map, &fits, resolution, (all_dirty, &changes));
         }
     }
 }
@@ -126,12 +128,12 @@ fn touches(clip_from_world: &glam::Mat4, changes: &[Aabb]) -> bool {
 
 /// Replaces a light's layers with `fits`; each layer keeps its version unless it is dirty, and
 /// its static version unless the casters at rest inside it changed (or the layer itself did).
-fn refresh_layers(map: &mut ShadowMap, fits: &[LayerFit], forced: bool, changes: &CasterChanges) {
+fn refresh_layers(map: &mut ShadowMap, fits: &[LayerFit], resolution: u32, (forced, changes): (bool, &CasterChanges)) {
     let layers = fits
         .iter()
         .enumerate()
         .map(|(i, LayerFit { projection: fit, far, blend })| {
-            let old = map.layers.get(i).filter(|o| o.clip_from_world == fit.view_proj);
+            let old = map.layers.get(i).filter(|o| o.clip_from_world == fit.view_proj && o.resolution == resolution);
             let anew = forced || old.is_none();
             let dirty = anew || touches(&fit.view_proj, &changes.moved);
             let resettled = anew || touches(&fit.view_proj, &changes.settled);
@@ -145,6 +147,7 @@ fn refresh_layers(map: &mut ShadowMap, fits: &[LayerFit], forced: bool, changes:
             ShadowLayer {
                 clip_from_world: fit.view_proj,
                 texel: fit.texel,
+                resolution,
                 far: *far,
                 blend: *blend,
                 depth: crate::shadow::depth_terms(&fit.proj),

@@ -84,7 +84,7 @@ mod tests {
 
     fn at_time(t: f64) -> World {
         let mut world = World::new();
-        world.insert_resource(Time { t, dt: 1.0 / 60.0, frame: 0 });
+        world.insert_resource(Time { t, dt: 1.0 / 60.0, frame: 0, updates: 0 });
         world
     }
 

@@ -88,6 +88,7 @@ pub fn panel(ui: &mut Ui, world: &mut World, lab: &mut Lab, live: &Live<'_>) {
             section(ui, "Error against the ray-traced truth", true, |ui| overlay_section(ui, lab, live));
             let mut settings = world.resource::<Settings>().clone();
             let names: Vec<String> = light_list(world).iter().map(|l| l.label.to_string()).collect();
+            section(ui, "Shadow budgets", true, |ui| budget_settings(ui, &mut settings, world, live.stats));
             section(ui, "Shadows", false, |ui| shadow_settings(ui, &mut settings));
             section(ui, "Sun cascades", false, |ui| cascade_settings(ui, &mut settings));
             section(ui, "Shading and views", false, |ui| {
@@ -120,14 +121,53 @@ fn live_numbers(ui: &mut Ui, live: &Live<'_>) {
         }
     }
     graph(ui, h);
-    ui.label("shadow layers drawn / kept this frame:");
+    ui.label(format!("shadow layers drawn / kept this frame: {}", live.stats));
     ui.horizontal_wrapped(|ui| {
-        for l in &live.stats.lights {
-            let colour = if l.drawn > 0 { Color32::from_rgb(255, 170, 60) } else { ui.visuals().text_color() };
-            ui.colored_label(colour, format!("{} {}/{}", l.light, l.drawn, l.kept));
+        // The lights whose maps were drawn or wait: a scene of a thousand lamps lists a few.
+        for l in live.stats.lights.iter().filter(|l| l.drawn > 0 || l.stale > 0).take(LISTED_LIGHTS) {
+            let colour = if l.stale > 0 { Color32::from_rgb(240, 80, 80) } else { Color32::from_rgb(255, 170, 60) };
+            let waits = if l.stale > 0 { format!(", {} stale", l.stale) } else { String::new() };
+            ui.colored_label(colour, format!("{} {}/{}{waits}", l.light, l.drawn, l.kept));
         }
     });
     ui.separator();
+}
+
+/// Lights the live numbers name one by one.
+const LISTED_LIGHTS: usize = 12;
+
+/// The shadow memory and the update budget, with what the atlas holds and what waits.
+fn budget_settings(ui: &mut Ui, s: &mut Settings, world: &World, stats: &ShadowStats) {
+    let memory = crate::settings::MIN_SHADOW_MEMORY..=4096;
+    ui.add(slide(&mut s.shadow_memory, memory).logarithmic(true).text("shadow memory (MiB)"));
+    if let Some(atlas) = world.get_resource::<crate::systems::ShadowAtlas>() {
+        let (page, pages, mib) = (atlas.shape.page, atlas.shape.pages, atlas.bytes() >> 20);
+        ui.label(format!("atlas: {pages} pages of {page}² ({mib} MiB, {} bytes a texel)", atlas.texel_bytes));
+    }
+    let updates = slide(&mut s.shadow_updates, 0..=MAX_PANEL_UPDATES)
+        .logarithmic(true)
+        .smallest_positive(f64::from(crate::settings::MIN_SHADOW_UPDATES))
+        .custom_formatter(|v, _| if v < 1.0 { "no limit".into() } else { texels(v as u64) })
+        .text("texels redrawn a frame");
+    ui.add(updates);
+    ui.label(format!("drawn this frame: {} texels", texels(stats.texels)));
+    if stats.stale() > 0 {
+        let (layers, lights, oldest) = (stats.stale(), stats.stale_lights(), stats.waited());
+        let line = format!("waiting: {layers} layers of {lights} lights, the oldest {oldest} frames");
+        ui.colored_label(Color32::from_rgb(240, 80, 80), line);
+    }
+}
+
+/// The most the panel's update slider offers: sixteen 2048² maps a frame.
+const MAX_PANEL_UPDATES: u32 = 64 << 20;
+
+/// `n` texels as "4M", "256K" or "900".
+fn texels(n: u64) -> String {
+    match n {
+        n if n >= 1 << 20 => format!("{:.1}M", n as f64 / f64::from(1 << 20)),
+        n if n >= 1 << 10 => format!("{:.0}K", n as f64 / 1024.0),
+        n => n.to_string(),
+    }
 }
 
 /// The frame time (grey), and the shadow (orange) and main (cyan) pass times, oldest on the left.
@@ -456,6 +496,7 @@ mod tests {
         }
         let mut edited = settings.clone();
         ctx.run_ui(egui::RawInput::default(), |ui| {
+            budget_settings(ui, &mut edited, &app.world, &ShadowStats::default());
             shadow_settings(ui, &mut edited);
             cascade_settings(ui, &mut edited);
             view_settings(ui, &mut edited, &mut lab, "fly");

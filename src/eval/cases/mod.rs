@@ -59,7 +59,7 @@ pub struct Case {
 }
 
 /// Every case, in the order the issues list them.
-pub const CASES: [Case; 14] = [
+pub const CASES: [Case; 15] = [
     Case {
         name: "acne", measures: "false-shadow share of an open plane, sun at 2°..89°", threshold: 0.001, run: acne
     },
@@ -136,6 +136,12 @@ pub const CASES: [Case; 14] = [
         run: soft::light_bleeding,
     },
     Case {
+        name: "atlas-seams",
+        measures: "share of a hard-edged spot's lit ground 0.5 to 3 texels inside its tile's edge darkened by 10 % (Poisson 32)",
+        threshold: 0.001,
+        run: atlas_seams,
+    },
+    Case {
         name: "precision",
         measures: "false-shadow share of the worst of six walls square to a spot at 1 m to 32 m (depth rounding)",
         threshold: 0.005,
@@ -210,6 +216,7 @@ const DEGENERATE_LIGHTS: SubjectId = SubjectId::Case(CaseScene::DegenerateLights
 const FAR_FIELD: SubjectId = SubjectId::Case(CaseScene::FarField);
 const CUBE_SEAMS: SubjectId = SubjectId::Case(CaseScene::CubeSeams);
 const WIDE_SPOT_SCENE: SubjectId = SubjectId::Case(CaseScene::WideSpot);
+const ATLAS_SEAMS: SubjectId = SubjectId::Case(CaseScene::AtlasSeams);
 
 fn acne(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(0.0, 5.0, 10.0), Vec3::new(0.0, 0.0, -2.0));
@@ -387,6 +394,45 @@ fn wide_spot(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, Measure
         d.dot(Vec3::NEG_Y) < 60f32.to_radians().cos()
     };
     Ok(misclassified(&measured, 0, |i| on_ground(&measured)(i) && outer_ring(i)))
+}
+
+/// Probes on the lit ground next to the edge of the seams spot's tile: where its cone touches the
+/// map's edge (at each side's middle), from 0.5 to 3 texels in, along 20 texels each way. A
+/// filter that reads past the tile finds a neighbour's depths, or the nearest depth of an empty
+/// page, and darkens ground that nothing shades.
+fn atlas_seams(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    m.subject(ATLAS_SEAMS, settings, atlas_seams_scene)?;
+    let gpu = m.gpu();
+    let (app, renderer) = m.parts(ATLAS_SEAMS)?;
+    app.set_time(0.0);
+    let resolution = app.world.query::<&crate::components::ShadowMap>().iter(&app.world).map(|s| s.resolution).max();
+    let resolution = resolution.unwrap_or(settings.shadow_map_size).max(1) as f32;
+    let (at, half) = (SEAMS_SPOT.0, SEAMS_SPOT.1.to_radians());
+    let rim = at.y * half.tan();
+    let texel = 2.0 * rim / resolution;
+    let sides = [Vec3::X, Vec3::NEG_X, Vec3::Z, Vec3::NEG_Z];
+    let points: Vec<Vertex> = sides
+        .iter()
+        .flat_map(|&out| {
+            let along = out.cross(Vec3::Y);
+            (1..=6).flat_map(move |d| (-20..=20).map(move |s| (out, along, d as f32 * 0.5, s as f32)))
+        })
+        .map(|(out, along, d, s)| Vec3::new(at.x, 0.0, at.z) + out * (rim - d * texel) + along * (s * texel))
+        // Inside the cone by a tenth of a texel, where the spot's light is full.
+        .filter(|p| p.distance(Vec3::new(at.x, 0.0, at.z)) < rim - 0.1 * texel)
+        .map(|p| Vertex::new(p.to_array(), [0.0, 1.0, 0.0]))
+        .collect();
+    let seen = probe_visibility(gpu, renderer, app, &points)?.swap_remove(0);
+    let mut score = Score::default();
+    for v in seen {
+        if !v.is_finite() {
+            score.garbage += 1;
+        } else if v >= 0.0 {
+            score.of += 1;
+            score.hits += (v < 0.9) as u64;
+        }
+    }
+    Ok(score)
 }
 
 /// How far the leaping character's hips are carried from their bind pose.

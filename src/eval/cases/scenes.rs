@@ -105,6 +105,21 @@ pub fn pole_scene(settings: &Settings) -> Result<App, AppError> {
     Ok(app)
 }
 
+/// Where the atlas-seams case hangs its spot, and the spot's half angle in degrees.
+pub const SEAMS_SPOT: (Vec3, f32) = (Vec3::new(0.0, 4.0, 0.0), 30.0);
+
+/// A spot straight down over an open ground with a hard edge (full light right up to its cone,
+/// which touches its map's edge at four points), sampled by Poisson 32, the widest fixed filter.
+pub fn atlas_seams_scene(settings: &Settings) -> Result<App, AppError> {
+    let mut app = unlit_ground(settings, 40.0, false, (Vec3::new(0.0, 9.0, 0.01), Vec3::ZERO))?;
+    let outer = SEAMS_SPOT.1.to_radians();
+    let spot =
+        SpotLight { range: 10.0, intensity: 4.0, inner_angle: outer - 1e-4, outer_angle: outer, ..Default::default() };
+    let at = Transform::from_translation(SEAMS_SPOT.0).looking_to(Vec3::NEG_Y);
+    app.world.spawn((spot, at, ShadowMap::default(), ShadowMethod::Poisson32));
+    Ok(app)
+}
+
 /// Adds a box with half extents `half` at `center`, casting and receiving.
 pub fn add_box(app: &mut App, center: Vec3, half: Vec3) {
     add_block(app, Transform::from_translation(center).with_scale(half * 2.0));
