@@ -149,6 +149,11 @@ struct BenchArgs {
     /// casters, on scenes of 10 to 20,000 cubes; writes shadow-pass.md and the scale chart.
     #[arg(long, conflicts_with = "cache")]
     shadow_pass: bool,
+    /// Instead of the sweep: 4 to 1,024 lights (the sample's and lanterns), without shadows, in
+    /// umbra's atlas, Bevy-like and at fixed sizes: cost, memory, tiles drawn and stale, and each
+    /// light's error; writes lights.md and the lights charts (4 to 64 lights with --quick).
+    #[arg(long, conflicts_with_all = ["cache", "lab", "shadow_pass"])]
+    lights: bool,
     /// Rays over each light's disc for the soft truth (default 32, 8 with --quick).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=4096))]
     soft_rays: Option<u32>,
@@ -158,9 +163,9 @@ struct BenchArgs {
     /// Radius of a spot light's disc for the soft truth, in metres (default 0.1).
     #[arg(long, value_name = "METRES", value_parser = parse_radius)]
     spot_radius: Option<f32>,
-    /// Measured frames per scenario (with --cache).
-    #[arg(long, default_value_t = 60, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100_000))]
-    frames: u32,
+    /// Measured frames per scenario (default 60; 10 with --lights, 3 with --lights --quick).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    frames: Option<u32>,
     /// Width in pixels.
     #[arg(long, default_value_t = 1280, value_parser = parse_size, allow_negative_numbers = true)]
     width: u32,
@@ -237,6 +242,7 @@ fn gallery(args: &GalleryArgs) -> Result<()> {
 /// `bench --shadow-pass`: the table on stdout and in `shadow-pass.md`, the chart beside it.
 fn shadow_pass(args: &BenchArgs) -> Result<()> {
     use umbra::eval::passes;
+    let frames = args.frames.unwrap_or(60);
     let settings = args.scene.settings()?;
     settings.validate()?;
     let gpu = Gpu::headless()?;
@@ -244,9 +250,9 @@ fn shadow_pass(args: &BenchArgs) -> Result<()> {
     println!("adapter: {adapter}");
     println!(
         "{} frames per scene, {}² shadow maps, every layer drawn every frame",
-        args.frames, settings.shadow_map_size
+        frames, settings.shadow_map_size
     );
-    let rows = passes::run(&gpu, &settings, &passes::SCENE_SIZES, args.frames, |r| {
+    let rows = passes::run(&gpu, &settings, &passes::SCENE_SIZES, frames, |r| {
         eprintln!("{} cubes: umbra {:.2} ms, bare {:.2} ms", r.cubes, r.umbra_ms, r.bare_ms);
     })?;
     let table = passes::table(&rows);
@@ -263,6 +269,9 @@ fn bench(args: &BenchArgs) -> Result<()> {
     if args.shadow_pass {
         return shadow_pass(args);
     }
+    if args.lights {
+        return lights(args);
+    }
     if !args.cache && !args.lab {
         return sweep(args);
     }
@@ -274,21 +283,52 @@ fn bench(args: &BenchArgs) -> Result<()> {
     println!("adapter: {}", gpu.describe());
     println!(
         "{} frames per scenario at {}x{}, {}² shadow maps, {} cascades, {} fit",
-        args.frames,
+        args.frames.unwrap_or(60),
         args.width,
         args.height,
         settings.shadow_map_size,
         settings.cascades,
         settings.fit_mode.name()
     );
-    let rows =
-        umbra::eval::bench::run(&gpu, &settings, scenarios, args.frames, args.width, args.height, |done, all| {
+    let frames = args.frames.unwrap_or(60);
+    let rows = umbra::eval::bench::run(&gpu, &settings, scenarios, frames, args.width, args.height, |done, all| {
             if done == all || done % 10 == 0 {
                 eprint!("\r{done}/{all} rounds");
             }
         })?;
     eprintln!();
     print!("{}", umbra::eval::bench::table(&rows));
+    Ok(())
+}
+
+fn lights(args: &BenchArgs) -> Result<()> {
+    use umbra::eval::many;
+    let settings = args.scene.settings()?;
+    settings.validate()?;
+    let gpu = Gpu::headless()?;
+    let adapter = gpu.describe();
+    let counts = if args.quick { &many::QUICK_COUNTS[..] } else { &many::LIGHT_COUNTS[..] };
+    let options = many::LightsOptions {
+        frames: args.frames.unwrap_or(if args.quick { 3 } else { 10 }),
+        size: (args.width, args.height),
+        measure: ((args.width / 4).max(16), (args.height / 4).max(16)),
+        soft_rays: args.soft_rays.unwrap_or(if args.quick { 8 } else { 32 }) as usize,
+    };
+    println!("adapter: {adapter}");
+    println!(
+        "{} frames per run at {}x{} after a warm-up, measured at {}x{} against the truth ({} soft rays)",
+        options.frames, options.size.0, options.size.1, options.measure.0, options.measure.1, options.soft_rays
+    );
+    let rows = many::run(&gpu, &settings, counts, options, |r| {
+        eprintln!("{} lights, {}: {:.1} ms a frame, {} MiB", r.lights, r.policy.name(), r.frame_ms, r.memory_mib);
+    })?;
+    let table = many::table(&rows);
+    print!("{table}");
+    std::fs::create_dir_all(&args.out)?;
+    let head = format!("adapter: {adapter}; {} frames at {}x{}\n\n", options.frames, options.size.0, options.size.1);
+    std::fs::write(args.out.join("lights.md"), head + &table)?;
+    many::charts(&args.out.join("lights"), &adapter, &rows)?;
+    println!("wrote {}", args.out.join("lights.md").display());
     Ok(())
 }
 

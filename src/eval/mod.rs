@@ -7,6 +7,7 @@ pub mod chart;
 pub mod cost;
 pub mod gallery;
 pub mod live;
+pub mod many;
 pub mod measure;
 pub mod metrics;
 pub mod passes;

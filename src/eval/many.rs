@@ -1,0 +1,325 @@
+//! `umbra bench --lights`: the sample scene with 4 to 1,024 lights (its own four, then lanterns:
+//! [`crate::lanterns`]), everything moving, under four policies: no shadows, umbra's atlas
+//! (tiles sized by what each light shows, in the default 256 MiB, kept while clean), every
+//! layer at the map size as umbra had it before its atlas, and a Bevy-like policy (spots at
+//! 2048², point lights 1024² a face, every map drawn every frame, no cache). For each: the
+//! frame's cost (wall time, and the shadow and main passes' GPU time where there are
+//! timestamps), the shadow memory, the tiles drawn and left stale a frame, and each light's
+//! error against the ray-traced truth over the pixels it reaches.
+//!
+//! A policy that needs more shadow memory than [`MAX_RUN_MIB`] is reported with what it needs,
+//! not run.
+
+use super::bench::BenchError;
+use super::chart::{ChartError, line_chart};
+use super::metrics::{Tally, tally};
+use super::truth::{SizeOverride, truth_of};
+use crate::components::ShadowMap;
+use crate::render::{Gpu, HEADLESS_FORMAT, Renderer, ShadowStats, render_debug_frame};
+use crate::settings::{MAX_SHADOW_MEMORY, TileSizes};
+use crate::systems::ShadowAtlas;
+use crate::{App, Settings};
+use std::path::Path;
+use std::time::Instant;
+
+/// The light counts of the full sweep, and of `--quick`.
+pub const LIGHT_COUNTS: [u32; 5] = [4, 16, 64, 256, 1024];
+pub const QUICK_COUNTS: [u32; 3] = [4, 16, 64];
+
+/// The sample scene's own lights (sun, two spots, lantern): lanterns make up the rest.
+pub const SAMPLE_LIGHTS: u32 = 4;
+
+/// The most shadow memory a policy is run with, in MiB.
+pub const MAX_RUN_MIB: u32 = 4096;
+
+/// A light must reach this many pixels of the measured frame for its error to count.
+const MIN_PIXELS: u64 = 50;
+
+/// How shadows are kept.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Policy {
+    Unshadowed,
+    Atlas,
+    Fixed,
+    Bevy,
+}
+
+impl Policy {
+    pub const ALL: [Policy; 4] = [Policy::Unshadowed, Policy::Atlas, Policy::Bevy, Policy::Fixed];
+
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Policy::Unshadowed => "no shadows",
+            Policy::Atlas => "umbra's atlas",
+            Policy::Fixed => "fixed layers",
+            Policy::Bevy => "Bevy-like",
+        }
+    }
+
+    /// `base` under this policy with `lights` lights.
+    #[must_use]
+    pub fn settings(self, base: &Settings, lights: u32) -> Settings {
+        let s = Settings { lanterns: lights.saturating_sub(SAMPLE_LIGHTS), ..base.clone() };
+        match self {
+            Policy::Unshadowed => Settings { shadows: false, ..s },
+            Policy::Atlas => s,
+            Policy::Fixed => Settings { tile_sizes: TileSizes::Fixed, ..s },
+            Policy::Bevy => {
+                Settings { tile_sizes: TileSizes::Bevy, reuse_shadow_maps: false, static_cache: false, ..s }
+            }
+        }
+    }
+}
+
+/// One policy at one light count.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightsRow {
+    pub policy: Policy,
+    pub lights: u32,
+    /// The shadow atlas's memory, MiB (what the policy needs, when it was not run).
+    pub memory_mib: u32,
+    /// Run (false: it needs more than [`MAX_RUN_MIB`]).
+    pub ran: bool,
+    /// Median milliseconds of a whole frame, waited for.
+    pub frame_ms: f64,
+    /// Median GPU milliseconds of the shadow and the main pass (NaN without timestamps).
+    pub shadow_ms: f64,
+    pub main_ms: f64,
+    /// Shadow layers drawn, and left stale, a frame (means).
+    pub drawn: f64,
+    pub stale: f64,
+    /// Lights reaching enough of the measured frame to count.
+    pub measured: usize,
+    /// Their misclassified shares of the pixels each reaches: the median light's and the worst's.
+    pub median_wrong: f64,
+    pub worst_wrong: f64,
+    /// Mean error against the soft truth over every light's pixels together.
+    pub soft_error: f64,
+}
+
+/// What a run measures with.
+#[derive(Clone, Copy, Debug)]
+pub struct LightsOptions {
+    /// Measured frames per run (after the warm-up).
+    pub frames: u32,
+    /// Timed frames' size.
+    pub size: (u32, u32),
+    /// The measured frame's size.
+    pub measure: (u32, u32),
+    /// Rays over each light's disc for the soft truth.
+    pub soft_rays: usize,
+}
+
+/// The shadow memory `settings` need for every light's layers at their policy's size, in MiB
+/// (as a first update sizes them with all the memory there is).
+fn memory_needed(settings: &Settings) -> Result<u32, BenchError> {
+    let mut app = App::new(Settings { shadow_memory: MAX_SHADOW_MEMORY, ..settings.clone() })?;
+    app.set_time(0.0);
+    let bytes = u64::from(app.world.resource::<ShadowAtlas>().texel_bytes);
+    let mut maps = app.world.query::<&ShadowMap>();
+    let texels: u64 = maps.iter(&app.world).map(|m| m.layers.len() as u64 * u64::from(m.resolution).pow(2)).sum();
+    Ok(u32::try_from((texels * bytes).div_ceil(1 << 20)).unwrap_or(u32::MAX))
+}
+
+/// Runs `policy` with `lights` lights: warm-up frames, `frames` timed ones, then one measured
+/// against the truth.
+pub fn run_one(gpu: &Gpu, base: &Settings, (policy, lights): (Policy, u32), o: LightsOptions) -> Result<LightsRow, BenchError> {
+    let mut settings = policy.settings(base, lights);
+    if matches!(policy, Policy::Fixed | Policy::Bevy) {
+        settings.shadow_memory = memory_needed(&settings)?.max(settings.shadow_memory);
+    }
+    let mut row = LightsRow {
+        policy,
+        lights,
+        memory_mib: settings.shadow_memory,
+        ran: settings.shadow_memory <= MAX_RUN_MIB,
+        frame_ms: f64::NAN,
+        shadow_ms: f64::NAN,
+        main_ms: f64::NAN,
+        drawn: 0.0,
+        stale: 0.0,
+        measured: 0,
+        median_wrong: f64::NAN,
+        worst_wrong: f64::NAN,
+        soft_error: f64::NAN,
+    };
+    if !row.ran {
+        return Ok(row);
+    }
+    let mut app = App::new(settings.clone())?;
+    app.resize(o.size.0, o.size.1);
+    let mut renderer = Renderer::new(gpu, HEADLESS_FORMAT)?;
+    renderer.tell(&mut app.world);
+    let stamps = renderer.enable_timing(gpu);
+    let target = gpu.target("lights bench", o.size, HEADLESS_FORMAT)?;
+    let view = target.create_view(&Default::default());
+    let warm_up = crate::systems::REST_AFTER as u32 + 5;
+    let (mut frames, mut shadow, mut main) = (Vec::new(), Vec::new(), Vec::new());
+    for round in 0..warm_up + o.frames {
+        app.step();
+        let start = Instant::now();
+        renderer.render(gpu, &mut app.world, &view, o.size.0, o.size.1)?;
+        gpu.wait()?;
+        if round < warm_up {
+            continue;
+        }
+        frames.push(start.elapsed().as_secs_f64() * 1e3);
+        if let Some(times) = renderer.pass_times(gpu).filter(|_| stamps) {
+            let times = times?;
+            (shadow.push(times.shadow_ms), main.push(times.main_ms));
+        }
+        let stats = app.world.resource::<ShadowStats>();
+        row.drawn += f64::from(stats.drawn()) / f64::from(o.frames);
+        row.stale += f64::from(stats.stale()) / f64::from(o.frames);
+    }
+    (row.frame_ms, row.shadow_ms, row.main_ms) = (median(&mut frames), median(&mut shadow), median(&mut main));
+    row.memory_mib = (app.world.resource::<ShadowAtlas>().bytes() >> 20) as u32;
+    if policy != Policy::Unshadowed {
+        measure(gpu, (&mut app, &mut renderer), o, &mut row)?;
+    }
+    Ok(row)
+}
+
+/// Measures the frame the app is at against the truth, light by light, into `row`.
+fn measure(gpu: &Gpu, (app, renderer): (&mut App, &mut Renderer), o: LightsOptions, row: &mut LightsRow) -> Result<(), BenchError> {
+    let (w, h) = o.measure;
+    app.resize(w, h);
+    app.step_held();
+    let frame = render_debug_frame(gpu, renderer, app, w, h)?;
+    let truth = truth_of(&mut app.world, &frame, SizeOverride::default(), o.soft_rays);
+    let tallies: Vec<Tally> = (0..truth.len()).map(|l| tally(&frame, &truth[l], l, |_| true)).collect();
+    let mut all = Tally::default();
+    let mut wrong: Vec<f64> = Vec::new();
+    for t in tallies.iter().filter(|t| t.pixels >= MIN_PIXELS) {
+        all.merge(t);
+        wrong.push(t.misclassified());
+    }
+    row.measured = wrong.len();
+    row.worst_wrong = wrong.iter().copied().fold(f64::NAN, f64::max);
+    row.median_wrong = median(&mut wrong);
+    row.soft_error = all.mae_soft();
+    Ok(())
+}
+
+/// Runs every policy at every count of `counts`, `progress` hearing each row.
+pub fn run(
+    gpu: &Gpu,
+    base: &Settings,
+    counts: &[u32],
+    o: LightsOptions,
+    mut progress: impl FnMut(&LightsRow),
+) -> Result<Vec<LightsRow>, BenchError> {
+    let mut rows = Vec::new();
+    for &lights in counts {
+        for policy in Policy::ALL {
+            let row = run_one(gpu, base, (policy, lights), o)?;
+            progress(&row);
+            rows.push(row);
+        }
+    }
+    Ok(rows)
+}
+
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values.get(values.len() / 2).copied().unwrap_or(f64::NAN)
+}
+
+/// A number, or a dash where it was not measured.
+fn cell(x: f64, decimals: usize) -> String {
+    if x.is_finite() { format!("{x:.decimals$}") } else { "–".into() }
+}
+
+/// The results as a Markdown table, each row's frame also as a ratio to the atlas's with 4
+/// lights.
+#[must_use]
+pub fn table(rows: &[LightsRow]) -> String {
+    let base = rows.iter().find(|r| r.policy == Policy::Atlas && r.ran).map_or(f64::NAN, |r| r.frame_ms);
+    let mut out = String::from(
+        "| lights | policy | shadow MiB | frame ms | x atlas at the fewest | shadow pass ms | main pass ms | \
+         layers drawn / frame | stale / frame | lights measured | median light wrong % | worst light wrong % | soft error |\n\
+         | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
+    );
+    for r in rows {
+        if !r.ran {
+            let needs = format!("needs {} MiB: not run", r.memory_mib);
+            out += &format!("| {} | {} | {needs} | | | | | | | | | | |\n", r.lights, r.policy.name());
+            continue;
+        }
+        out += &format!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            r.lights,
+            r.policy.name(),
+            r.memory_mib,
+            cell(r.frame_ms, 1),
+            cell(r.frame_ms / base, 2),
+            cell(r.shadow_ms, 1),
+            cell(r.main_ms, 1),
+            cell(r.drawn, 1),
+            cell(r.stale, 1),
+            r.measured,
+            cell(r.median_wrong * 100.0, 3),
+            cell(r.worst_wrong * 100.0, 3),
+            cell(r.soft_error, 4),
+        );
+    }
+    out
+}
+
+/// Two charts against the number of lights (on a log₂ axis), one line per policy: the frame's
+/// cost as `stem`-cost and the worst light's error as `stem`-error (.png and .svg each).
+pub fn charts(stem: &Path, adapter: &str, rows: &[LightsRow]) -> Result<(), ChartError> {
+    let line = |p: Policy, y: fn(&LightsRow) -> f64| {
+        let at = rows.iter().filter(|r| r.policy == p && r.ran).map(|r| (f64::from(r.lights).log2(), y(r)));
+        (p.name().to_string(), at.filter(|(_, y)| y.is_finite()).collect::<Vec<_>>())
+    };
+    let counts: Vec<String> = rows.iter().filter(|r| r.policy == Policy::ALL[0]).map(|r| format!("{}", r.lights)).collect();
+    let cost: Vec<_> = Policy::ALL.iter().map(|&p| line(p, |r| r.frame_ms)).collect();
+    let name = |s: &str| stem.with_file_name(format!("{}-{s}", stem.file_name().and_then(|n| n.to_str()).unwrap_or("lights")));
+    let axes = ("lights (log2)", "milliseconds a frame (median)");
+    line_chart(&name("cost"), &format!("frame cost against lights ({adapter})"), axes, &cost, &counts)?;
+    let error: Vec<_> = Policy::ALL[1..].iter().map(|&p| line(p, |r| r.worst_wrong * 100.0)).collect();
+    let axes = ("lights (log2)", "worst light's misclassified %");
+    line_chart(&name("error"), &format!("error against lights ({adapter})"), axes, &error, &counts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn policies_set_what_they_stand_for() {
+        let base = Settings::default();
+        let bevy = Policy::Bevy.settings(&base, 64);
+        assert_eq!((bevy.lanterns, bevy.tile_sizes, bevy.reuse_shadow_maps, bevy.static_cache), (60, TileSizes::Bevy, false, false));
+        assert_eq!(Policy::Atlas.settings(&base, 4), Settings { lanterns: 0, ..base.clone() });
+        assert!(!Policy::Unshadowed.settings(&base, 16).shadows);
+        // Every lamp at 2048² a face: far more than the atlas's default.
+        let fixed = memory_needed(&Policy::Fixed.settings(&base, 16)).unwrap();
+        let bevy = memory_needed(&bevy).unwrap();
+        assert!(fixed > 4 * base.shadow_memory && bevy > base.shadow_memory, "{fixed} and {bevy} MiB");
+    }
+
+    #[test]
+    fn the_table_names_what_did_not_run_and_gives_ratios() {
+        let row = |policy, lights, frame_ms, ran| LightsRow {
+            policy,
+            lights,
+            memory_mib: 256,
+            ran,
+            frame_ms,
+            shadow_ms: f64::NAN,
+            main_ms: 1.0,
+            drawn: 2.0,
+            stale: 0.0,
+            measured: 3,
+            median_wrong: 0.001,
+            worst_wrong: 0.004,
+            soft_error: 0.01,
+        };
+        let t = table(&[row(Policy::Atlas, 4, 10.0, true), row(Policy::Atlas, 64, 25.0, true), row(Policy::Fixed, 64, 0.0, false)]);
+        assert!(t.contains("| 64 | umbra's atlas | 256 | 25.0 | 2.50 | – | 1.0 | 2.0 | 0.0 | 3 | 0.100 | 0.400 | 0.0100 |"), "{t}");
+        assert!(t.contains("| 64 | fixed layers | needs 256 MiB: not run |"), "{t}");
+    }
+}
