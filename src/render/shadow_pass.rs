@@ -443,22 +443,32 @@ impl ShadowPass {
         let statics = self.statics.as_ref();
         for page in distinct_pages(jobs.iter().filter(|j| j.statics.is_some()).map(|j| j.tile.page)) {
             let Some(target) = statics.and_then(|s| s.pages.layer_views.get(page as usize)) else { continue };
-            let mut pass = begin(encoder, (target, None), stamps.next());
+            let mut pass = begin(encoder, (target, None), false, stamps.next());
             for (job, &(fill, _)) in jobs.iter().zip(&fills).filter(|(j, _)| j.tile.page == page) {
                 if let Some(calls) = &job.statics {
-                    let fill = (&self.fill, (depth, FillKind::Clear(None)), fill, None);
+                    let fill = Some((&self.fill, (depth, FillKind::Clear(None)), fill, None));
                     drawing.tile(&mut pass, job, fill, (set.get(None), calls));
                 }
             }
         }
         let restore = statics.filter(|_| jobs.iter().any(|j| j.over_static)).map(|s| self.fill.statics(device, &s.pages.array_view));
+        // A page none of whose tiles is kept this frame is cleared whole by its first pass (a
+        // fill of memory: on a software rasterizer far cheaper than a triangle over each tile),
+        // and its tiles then need no clear of their own.
+        let drawn: HashSet<LayerKey> = jobs.iter().map(|j| j.layer.key).collect();
+        let kept: HashSet<u32> =
+            data.draws.iter().filter(|d| !drawn.contains(&d.key)).filter_map(|d| d.tile.map(|t| t.page)).collect();
+        let mut cleared = HashSet::new();
         for (page, coloured) in groups(jobs) {
             let target = &self.maps.pages.layer_views[page as usize];
             let colour = coloured.then(|| &self.maps.moments.layer_views[page as usize]);
-            let mut pass = begin(encoder, (target, colour), stamps.next());
+            let clear = !kept.contains(&page) && cleared.insert(page);
+            let mut pass = begin(encoder, (target, colour), clear, stamps.next());
             let mine = jobs.iter().zip(&fills).filter(|(j, _)| j.tile.page == page && j.colour.is_some() == coloured);
             for (job, &(_, fill)) in mine {
-                let fill = (&self.fill, (depth, job.fill_kind()), fill, restore.as_ref());
+                let kind = job.fill_kind();
+                let filled = cleared.contains(&page) && kind == FillKind::Clear(None);
+                let fill = (!filled).then_some((&self.fill, (depth, kind), fill, restore.as_ref()));
                 drawing.tile(&mut pass, job, fill, (set.get(job.colour), &job.calls));
             }
         }
@@ -489,10 +499,11 @@ fn groups(jobs: &[Job]) -> Vec<(u32, bool)> {
 }
 
 /// A pass over a page of depth `target` (and of colour, if given), keeping what its other tiles
-/// hold.
+/// hold, or with its depth cleared to the far plane when `clear`.
 fn begin<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
     (target, colour): (&wgpu::TextureView, Option<&wgpu::TextureView>),
+    clear: bool,
     timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) -> wgpu::RenderPass<'e> {
     let keep = |view| wgpu::RenderPassColorAttachment {
@@ -507,7 +518,10 @@ fn begin<'e>(
         color_attachments: if colour.is_some() { std::slice::from_ref(&colour) } else { &[] },
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: target,
-            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+            depth_ops: Some(wgpu::Operations {
+                load: if clear { wgpu::LoadOp::Clear(1.0) } else { wgpu::LoadOp::Load },
+                store: wgpu::StoreOp::Store,
+            }),
             stencil_ops: None,
         }),
         timestamp_writes,
@@ -594,18 +608,19 @@ struct Drawing<'a> {
 }
 
 /// A fill: the pipelines, which one (depth format and kind), its uniform's index and the static
-/// atlas's bind group (for a restore).
-type FillWith<'a> = (&'a TileFill, (wgpu::TextureFormat, FillKind), usize, Option<&'a wgpu::BindGroup>);
+/// atlas's bind group (for a restore); none when the tile is already clear.
+type FillWith<'a> = Option<(&'a TileFill, (wgpu::TextureFormat, FillKind), usize, Option<&'a wgpu::BindGroup>)>;
 
 impl Drawing<'_> {
     /// Draws `job` into its tile of `pass`: the viewport and scissor on the tile, the tile
-    /// filled, then `calls` with `pipelines` and the layer's uniform.
+    /// filled (unless it is clear already), then `calls` with `pipelines` and the layer's uniform.
     fn tile(&self, pass: &mut wgpu::RenderPass<'_>, job: &Job, fill: FillWith<'_>, (pipelines, calls): (&Pipelines, &LayerCalls)) {
         let (x, y, side) = (job.tile.x, job.tile.y, job.layer.resolution);
         pass.set_viewport(x as f32, y as f32, side as f32, side as f32, 0.0, 1.0);
         pass.set_scissor_rect(x, y, side, side);
-        let (fills, which, index, statics) = fill;
-        fills.draw(pass, which, index, statics);
+        if let Some((fills, which, index, statics)) = fill {
+            fills.draw(pass, which, index, statics);
+        }
         pass.set_bind_group(0, &self.layers.bind_group, &[self.layers.offset(job.uniform)]);
         pipelines.draw(pass, self.with, self.items, calls.singles.iter().copied());
         pipelines.draw_batches(pass, self.with, &calls.batches, self.instances);

@@ -37,6 +37,22 @@ impl AtlasShape {
         AtlasShape { page, pages }
     }
 
+    /// The smallest atlas within this one that holds `texels` of tiles with a quarter to spare
+    /// (for tiles kept where they are as others come and go): the fewest of its pages, or when
+    /// even one is more than that, the smallest power-of-two page that is enough, never smaller
+    /// than the `largest` tile.
+    #[must_use]
+    pub fn holding(self, texels: u64, largest: u32) -> AtlasShape {
+        let want = texels.saturating_add(texels / 4);
+        let area = |side: u32| u64::from(side) * u64::from(side);
+        let mut page = self.page;
+        while page / 2 >= largest.max(MIN_TILE) && area(page / 2) >= want {
+            page /= 2;
+        }
+        let pages = want.div_ceil(area(page)).clamp(1, u64::from(self.pages)) as u32;
+        AtlasShape { page, pages }
+    }
+
     /// Texels in all.
     #[must_use]
     pub fn texels(&self) -> u64 {
@@ -229,6 +245,18 @@ impl<K: Copy + Eq + Hash> Atlas<K> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_atlas_takes_the_pages_its_tiles_need_and_no_more_than_its_budget() {
+        let budget = AtlasShape { page: 4096, pages: 8 };
+        let big = 4096 * 4096;
+        assert_eq!(budget.holding(2 * big, 2048), AtlasShape { page: 4096, pages: 3 }, "a quarter to spare");
+        assert_eq!(budget.holding(100 * big, 2048), budget, "never past the budget");
+        assert_eq!(budget.holding(2048 * 2048, 2048), AtlasShape { page: 4096, pages: 1 });
+        assert_eq!(budget.holding(1024 * 1024, 1024), AtlasShape { page: 2048, pages: 1 }, "a smaller page");
+        assert_eq!(budget.holding(0, 0), AtlasShape { page: MIN_TILE, pages: 1 });
+        assert_eq!(budget.holding(u64::MAX, u32::MAX), budget);
+    }
 
     fn overlap(a: &Tile, b: &Tile) -> bool {
         a.page == b.page && a.x < b.x + b.size && b.x < a.x + a.size && a.y < b.y + b.size && b.y < a.y + a.size

@@ -28,7 +28,8 @@ impl Default for ShadowCaps {
 }
 
 /// The shadow atlas the lights' tiles are sized for: its shape and what a texel of it costs.
-/// Written by [`size_shadow_maps`]; the renderer makes its pages to this shape.
+/// Written by [`size_shadow_maps`] (the pages the tiles need, within the memory budget); the
+/// renderer makes its pages to this shape.
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ShadowAtlas {
     /// Its pages.
@@ -67,7 +68,8 @@ fn texel_bytes(settings: &Settings, caps: ShadowCaps, methods: impl Iterator<Ite
         ShadowDepth::Float32 => 4,
         ShadowDepth::Unorm16 => 2,
     };
-    let statics = if settings.static_cache && settings.reuse_shadow_maps && caps.static_maps { depth } else { 0 };
+    // Whether maps are kept this frame does not matter: the atlas stays as it is when it changes.
+    let statics = if settings.static_cache && caps.static_maps { depth } else { 0 };
     let (mut moments, mut in_colour) = (0, 0);
     for m in methods {
         moments = moments.max(m.moment_bits());
@@ -154,6 +156,7 @@ pub fn size_shadow_maps(
         })
         .collect();
     let sides = fit_budget(&needs, shape.shape.texels());
+    let fitted = fitted(atlas.as_deref(), shape, (&needs, &sides));
     for (((source, side), class), shows) in sources.iter().zip(sides).zip(classes).zip(shows) {
         if let Ok((mut map, _)) = maps.get_mut(source.entity)
             && (map.resolution, map.wanted, map.shows) != (side, class, shows)
@@ -162,9 +165,32 @@ pub fn size_shadow_maps(
         }
     }
     if let Some(mut atlas) = atlas
-        && *atlas != shape
+        && *atlas != fitted
     {
-        *atlas = shape;
+        *atlas = fitted;
+    }
+}
+
+/// The atlas the tiles of `needs` at `sides` take within `budget` ([`AtlasShape::holding`]),
+/// or the `current` one while it holds them within the budget and is no more than four times
+/// what they need: an atlas made anew draws every layer again, so it does not follow every
+/// light that comes and goes.
+fn fitted(current: Option<&ShadowAtlas>, budget: ShadowAtlas, (needs, sides): (&[TileNeed], &[u32])) -> ShadowAtlas {
+    let tile = |side: u32| u64::from(side.next_power_of_two()).pow(2);
+    let used: u64 = needs.iter().zip(sides).map(|(n, &s)| u64::from(n.layers) * tile(s)).sum();
+    let largest = sides.iter().map(|s| s.next_power_of_two()).max().unwrap_or(MIN_TILE);
+    let fitted = ShadowAtlas { shape: budget.shape.holding(used, largest), ..budget };
+    match current {
+        Some(c)
+            if c.texel_bytes == budget.texel_bytes
+                && c.shape.page >= largest
+                && c.shape.texels() >= fitted.shape.texels()
+                && c.shape.texels() <= budget.shape.texels()
+                && c.shape.texels() / 4 <= fitted.shape.texels() =>
+        {
+            *c
+        }
+        _ => fitted,
     }
 }
 
@@ -222,7 +248,7 @@ mod tests {
         world.run_system_once(size_shadow_maps).unwrap();
         let side = |e| world.get::<ShadowMap>(e).unwrap().resolution;
         let atlas = *world.resource::<ShadowAtlas>();
-        assert_eq!(atlas.shape, AtlasShape { page: 1024, pages: 2 });
+        assert!(atlas.bytes() <= 16 << 20, "{atlas:?}");
         let used: u64 = [(sun, 4), (near, 6), (far, 6), (behind, 6)]
             .iter()
             .map(|&(e, n)| n * u64::from(side(e).next_power_of_two()).pow(2))

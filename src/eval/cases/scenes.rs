@@ -109,7 +109,9 @@ pub fn pole_scene(settings: &Settings) -> Result<App, AppError> {
 pub const SEAMS_SPOT: (Vec3, f32) = (Vec3::new(0.0, 4.0, 0.0), 30.0);
 
 /// A spot straight down over an open ground with a hard edge (full light right up to its cone,
-/// which touches its map's edge at four points), sampled by Poisson 32, the widest fixed filter.
+/// which touches its map's edge at four points), sampled by Poisson 32, the widest fixed filter;
+/// beside it a twin looking up into a box, whose tile (the same size, so the next one in the
+/// atlas) is all near depth: a tap that strays into it reads shadow.
 pub fn atlas_seams_scene(settings: &Settings) -> Result<App, AppError> {
     let mut app = unlit_ground(settings, 40.0, false, (Vec3::new(0.0, 9.0, 0.01), Vec3::ZERO))?;
     let outer = SEAMS_SPOT.1.to_radians();
@@ -117,6 +119,9 @@ pub fn atlas_seams_scene(settings: &Settings) -> Result<App, AppError> {
         SpotLight { range: 10.0, intensity: 4.0, inner_angle: outer - 1e-4, outer_angle: outer, ..Default::default() };
     let at = Transform::from_translation(SEAMS_SPOT.0).looking_to(Vec3::NEG_Y);
     app.world.spawn((spot, at, ShadowMap::default(), ShadowMethod::Poisson32));
+    let twin = SEAMS_SPOT.0 + Vec3::X * 0.2;
+    app.world.spawn((spot, Transform::from_translation(twin).looking_to(Vec3::Y), ShadowMap::default()));
+    add_box(&mut app, twin + Vec3::Y * 0.6, Vec3::new(1.0, 0.1, 1.0));
     Ok(app)
 }
 
