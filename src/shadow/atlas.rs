@@ -37,18 +37,18 @@ impl AtlasShape {
         AtlasShape { page, pages }
     }
 
-    /// The smallest atlas within this one that holds `texels` of tiles with a quarter to spare
-    /// (for tiles kept where they are as others come and go): the fewest of its pages, or when
-    /// even one is more than that, the smallest power-of-two page that is enough, never smaller
-    /// than the `largest` tile.
+    /// The smallest atlas within this one that holds `texels` of tiles: one page, the smallest
+    /// power of two that is enough (never smaller than the `largest` tile), or where one of its
+    /// pages is not enough, the fewest that hold them with a quarter to spare (for tiles kept
+    /// where they are as others come and go).
     #[must_use]
     pub fn holding(self, texels: u64, largest: u32) -> AtlasShape {
-        let want = texels.saturating_add(texels / 4);
         let area = |side: u32| u64::from(side) * u64::from(side);
         let mut page = self.page;
-        while page / 2 >= largest.max(MIN_TILE) && area(page / 2) >= want {
+        while page / 2 >= largest.max(MIN_TILE) && area(page / 2) >= texels {
             page /= 2;
         }
+        let want = if texels <= area(page) { texels } else { texels.saturating_add(texels / 4) };
         let pages = want.div_ceil(area(page)).clamp(1, u64::from(self.pages)) as u32;
         AtlasShape { page, pages }
     }
@@ -252,8 +252,9 @@ mod tests {
         let big = 4096 * 4096;
         assert_eq!(budget.holding(2 * big, 2048), AtlasShape { page: 4096, pages: 3 }, "a quarter to spare");
         assert_eq!(budget.holding(100 * big, 2048), budget, "never past the budget");
-        assert_eq!(budget.holding(2048 * 2048, 2048), AtlasShape { page: 4096, pages: 1 });
-        assert_eq!(budget.holding(1024 * 1024, 1024), AtlasShape { page: 2048, pages: 1 }, "a smaller page");
+        assert_eq!(budget.holding(2048 * 2048, 2048), AtlasShape { page: 2048, pages: 1 }, "one tile, one page");
+        assert_eq!(budget.holding(2 * 2048 * 2048, 2048), AtlasShape { page: 4096, pages: 1 });
+        assert_eq!(budget.holding(3 * 1024 * 1024, 1024), AtlasShape { page: 2048, pages: 1 }, "a smaller page");
         assert_eq!(budget.holding(0, 0), AtlasShape { page: MIN_TILE, pages: 1 });
         assert_eq!(budget.holding(u64::MAX, u32::MAX), budget);
     }
