@@ -10,7 +10,7 @@
 //! A policy that needs more shadow memory than [`MAX_RUN_MIB`] is reported with what it needs,
 //! not run.
 
-use super::bench::BenchError;
+use super::bench::{BenchError, median};
 use super::chart::{ChartError, line_chart};
 use super::metrics::{Tally, tally};
 use super::truth::{SizeOverride, truth_of};
@@ -219,11 +219,6 @@ pub fn run(
         }
     }
     Ok(rows)
-}
-
-fn median(values: &mut [f64]) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values.get(values.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
 /// A number, or a dash where it was not measured.

@@ -7,7 +7,7 @@
 //! extract it needs (bounds, culling, instancing, uploads); the bare pass is given the frame's
 //! culled lists and pays only for uploading its placements and drawing.
 
-use super::bench::BenchError;
+use super::bench::{BenchError, median};
 use super::chart::{ChartError, line_chart};
 use crate::render::{Gpu, HEADLESS_FORMAT, Renderer, ShadowStats, extract};
 use crate::{App, Settings};
@@ -99,11 +99,6 @@ pub fn run(
         rows.push(row);
     }
     Ok(rows)
-}
-
-fn median(values: &mut [f64]) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values.get(values.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
 /// The results as a Markdown table.

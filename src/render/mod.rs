@@ -23,6 +23,7 @@ mod renderer;
 mod shaders;
 mod shadow_atlas;
 mod shadow_pass;
+mod shadow_tiles;
 mod shadow_stats;
 mod static_maps;
 mod texture;

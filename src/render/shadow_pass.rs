@@ -9,20 +9,22 @@
 //! new to it; with an update budget, the out-of-date layers take turns ([`plan_updates`]) and
 //! those left waiting are sampled with the projection their map was drawn with.
 
-use super::extract::{DrawItem, FrameData, LayerDraw};
+use super::extract::{FrameData, LayerDraw};
 use super::gpu_types::{Fill, GpuLayer};
-use super::instances::{InstanceBuffer, LayerCalls, layer_calls};
-use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
+use super::instances::{InstanceBuffer, layer_calls};
+use super::mesh::{Drawables, JointPalette, Pipelines, Recipe};
 use super::moments::{ColourFormat, MomentBlur, far_moments};
 use super::shaders::{Composed, SHADOW_MODULE};
 use super::shadow_atlas::{LayerKey, Placement, ShadowMaps, depth_texture};
 use super::shadow_stats::ShadowStats;
+pub use super::shadow_tiles::DrawOptions;
+use super::shadow_tiles::{Drawing, Job, Stamps, begin, distinct_pages, groups, shadow_variant};
 use super::static_maps::StaticMaps;
 use super::texture::MaterialTextures;
 use super::tile_fill::{FillKind, TileFill};
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
-use crate::components::{AlphaMode, ShadowMethod};
+use crate::components::ShadowMethod;
 use crate::settings::{ShadowDepth, ShadowFaces};
 use crate::shadow::{AtlasShape, MIN_TILE, Tile, TileState, Update, plan_updates};
 use std::collections::{HashMap, HashSet};
@@ -480,163 +482,4 @@ impl ShadowPass {
 /// stabiliser and tile stay `now`'s.
 fn as_drawn(now: GpuLayer, drawn: &GpuLayer) -> GpuLayer {
     GpuLayer { method: now.method, moment_bias: now.moment_bias, bleed: now.bleed, page: now.page, tile: now.tile, ..*drawn }
-}
-
-/// The pages, each once, in order.
-fn distinct_pages(pages: impl Iterator<Item = u32>) -> Vec<u32> {
-    let mut pages: Vec<u32> = pages.collect();
-    pages.sort_unstable();
-    pages.dedup();
-    pages
-}
-
-/// The (page, with a colour map) groups the jobs' tiles fall in, each once, in order.
-fn groups(jobs: &[Job]) -> Vec<(u32, bool)> {
-    let mut groups: Vec<(u32, bool)> = jobs.iter().map(|j| (j.tile.page, j.colour.is_some())).collect();
-    groups.sort_unstable();
-    groups.dedup();
-    groups
-}
-
-/// A pass over a page of depth `target` (and of colour, if given), keeping what its other tiles
-/// hold, or with its depth cleared to the far plane when `clear`.
-fn begin<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
-    (target, colour): (&wgpu::TextureView, Option<&wgpu::TextureView>),
-    clear: bool,
-    timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
-) -> wgpu::RenderPass<'e> {
-    let keep = |view| wgpu::RenderPassColorAttachment {
-        view,
-        depth_slice: None,
-        resolve_target: None,
-        ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
-    };
-    let colour = colour.map(keep);
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("shadow pass"),
-        color_attachments: if colour.is_some() { std::slice::from_ref(&colour) } else { &[] },
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: target,
-            depth_ops: Some(wgpu::Operations {
-                load: if clear { wgpu::LoadOp::Clear(1.0) } else { wgpu::LoadOp::Load },
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
-        timestamp_writes,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    })
-}
-
-/// Hands out the frame's shadow passes' timestamps: the first pass's start, the last's end.
-struct Stamps<'t> {
-    timer: Option<&'t mut PassTimer>,
-    next: usize,
-    total: usize,
-}
-
-impl Stamps<'_> {
-    fn next(&mut self) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        let i = self.next;
-        self.next += 1;
-        self.timer.as_deref_mut()?.shadow_writes(i, self.total)
-    }
-}
-
-/// How the shadow pass draws, from the settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DrawOptions {
-    /// Keep clean layers' maps (the cache); without it every layer is drawn, whole.
-    pub reuse: bool,
-    /// Which faces casters draw.
-    pub faces: ShadowFaces,
-    /// Blur of moment maps, in texels.
-    pub blur: u32,
-    /// Draw rigid opaque casters of depth-only layers instanced.
-    pub instancing: bool,
-    /// Keep casters at rest in static maps (with the cache, where depth can be copied).
-    pub static_cache: bool,
-    /// Texels of out-of-date layers drawn per frame at most (0: no limit).
-    pub updates: u32,
-}
-
-impl From<&crate::Settings> for DrawOptions {
-    fn from(s: &crate::Settings) -> Self {
-        DrawOptions {
-            reuse: s.reuse_shadow_maps,
-            faces: s.shadow_faces,
-            blur: s.moment_blur,
-            instancing: s.instancing,
-            static_cache: s.static_cache,
-            updates: s.shadow_updates,
-        }
-    }
-}
-
-/// How one layer is drawn this frame.
-struct Job<'a> {
-    layer: &'a LayerDraw,
-    /// Its tile.
-    tile: Tile,
-    /// Its index in the frame's layer uniforms.
-    uniform: usize,
-    /// Its colour map's format, if it has one.
-    colour: Option<ColourFormat>,
-    /// The calls that draw its static map first, when that must be drawn again.
-    statics: Option<LayerCalls>,
-    /// Drawn over its casters at rest put back (`calls` are then its moving casters only).
-    over_static: bool,
-    /// The calls that draw it.
-    calls: LayerCalls,
-}
-
-impl Job<'_> {
-    /// How its tile is filled before its casters are drawn.
-    fn fill_kind(&self) -> FillKind {
-        if self.over_static { FillKind::Restore } else { FillKind::Clear(self.colour.map(ColourFormat::texture)) }
-    }
-}
-
-/// What every tile of a frame draws with.
-struct Drawing<'a> {
-    with: Drawables<'a>,
-    items: &'a [DrawItem],
-    layers: &'a UniformArray,
-    instances: &'a wgpu::Buffer,
-}
-
-/// A fill: the pipelines, which one (depth format and kind), its uniform's index and the static
-/// atlas's bind group (for a restore); none when the tile is already clear.
-type FillWith<'a> = Option<(&'a TileFill, (wgpu::TextureFormat, FillKind), usize, Option<&'a wgpu::BindGroup>)>;
-
-impl Drawing<'_> {
-    /// Draws `job` into its tile of `pass`: the viewport and scissor on the tile, the tile
-    /// filled (unless it is clear already), then `calls` with `pipelines` and the layer's uniform.
-    fn tile(&self, pass: &mut wgpu::RenderPass<'_>, job: &Job, fill: FillWith<'_>, (pipelines, calls): (&Pipelines, &LayerCalls)) {
-        let (x, y, side) = (job.tile.x, job.tile.y, job.layer.resolution);
-        pass.set_viewport(x as f32, y as f32, side as f32, side as f32, 0.0, 1.0);
-        pass.set_scissor_rect(x, y, side, side);
-        if let Some((fills, which, index, statics)) = fill {
-            fills.draw(pass, which, index, statics);
-        }
-        pass.set_bind_group(0, &self.layers.bind_group, &[self.layers.offset(job.uniform)]);
-        pipelines.draw(pass, self.with, self.items, calls.singles.iter().copied());
-        pipelines.draw_batches(pass, self.with, &calls.batches, self.instances);
-    }
-}
-
-/// How a caster is drawn into a shadow map. Both faces by default: a one-sided surface (the
-/// ground, a leaf) blocks light from either side, as it does in the ray-traced truth, and on
-/// closed meshes the faces towards the light are nearer and win the depth test anyway. With
-/// [`ShadowFaces::Back`] the faces turned towards the light (front faces: the light looks along
-/// its -Z like a camera) are culled, but never those of a double-sided material. A blended
-/// caster is cut out like a masked one.
-fn shadow_variant(item: &DrawItem, faces: ShadowFaces) -> Variant {
-    let cull = (faces == ShadowFaces::Back && !item.double_sided).then_some(wgpu::Face::Front);
-    let alpha = if item.alpha == AlphaMode::Opaque { AlphaClass::Opaque } else { AlphaClass::Mask };
-    // Opaque casters have no fragment stage, so whether they have a texture does not matter.
-    let textured = alpha == AlphaClass::Mask && item.texture.is_some();
-    Variant { skinned: item.skinned, cull, alpha, textured, methods: 0, instanced: false }
 }
