@@ -311,7 +311,7 @@ fn lights(args: &BenchArgs) -> Result<()> {
     let options = many::LightsOptions {
         frames: args.frames.unwrap_or(if args.quick { 3 } else { 10 }),
         size: (args.width, args.height),
-        measure: ((args.width / 4).max(16), (args.height / 4).max(16)),
+        measure: ((args.width / 2).max(16), (args.height / 2).max(16)),
         soft_rays: args.soft_rays.unwrap_or(if args.quick { 8 } else { 32 }) as usize,
     };
     println!("adapter: {adapter}");

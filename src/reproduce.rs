@@ -209,6 +209,8 @@ fn settings_options(s: &Settings) -> Vec<String> {
     value(s.shadow_map_size != d.shadow_map_size, "shadow-map-size", s.shadow_map_size.to_string());
     value(s.shadow_memory != d.shadow_memory, "shadow-memory", s.shadow_memory.to_string());
     value(s.shadow_updates != d.shadow_updates, "shadow-updates", s.shadow_updates.to_string());
+    value(s.max_stale != d.max_stale, "max-stale", s.max_stale.to_string());
+    value(s.tile_hysteresis != d.tile_hysteresis, "tile-hysteresis", s.tile_hysteresis.to_string());
     value(s.shadow_strength != d.shadow_strength, "shadow-strength", s.shadow_strength.to_string());
     value(s.depth_bias != d.depth_bias, "depth-bias", s.depth_bias.to_string());
     value(s.slope_bias != d.slope_bias, "slope-bias", s.slope_bias.to_string());

@@ -25,6 +25,14 @@ pub struct SceneArgs {
     /// x1024²): `4M` is four 1024² tiles. 0 (the default): no limit.
     #[arg(long, value_name = "TEXELS", value_parser = parse_texels)]
     pub shadow_updates: Option<u32>,
+    /// Frames (1..1000) a shadow layer may wait under --shadow-updates before it goes ahead of
+    /// every layer that shows more (default 8).
+    #[arg(long, value_name = "FRAMES")]
+    pub max_stale: Option<u32>,
+    /// Octaves (0..2) what a light shows must move before its shadow tile changes size class
+    /// (default 0.75; 0 lets tiles flip at a class's edge: the tile-resize case).
+    #[arg(long, value_name = "OCTAVES")]
+    pub tile_hysteresis: Option<f32>,
     /// Let filters read past their tile into a neighbour's texels (the atlas-seams case).
     #[arg(long)]
     pub no_atlas_guard: bool,
@@ -226,6 +234,8 @@ impl SceneArgs {
             shadow_memory: self.shadow_memory.unwrap_or(d.shadow_memory),
             atlas_guard: !self.no_atlas_guard,
             shadow_updates: self.shadow_updates.unwrap_or(d.shadow_updates),
+            max_stale: self.max_stale.unwrap_or(d.max_stale),
+            tile_hysteresis: self.tile_hysteresis.unwrap_or(d.tile_hysteresis),
             shadow_strength: self.shadow_strength.unwrap_or(d.shadow_strength),
             depth_bias: self.depth_bias.unwrap_or(d.depth_bias),
             slope_bias: self.slope_bias.unwrap_or(d.slope_bias),

@@ -25,6 +25,13 @@ pub struct Settings {
     /// tile new to its layer holds nothing yet and is drawn whatever the budget (see
     /// [`crate::shadow::plan_updates`]).
     pub shadow_updates: u32,
+    /// Frames an out-of-date layer may wait under the update budget before it goes ahead of
+    /// every layer that shows more (the defence against a starved light; see the
+    /// starved-budget case).
+    pub max_stale: u32,
+    /// Octaves what a light shows must move from its tile's size class before the class changes
+    /// (the defence against tiles resized to and fro; see the tile-resize case).
+    pub tile_hysteresis: f32,
     /// Constant depth bias, in shadow-map texels, for every light without a bias of its own.
     pub depth_bias: f32,
     /// Depth bias per unit of surface slope (tan of the light angle), in texels.
@@ -144,6 +151,8 @@ impl Default for Settings {
             shadow_memory: 256,
             atlas_guard: true,
             shadow_updates: 0,
+            max_stale: crate::shadow::MAX_STALE,
+            tile_hysteresis: crate::shadow::HYSTERESIS,
             // The same as a light's default bias (see `ShadowBias::default`).
             depth_bias: 0.5,
             slope_bias: 0.5,
@@ -326,6 +335,10 @@ pub const MIN_SHADOW_MEMORY: u32 = 16;
 pub const MIN_SHADOW_UPDATES: u32 = crate::shadow::MIN_TILE * crate::shadow::MIN_TILE;
 /// Most shadow memory, in MiB.
 pub const MAX_SHADOW_MEMORY: u32 = 16384;
+/// The longest wait `max_stale` may promise, in frames.
+pub const MAX_STALE_FRAMES: u32 = 1000;
+/// The widest `tile_hysteresis`, in octaves.
+pub const MAX_HYSTERESIS: f32 = 2.0;
 
 /// Largest shadow-map layer accepted (the device may allow less; the renderer checks again).
 pub const MAX_SHADOW_MAP_SIZE: u32 = 8192;
@@ -363,6 +376,12 @@ impl Settings {
         }
         if self.shadow_updates != 0 && self.shadow_updates < MIN_SHADOW_UPDATES {
             return bad("shadow_updates", self.shadow_updates, "must be 0 (no limit) or at least 1024 texels (a 32² tile)");
+        }
+        if !(1..=MAX_STALE_FRAMES).contains(&self.max_stale) {
+            return bad("max_stale", self.max_stale, "must be between 1 and 1000 frames");
+        }
+        if !(self.tile_hysteresis.is_finite() && (0.0..=MAX_HYSTERESIS).contains(&self.tile_hysteresis)) {
+            return bad("tile_hysteresis", self.tile_hysteresis, "must be between 0 and 2 octaves");
         }
         for (name, v) in
             [("depth_bias", self.depth_bias), ("slope_bias", self.slope_bias), ("normal_bias", self.normal_bias)]
@@ -471,7 +490,7 @@ mod tests {
     #[test]
     fn nonsense_is_named() {
         type Case = (fn(&mut Settings), &'static str);
-        let cases: [Case; 21] = [
+        let cases: [Case; 23] = [
             (|s| s.cubes = MAX_CUBES + 1, "cubes"),
             (|s| s.lanterns = 5000, "lanterns"),
             (|s| s.camera = Some((glam::Vec3::ONE, glam::Vec3::ONE)), "camera"),
@@ -487,6 +506,8 @@ mod tests {
             (|s| s.shadow_memory = 8, "shadow_memory"),
             (|s| s.shadow_memory = u32::MAX, "shadow_memory"),
             (|s| s.shadow_updates = 5, "shadow_updates"),
+            (|s| s.max_stale = 0, "max_stale"),
+            (|s| s.tile_hysteresis = f32::NAN, "tile_hysteresis"),
             (|s| s.slope_bias = f32::NAN, "slope_bias"),
             (|s| s.shadow_distance = -1.0, "shadow_distance"),
             (|s| s.ambient = f32::INFINITY, "ambient"),

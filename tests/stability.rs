@@ -5,6 +5,7 @@
 
 mod common;
 
+use umbra::eval::cases::budget::{threshold_sides, tile_shrink_sweep};
 use umbra::eval::cases::{Score, case, skinned_caster_bounded};
 use umbra::eval::measure::{Measurer, TruthSettings};
 use umbra::settings::{CasterCulling, Settings, ShadowFaces};
@@ -151,4 +152,44 @@ fn pcss_penumbrae_harden_towards_a_poles_foot_but_not_with_a_fixed_kernel() {
 #[test]
 fn a_variance_map_keeps_light_from_leaking_between_stacked_casters_but_not_without_bleeding_reduction() {
     holds_and_breaks("light-bleeding", Settings { light_bleeding: 0.0, ..Settings::default() });
+}
+
+#[test]
+fn a_spots_error_grows_as_its_tile_shrinks_and_passes_the_threshold_near_the_predicted_side() {
+    // With every tile held at 32², the spot's edges land half a 17 cm texel off.
+    holds_and_breaks("tile-shrink", Settings { shadow_map_size: 32, ..Settings::default() });
+    let gpu = common::gpu();
+    let sides = [32, 64, 128, 256, 512, 1024];
+    let points = tile_shrink_sweep(&mut measurer(&gpu), &Settings::default(), &sides).unwrap();
+    for p in &points {
+        eprintln!("{:>5}²: predicted {:.3} %, measured {:.3} %", p.side, p.predicted * 100.0, p.measured * 100.0);
+    }
+    let threshold = case("tile-shrink").unwrap().threshold;
+    // Where the error is well above a pixel's grain, halving the tile about doubles it, as the
+    // edge model says, and the model is within a factor of two of what is measured.
+    for w in points.windows(2).filter(|w| w[1].predicted >= threshold / 2.0) {
+        assert!(w[0].measured > 1.3 * w[1].measured, "{w:?}");
+    }
+    for p in points.iter().filter(|p| p.predicted >= threshold / 2.0) {
+        assert!((0.5..=2.0).contains(&(p.measured / p.predicted)), "{p:?}");
+    }
+    let (measured, predicted) = threshold_sides(&points, threshold);
+    let (measured, predicted) = (f64::from(measured.unwrap()), predicted.unwrap());
+    eprintln!("passes the threshold at {measured}² measured, {predicted:.0}² predicted");
+    assert!(measured / 2.0 <= predicted && predicted <= measured, "{measured} against {predicted}");
+}
+
+#[test]
+fn a_tile_keeps_its_size_as_the_camera_creeps_across_a_class_edge_and_flickers_without_hysteresis() {
+    holds_and_breaks("tile-resize", Settings { tile_hysteresis: 0.0, ..Settings::default() });
+}
+
+#[test]
+fn a_starved_budget_redraws_every_spot_within_its_turn_and_bounds_how_wrong_it_gets_meanwhile() {
+    let (good, bad) = holds_and_breaks("starved-budget", Settings { max_stale: 1000, ..Settings::default() });
+    assert!(bad.garbage > 0, "without the overdue rule the spots that show least never get their turn: {bad:?}");
+    // And meanwhile their shadows stay where their posts were, further off every frame.
+    let share = |s: Score| s.hits as f64 / s.of.max(1) as f64;
+    eprintln!("misclassified {:.2} % with the rule, {:.2} % without", share(good) * 100.0, share(bad) * 100.0);
+    assert!(share(bad) > 1.5 * share(good), "{good:?} against {bad:?}");
 }

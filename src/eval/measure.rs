@@ -103,6 +103,12 @@ pub enum CaseScene {
     Precision,
     /// A hard-edged spot over an open ground, probed at the edge of its tile.
     AtlasSeams,
+    /// A spot over posts, seen from higher and higher.
+    TileShrink,
+    /// The same, seen from a camera creeping up and down.
+    TileResize,
+    /// Three spots over sliding posts sharing a starved update budget.
+    StarvedBudget,
 }
 
 /// The truth of a frame: one column per light in the frame's order (sun, then spots), one entry

@@ -213,7 +213,7 @@ impl ShadowPass {
         let budget = (how.reuse && how.updates > 0).then_some(u64::from(how.updates));
         let draw = match budget {
             Some(_) if again => updates.iter().map(|u| u.state == TileState::Empty).collect(),
-            _ => plan_updates(&updates, budget),
+            _ => plan_updates(&updates, budget, how.max_stale),
         };
         self.plan = updates
             .iter()

@@ -91,6 +91,8 @@ pub struct DrawOptions {
     pub static_cache: bool,
     /// Texels of out-of-date layers drawn per frame at most (0: no limit).
     pub updates: u32,
+    /// Frames a layer may wait before it goes ahead of those that show more.
+    pub max_stale: u32,
 }
 
 impl From<&crate::Settings> for DrawOptions {
@@ -102,6 +104,7 @@ impl From<&crate::Settings> for DrawOptions {
             instancing: s.instancing,
             static_cache: s.static_cache,
             updates: s.shadow_updates,
+            max_stale: s.max_stale,
         }
     }
 }

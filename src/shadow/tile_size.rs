@@ -34,14 +34,15 @@ pub fn texels_for(coverage: f32, single: bool, largest: u32) -> f32 {
 }
 
 /// The size class (log2 of the side) a light keeps: `current` (0: none yet) while `side`
-/// (what it needs now) stays within [`HYSTERESIS`] octaves of it, else the class nearest `side`;
-/// always within `MIN_TILE..=largest`.
+/// (what it needs now) stays within `hysteresis` octaves of it ([`HYSTERESIS`] by default),
+/// else the class nearest `side`; always within `MIN_TILE..=largest`.
 #[must_use]
-pub fn size_class(current: u32, side: f32, largest: u32) -> u32 {
+pub fn size_class(current: u32, side: f32, largest: u32, hysteresis: f32) -> u32 {
     let want = side.max(1.0).log2();
     let lowest = MIN_TILE.ilog2();
     let highest = largest.max(MIN_TILE).ilog2();
-    let class = if current == 0 || (want - current as f32).abs() > HYSTERESIS { want.round() as u32 } else { current };
+    let keep = current != 0 && (want - current as f32).abs() <= hysteresis;
+    let class = if keep { current } else { want.round() as u32 };
     class.clamp(lowest, highest)
 }
 
@@ -74,17 +75,19 @@ mod tests {
 
     #[test]
     fn a_class_holds_until_what_it_shows_moves_well_past_it() {
-        assert_eq!(size_class(0, 700.0, 2048), 9, "log2 700 = 9.45 rounds to 9");
+        assert_eq!(size_class(0, 700.0, 2048, HYSTERESIS), 9, "log2 700 = 9.45 rounds to 9");
         // Round a class's edge (9.5) nothing flips.
         for side in [600.0, 760.0, 600.0, 820.0, 400.0] {
-            assert_eq!(size_class(9, side, 2048), 9, "{side}");
+            assert_eq!(size_class(9, side, 2048, HYSTERESIS), 9, "{side}");
         }
-        assert_eq!(size_class(9, 900.0, 2048), 10, "0.81 octaves up");
-        assert_eq!(size_class(10, 600.0, 2048), 9, "0.77 octaves down");
-        assert_eq!(size_class(9, 1e9, 2048), 11, "never past the largest");
-        assert_eq!(size_class(9, 0.0, 2048), MIN_TILE.ilog2(), "never under the smallest");
-        assert_eq!(size_class(0, f32::NAN, 2048), MIN_TILE.ilog2());
-        assert_eq!(size_class(0, f32::INFINITY, 2048), 11);
+        assert_eq!(size_class(9, 900.0, 2048, HYSTERESIS), 10, "0.81 octaves up");
+        assert_eq!(size_class(10, 600.0, 2048, HYSTERESIS), 9, "0.77 octaves down");
+        assert_eq!(size_class(9, 1e9, 2048, HYSTERESIS), 11, "never past the largest");
+        assert_eq!(size_class(9, 0.0, 2048, HYSTERESIS), MIN_TILE.ilog2(), "never under the smallest");
+        assert_eq!(size_class(0, f32::NAN, 2048, HYSTERESIS), MIN_TILE.ilog2());
+        assert_eq!(size_class(0, f32::INFINITY, 2048, HYSTERESIS), 11);
+        // Without hysteresis a class flips at its edge.
+        assert_eq!((size_class(9, 730.0, 2048, 0.0), size_class(10, 720.0, 2048, 0.0)), (10, 9));
     }
 
     #[test]

@@ -6,17 +6,18 @@
 //! (a tile new to the layer, or one drawn for another method: nothing in it to show).
 //!
 //! Empty tiles are drawn whatever the budget (and count against it). Stale ones wait their turn
-//! within what is left, in this order: those stale [`MAX_STALE`] frames or more (oldest first),
+//! within what is left, in this order: those stale `max_stale` frames or more ([`MAX_STALE`] by
+//! default, the settings' `max_stale`; oldest first),
 //! then those whose light shows most on screen (a sun's cascades first, lights wholly behind the
 //! camera last), then the oldest.
 //!
 //! The frame stops at the first overdue layer that does not fit, so nothing passes it: a layer
-//! waits at most [`MAX_STALE`] frames and then as many as the budget takes to draw every layer
+//! waits at most `max_stale` frames and then as many as the budget takes to draw every layer
 //! that is out of date once (the overdue ones ahead of it). An overdue tile larger than the whole
 //! budget is drawn alone on a frame of its own (the only frame that goes past the budget), so no
 //! size of budget starves it.
 
-/// Frames a layer may wait before it goes ahead of every layer that shows more.
+/// Frames a layer may wait before it goes ahead of every layer that shows more, by default.
 pub const MAX_STALE: u32 = 8;
 
 /// What a layer's tile holds, against what the layer is now.
@@ -40,10 +41,11 @@ pub struct Update {
     pub shows: f32,
 }
 
-/// Which of `layers` are drawn this frame within `budget` texels (`None`: no limit); empty tiles
-/// are always drawn, and spend the budget first.
+/// Which of `layers` are drawn this frame within `budget` texels (`None`: no limit), those that
+/// have waited `max_stale` frames first; empty tiles are always drawn, and spend the budget
+/// first.
 #[must_use]
-pub fn plan_updates(layers: &[Update], budget: Option<u64>) -> Vec<bool> {
+pub fn plan_updates(layers: &[Update], budget: Option<u64>, max_stale: u32) -> Vec<bool> {
     let mut draw: Vec<bool> = layers.iter().map(|l| l.state == TileState::Empty).collect();
     let mut stale: Vec<(usize, u32)> = layers
         .iter()
@@ -61,7 +63,7 @@ pub fn plan_updates(layers: &[Update], budget: Option<u64>) -> Vec<bool> {
     };
     let shows = |i: usize| if layers[i].shows.is_nan() { 0.0 } else { layers[i].shows.max(0.0) };
     stale.sort_by(|&(a, age_a), &(b, age_b)| {
-        let overdue = |age: u32| age >= MAX_STALE;
+        let overdue = |age: u32| age >= max_stale;
         overdue(age_b)
             .cmp(&overdue(age_a))
             .then_with(|| if overdue(age_a) { age_b.cmp(&age_a) } else { std::cmp::Ordering::Equal })
@@ -72,7 +74,7 @@ pub fn plan_updates(layers: &[Update], budget: Option<u64>) -> Vec<bool> {
     let mut spent = layers.iter().filter(|l| l.state == TileState::Empty).fold(0u64, |s, l| s.saturating_add(l.texels));
     for (i, age) in stale {
         let texels = layers[i].texels;
-        let overdue = age >= MAX_STALE;
+        let overdue = age >= max_stale;
         if spent.saturating_add(texels) <= budget {
             draw[i] = true;
             spent += texels;
@@ -98,36 +100,36 @@ mod tests {
         let current = Update { state: TileState::Current, texels: 64, shows: 1.0 };
         let empty = Update { state: TileState::Empty, texels: 1 << 22, shows: 0.0 };
         let layers = [current, stale(0, 1 << 20, 0.5), empty];
-        assert_eq!(plan_updates(&layers, None), [false, true, true]);
+        assert_eq!(plan_updates(&layers, None, MAX_STALE), [false, true, true]);
         // Empty tiles do not count against the budget and are drawn past it.
-        assert_eq!(plan_updates(&layers, Some(1024)), [false, false, true]);
+        assert_eq!(plan_updates(&layers, Some(1024), MAX_STALE), [false, false, true]);
     }
 
     #[test]
     fn the_budget_goes_to_what_shows_most_then_to_the_oldest() {
         let layers = [stale(3, 100, 0.1), stale(0, 100, 0.9), stale(5, 100, 0.1), stale(1, 100, f32::INFINITY)];
-        assert_eq!(plan_updates(&layers, Some(250)), [false, true, false, true]);
-        assert_eq!(plan_updates(&layers, Some(300)), [false, true, true, true], "the older of two equals");
+        assert_eq!(plan_updates(&layers, Some(250), MAX_STALE), [false, true, false, true]);
+        assert_eq!(plan_updates(&layers, Some(300), MAX_STALE), [false, true, true, true], "the older of two equals");
         // A layer that does not fit lets a smaller one after it through.
         let layers = [stale(0, 400, 1.0), stale(0, 100, 0.5)];
-        assert_eq!(plan_updates(&layers, Some(300)), [false, true]);
+        assert_eq!(plan_updates(&layers, Some(300), MAX_STALE), [false, true]);
     }
 
     #[test]
     fn an_overdue_layer_goes_first_and_nothing_passes_it() {
         let layers = [stale(0, 100, f32::INFINITY), stale(MAX_STALE, 200, 0.0), stale(MAX_STALE + 2, 100, 0.0)];
-        assert_eq!(plan_updates(&layers, Some(250)), [false, false, true], "the oldest first, then it waits");
-        assert_eq!(plan_updates(&layers, Some(300)), [false, true, true]);
+        assert_eq!(plan_updates(&layers, Some(250), MAX_STALE), [false, false, true], "the oldest first, then it waits");
+        assert_eq!(plan_updates(&layers, Some(300), MAX_STALE), [false, true, true]);
     }
 
     #[test]
     fn a_tile_larger_than_the_budget_is_drawn_alone_once_overdue() {
         let layers = [stale(0, 1 << 22, 1.0), stale(0, 100, 0.5)];
-        assert_eq!(plan_updates(&layers, Some(1024)), [false, true]);
+        assert_eq!(plan_updates(&layers, Some(1024), MAX_STALE), [false, true]);
         let layers = [stale(MAX_STALE, 1 << 22, 1.0), stale(0, 100, 0.5)];
-        assert_eq!(plan_updates(&layers, Some(1024)), [true, false]);
+        assert_eq!(plan_updates(&layers, Some(1024), MAX_STALE), [true, false]);
         let empty = Update { state: TileState::Empty, texels: 100, shows: 0.0 };
-        assert_eq!(plan_updates(&[layers[0], empty], Some(1024)), [false, true], "not past an empty tile's cost");
+        assert_eq!(plan_updates(&[layers[0], empty], Some(1024), MAX_STALE), [false, true], "not past an empty tile's cost");
     }
 
     #[test]
@@ -141,7 +143,7 @@ mod tests {
         for _ in 0..100 {
             let layers: Vec<Update> =
                 ages.iter().zip(shows).map(|(age, shows)| stale(age.map_or(0, |a| a + 1), 100, shows)).collect();
-            let draw = plan_updates(&layers, Some(200));
+            let draw = plan_updates(&layers, Some(200), MAX_STALE);
             assert_eq!(draw.iter().filter(|&&d| d).count(), 2);
             for (age, (drawn, layer)) in ages.iter_mut().zip(draw.iter().zip(&layers)) {
                 let TileState::Stale { age: now } = layer.state else { unreachable!() };
@@ -155,10 +157,10 @@ mod tests {
     #[test]
     fn odd_sizes_and_shows_are_ranked_without_panicking() {
         let layers = [stale(0, u64::MAX, f32::NAN), stale(0, 0, -1.0), stale(u32::MAX, 5, f32::INFINITY)];
-        let draw = plan_updates(&layers, Some(10));
+        let draw = plan_updates(&layers, Some(10), MAX_STALE);
         assert_eq!(draw, [false, true, true]);
         let huge = Update { state: TileState::Empty, texels: u64::MAX, shows: 0.0 };
-        assert_eq!(plan_updates(&[huge, huge, layers[1]], Some(10)), [true, true, false]);
-        assert_eq!(plan_updates(&[], Some(0)), Vec::<bool>::new());
+        assert_eq!(plan_updates(&[huge, huge, layers[1]], Some(10), MAX_STALE), [true, true, false]);
+        assert_eq!(plan_updates(&[], Some(0), MAX_STALE), Vec::<bool>::new());
     }
 }

@@ -11,5 +11,5 @@ pub use animate::{bob, spin};
 pub use camera::{ORBIT_DISTANCE, fly_camera, orbit_camera, orbit_facing, orbit_pose, switch_camera};
 pub use casters::{CasterChanges, CasterState, CastersAtRest, REST_AFTER, Tracked, track_casters, update_bounds};
 pub use lights::update_light_matrices;
-pub use shadow_sizes::{ShadowAtlas, ShadowCaps, size_shadow_maps};
+pub use shadow_sizes::{ShadowAtlas, ShadowCaps, coverage, size_shadow_maps};
 pub use skeletal::{animate_models, follow_nodes, pose_parts, walk};

@@ -93,7 +93,8 @@ const INSIDE: f32 = 2.0;
 /// The radius of the disc `reach` covers on screen, as a share of the screen's half height (at
 /// most 1 from outside, [`INSIDE`] when the camera is inside it, 0 when it is wholly behind the
 /// camera, infinite for a light that reaches everywhere).
-fn coverage(reach: Reach, (eye, forward): (Vec3, Vec3), tan_half_fov: f32) -> f32 {
+#[must_use]
+pub fn coverage(reach: Reach, (eye, forward): (Vec3, Vec3), tan_half_fov: f32) -> f32 {
     let Reach::Sphere { centre, radius } = reach else { return f32::INFINITY };
     let to = centre - eye;
     let distance = to.length();
@@ -146,7 +147,9 @@ pub fn size_shadow_maps(
             let current = maps.get(s.entity).map_or(0, |(m, _)| m.wanted);
             let single = shape == ShadowShape::Single;
             let class = match settings.tile_sizes {
-                TileSizes::Screen => size_class(current, texels_for(covered, single, largest), largest),
+                TileSizes::Screen => {
+                    size_class(current, texels_for(covered, single, largest), largest, settings.tile_hysteresis)
+                }
                 TileSizes::Fixed => largest.max(MIN_TILE).ilog2(),
                 TileSizes::Bevy => (if single { largest } else { largest / 2 }).max(MIN_TILE).ilog2(),
             };

@@ -4,6 +4,7 @@
 //! threshold at the default settings and show it crossing when the defence is taken away; the
 //! benchmark charts each against the cost of every configuration.
 
+pub mod budget;
 pub mod precision;
 pub mod scenes;
 mod soft;
@@ -59,7 +60,7 @@ pub struct Case {
 }
 
 /// Every case, in the order the issues list them.
-pub const CASES: [Case; 15] = [
+pub const CASES: [Case; 18] = [
     Case {
         name: "acne", measures: "false-shadow share of an open plane, sun at 2°..89°", threshold: 0.001, run: acne
     },
@@ -146,6 +147,24 @@ pub const CASES: [Case; 15] = [
         measures: "false-shadow share of the worst of six walls square to a spot at 1 m to 32 m (depth rounding)",
         threshold: 0.005,
         run: precision::precision,
+    },
+    Case {
+        name: "tile-shrink",
+        measures: "misclassified share of a spot's ground as the camera backs away and its tile shrinks (worst of three heights)",
+        threshold: 0.005,
+        run: budget::tile_shrink,
+    },
+    Case {
+        name: "tile-resize",
+        measures: "share of ground points round a spot flipping lit/shadowed per frame as the camera creeps across its tile's size-class edge",
+        threshold: 0.0001,
+        run: budget::tile_resize,
+    },
+    Case {
+        name: "starved-budget",
+        measures: "misclassified share of three spots' ground while a budget of one tile a frame serves their sliding posts, 4 cm a frame (a wait past 8 frames and a turn: 100%)",
+        threshold: 0.05,
+        run: budget::starved_budget,
     },
 ];
 
