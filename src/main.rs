@@ -324,12 +324,25 @@ fn lights(args: &BenchArgs) -> Result<()> {
     })?;
     let table = many::table(&rows);
     print!("{table}");
+    let shrink = shrink_sweep(&gpu, &settings)?;
+    print!("{shrink}");
     std::fs::create_dir_all(&args.out)?;
     let head = format!("adapter: {adapter}; {} frames at {}x{}\n\n", options.frames, options.size.0, options.size.1);
-    std::fs::write(args.out.join("lights.md"), head + &table)?;
+    let tail = format!("\nThe tile-shrink case's spot with its tile held at each side (256x256, from 24 m up):\n\n{shrink}");
+    std::fs::write(args.out.join("lights.md"), head + &table + &tail)?;
     many::charts(&args.out.join("lights"), &adapter, &rows)?;
     println!("wrote {}", args.out.join("lights.md").display());
     Ok(())
+}
+
+/// The tile-shrink case's error against its tile's side, predicted and measured (a table).
+fn shrink_sweep(gpu: &Gpu, settings: &Settings) -> Result<String> {
+    use umbra::eval::cases::{budget, case};
+    use umbra::eval::measure::{Measurer, TruthSettings};
+    let threshold = case("tile-shrink").map_or(0.005, |c| c.threshold);
+    let mut m = Measurer::new(gpu, (256, 256), TruthSettings { soft_rays: 0, ..TruthSettings::default() });
+    let points = budget::tile_shrink_sweep(&mut m, settings, &[32, 64, 128, 256, 512, 1024, 2048])?;
+    Ok(umbra::eval::many::shrink_table(&points, threshold))
 }
 
 /// The sample scene or the user's, with what was mended in the user's file (if any) said on

@@ -11,6 +11,7 @@
 //! not run.
 
 use super::bench::{BenchError, median};
+use super::cases::budget::{ShrinkPoint, threshold_sides};
 use super::chart::{ChartError, line_chart};
 use super::metrics::{Tally, tally};
 use super::truth::{SizeOverride, truth_of};
@@ -277,6 +278,20 @@ pub fn table(rows: &[LightsRow]) -> String {
     out
 }
 
+/// The tile-shrink sweep as a Markdown table, with the side where it crosses `threshold`,
+/// predicted and measured.
+#[must_use]
+pub fn shrink_table(points: &[ShrinkPoint], threshold: f64) -> String {
+    let mut out = String::from("| tile side | predicted wrong % | measured wrong % |\n| --- | --- | --- |\n");
+    for p in points {
+        out += &format!("| {}² | {} | {} |\n", p.side, cell(p.predicted * 100.0, 3), cell(p.measured * 100.0, 3));
+    }
+    let (measured, predicted) = threshold_sides(points, threshold);
+    let measured = measured.map_or("none of these".into(), |s| format!("{s}²"));
+    let predicted = predicted.map_or("–".into(), |s| format!("{s:.0}²"));
+    out + &format!("\nit passes {:.1} % from {measured} measured, {predicted} predicted\n", threshold * 100.0)
+}
+
 /// Two charts against the number of lights (on a log₂ axis), one line per policy: the frame's
 /// cost as `stem`-cost and the worst light's error as `stem`-error (.png and .svg each).
 pub fn charts(stem: &Path, adapter: &str, rows: &[LightsRow]) -> Result<(), ChartError> {
@@ -332,5 +347,15 @@ mod tests {
         let t = table(&[row(Policy::Atlas, 4, 10.0, true), row(Policy::Atlas, 64, 25.0, true), row(Policy::Fixed, 64, 0.0, false)]);
         assert!(t.contains("| 64 | umbra's atlas | 256 | 25.0 | 2.50 | – | 1.0 | 2.0 | 0.0 | 3 | 0.100 | 0.400 | spot (512², 900 px) | 0.0100 |"), "{t}");
         assert!(t.contains("| 64 | fixed layers | needs 256 MiB: not run |"), "{t}");
+    }
+
+    #[test]
+    fn the_shrink_table_names_where_the_threshold_is_crossed() {
+        let p = |side, predicted, measured| ShrinkPoint { side, predicted, measured };
+        let points = [p(32, 0.02, 0.018), p(64, 0.01, 0.009), p(128, 0.005, 0.004), p(256, 0.0025, 0.001)];
+        let t = shrink_table(&points, 0.005);
+        assert!(t.contains("| 64² | 1.000 | 0.900 |"), "{t}");
+        assert!(t.ends_with("it passes 0.5 % from 128² measured, 128² predicted\n"), "{t}");
+        assert!(shrink_table(&points[..1], 0.005).contains("from none of these measured"));
     }
 }

@@ -58,7 +58,7 @@ impl Desk {
                 known => shown.gui.show_texture(&shown.gpu, atlas.view, known.map(|(id, _)| id)),
             };
             self.atlas = Some((id, atlas.generation));
-            (id, atlas.tiles)
+            (id, atlas.pages, atlas.tiles)
         });
         let painted = shown.gui.run(&shown.window, |ui| {
             if let Some(texture) = overlay {
@@ -68,8 +68,8 @@ impl Desk {
             if lab.panel {
                 crate::ui::panel(ui, world, lab, &live);
             }
-            if let Some((texture, tiles)) = &atlas {
-                crate::ui::panel::map_viewer(ui, lab, *texture, tiles);
+            if let Some((texture, pages, tiles)) = &atlas {
+                crate::ui::panel::map_viewer(ui, lab, *texture, (*pages, tiles));
             }
         });
         shown.gui.paint(&shown.gpu, targets, size, painted);

@@ -1,14 +1,14 @@
-//! The shadow-map viewer: every layer of every light's depth map drawn side by side into one
-//! picture (an atlas), depth remapped to grey, for the window's panel to show.
+//! The shadow-map viewer: the shadow atlas as it is laid out, page by page, every layer drawn in
+//! its own tile with its depth remapped to grey, for the window's panel to show and label.
 
 use super::gpu_types::{GpuLayer, MAX_LAYERS};
 use super::shaders::{Composed, MAP_VIEW};
 use crate::shadow::view_distance;
 
-/// Side of one layer's tile in the atlas, in pixels.
-pub const TILE: u32 = 192;
-/// Tiles across the atlas.
-pub const COLUMNS: u32 = 4;
+/// Side of one atlas page in the picture, in pixels.
+pub const PAGE: u32 = 512;
+/// Pages across the picture.
+pub const COLUMNS: u32 = 2;
 /// The atlas's format, as egui shows textures.
 pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
@@ -29,11 +29,29 @@ pub fn view_terms(layer: &GpuLayer) -> [[f32; 4]; 3] {
     ]
 }
 
-/// The size of the atlas for `layers` layers, in pixels.
+/// The size of the picture of `pages` atlas pages, in pixels.
 #[must_use]
-pub fn atlas_size(layers: u32) -> (u32, u32) {
-    let layers = layers.max(1);
-    (COLUMNS.min(layers) * TILE, layers.div_ceil(COLUMNS) * TILE)
+pub fn atlas_size(pages: u32) -> (u32, u32) {
+    let pages = pages.max(1);
+    (COLUMNS.min(pages) * PAGE, pages.div_ceil(COLUMNS) * PAGE)
+}
+
+/// The pages `layers` take (one more than the last one's index).
+#[must_use]
+pub fn pages_of(layers: &[GpuLayer]) -> u32 {
+    layers.iter().map(|l| l.page.saturating_add(1)).max().unwrap_or(1)
+}
+
+/// Where `layer`'s tile is in the picture: its corner and side, in pixels (at least one, never
+/// past its page).
+#[must_use]
+pub fn tile_rect(layer: &GpuLayer) -> [f32; 3] {
+    let (column, row) = (layer.page % COLUMNS, layer.page / COLUMNS);
+    let [x, y, side, _] = layer.tile.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 });
+    let page = PAGE as f32;
+    let side = (side * page).clamp(1.0, page);
+    let at = |offset: u32, share: f32| offset as f32 * page + (share * page).min(page - side);
+    [at(column, x), at(row, y), side]
 }
 
 /// The viewer's pipeline, its uniform and the atlas it draws.
@@ -135,7 +153,7 @@ impl MapView {
         layers: &[GpuLayer],
     ) -> &wgpu::TextureView {
         let count = layers.len().min(MAX_LAYERS) as u32;
-        let (w, h) = atlas_size(count);
+        let (w, h) = atlas_size(pages_of(&layers[..count as usize]));
         if self.atlas.as_ref().is_none_or(|(t, _)| (t.width(), t.height()) != (w, h)) {
             let texture = device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("shadow-map atlas"),
@@ -168,10 +186,10 @@ impl MapView {
             let mut pass = super::colour_pass(&mut encoder, "map view", view, Some(wgpu::Color::BLACK));
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &bind, &[]);
-            for layer in 0..count {
-                let (x, y) = ((layer % COLUMNS) * TILE, (layer / COLUMNS) * TILE);
-                pass.set_viewport(x as f32, y as f32, TILE as f32, TILE as f32, 0.0, 1.0);
-                pass.draw(0..3, layer..layer + 1);
+            for (i, layer) in (0..count).zip(layers) {
+                let [x, y, side] = tile_rect(layer);
+                pass.set_viewport(x, y, side, side, 0.0, 1.0);
+                pass.draw(0..3, i..i + 1);
             }
         }
         queue.submit([encoder.finish()]);
@@ -186,11 +204,17 @@ mod tests {
     use bytemuck::Zeroable;
 
     #[test]
-    fn the_atlas_holds_every_layer_in_rows_of_four() {
-        assert_eq!(atlas_size(12), (4 * TILE, 3 * TILE));
-        assert_eq!(atlas_size(1), (TILE, TILE));
-        assert_eq!(atlas_size(0), (TILE, TILE), "an empty atlas still exists");
-        assert_eq!(atlas_size(5), (4 * TILE, 2 * TILE));
+    fn the_picture_lays_the_pages_out_in_rows_of_two_and_each_tile_where_it_is() {
+        assert_eq!(atlas_size(3), (2 * PAGE, 2 * PAGE));
+        assert_eq!(atlas_size(1), (PAGE, PAGE));
+        assert_eq!(atlas_size(0), (PAGE, PAGE), "an empty atlas still exists");
+        let layer = |page, tile| GpuLayer { page, tile, ..GpuLayer::zeroed() };
+        assert_eq!(pages_of(&[layer(0, [0.0; 4]), layer(2, [0.0; 4])]), 3);
+        assert_eq!(tile_rect(&layer(0, [0.5, 0.25, 0.25, 0.0])), [256.0, 128.0, 128.0]);
+        assert_eq!(tile_rect(&layer(3, [0.0, 0.0, 0.5, 0.0])), [512.0, 512.0, 256.0], "the fourth page, bottom right");
+        // A tile too small to see still gets a pixel; nonsense stays on its page.
+        assert_eq!(tile_rect(&layer(0, [0.999, 0.0, 1e-6, 0.0])), [511.0, 0.0, 1.0]);
+        assert_eq!(tile_rect(&layer(0, [f32::NAN, 2.0, f32::INFINITY, 0.0])), [0.0, 511.0, 1.0]);
     }
 
     #[test]

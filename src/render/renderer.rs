@@ -7,7 +7,7 @@ use super::extract::{extract, extract_shadow_maps};
 use super::gpu_types::{GpuLayer, Object, Reduce};
 use super::lines::{LinePass, volume_lines};
 use super::main_pass::MainPass;
-use super::map_view::MapView;
+use super::map_view::{self, MapView};
 use super::mesh::{Drawables, GpuMesh, JointPalette};
 use super::moments;
 use super::shadow_pass::{DrawOptions, ShadowPass};
@@ -54,8 +54,11 @@ pub struct MapAtlas<'a> {
     pub view: &'a wgpu::TextureView,
     /// Changes when the atlas texture is replaced (a texture shown elsewhere must be rebound).
     pub generation: u64,
-    /// The light of each tile, in tile order.
-    pub tiles: Vec<LightLabel>,
+    /// Each layer's light, the layer's place in the picture (corner and side, pixels) and its
+    /// side in texels.
+    pub tiles: Vec<(LightLabel, [f32; 3], u32)>,
+    /// Pages the picture shows.
+    pub pages: u32,
 }
 
 /// GPU state that lives across frames: pipelines, meshes, shadow maps and the depth buffer.
@@ -214,9 +217,8 @@ impl Renderer {
         gpu.check_errors()
     }
 
-    /// The shadow-map viewer's atlas of every layer the last picture used, drawn again only when
-    /// a map was drawn or the layers changed since; with whose each tile is (in tile order, rows
-    /// of [`super::map_view::COLUMNS`]).
+    /// The shadow-map viewer's picture of the atlas as the last frame used it, drawn again only
+    /// when a map was drawn or the layers changed since; with whose each tile is and where.
     pub fn shadow_map_atlas(&mut self, gpu: &Gpu) -> MapAtlas<'_> {
         let view = self.map_view.get_or_insert_with(|| MapView::new(&gpu.device));
         if std::mem::take(&mut self.atlas_stale) || view.atlas().is_none() {
@@ -225,7 +227,10 @@ impl Renderer {
             view.draw(&gpu.device, &gpu.queue, maps, &layers);
         }
         let (atlas, generation) = view.atlas().expect("drawn above");
-        MapAtlas { view: atlas, generation, tiles: self.last_layers.iter().map(|(_, l)| *l).collect() }
+        let page = self.shadow.maps.shape.page as f32;
+        let tiles = self.last_layers.iter().map(|(g, l)| (*l, map_view::tile_rect(g), (g.tile[2] * page).round() as u32));
+        let pages = map_view::pages_of(&self.last_layers.iter().map(|(g, _)| *g).collect::<Vec<_>>());
+        MapAtlas { view: atlas, generation, tiles: tiles.collect(), pages }
     }
 
     /// Stamps every later frame's shadow and main passes with GPU timestamps, where the device

@@ -10,7 +10,7 @@ use crate::eval::metrics::Tally;
 use crate::render::ShadowStats;
 use crate::settings::{CasterCulling, MAX_BIAS_SCALE, MomentBits, Settings, ShadowDepth, ShadowFaces};
 use crate::shadow::FitMode;
-use crate::light::{Kind, Light, light_list};
+use crate::light::{Kind, Light, LightLabel, light_list};
 use bevy_ecs::prelude::*;
 use egui::{CollapsingHeader, Color32, ComboBox, Slider, Ui};
 
@@ -363,33 +363,42 @@ fn light_size(ui: &mut Ui, world: &mut World, light: &Light) {
     }
 }
 
-/// The shadow-map viewer: every layer of the last frame's maps, tile by tile, named.
-pub fn map_viewer(ui: &mut Ui, lab: &mut Lab, atlas: egui::TextureId, tiles: &[crate::light::LightLabel]) {
-    use crate::render::map_view::{COLUMNS, TILE, atlas_size};
+/// The shadow-map viewer: the atlas as the last frame used it, page by page, each tile outlined
+/// and named by its light where there is room (and under the pointer wherever it is).
+pub fn map_viewer(ui: &mut Ui, lab: &mut Lab, atlas: egui::TextureId, (pages, tiles): (u32, &[(LightLabel, [f32; 3], u32)])) {
+    use crate::render::map_view::atlas_size;
     let mut open = lab.map_viewer;
     let right = ui.ctx().content_rect().right();
-    let window = egui::Window::new("shadow maps (V)").open(&mut open).default_width(480.0);
-    window.default_pos(egui::pos2(right - 500.0, 10.0)).show(ui.ctx(), |ui| {
-        ui.label("depth as distance from the light: black at a layer's near plane, white at its far one");
-        let (w, h) = atlas_size(tiles.len() as u32);
+    let window = egui::Window::new("shadow atlas (V)").open(&mut open).default_width(520.0);
+    window.default_pos(egui::pos2(right - 540.0, 10.0)).show(ui.ctx(), |ui| {
+        ui.label("each tile a layer where the atlas keeps it; depth as distance from the light, black near, white far");
+        let (w, h) = atlas_size(pages);
         let width = ui.available_width().min(w as f32);
         let size = egui::vec2(width, width * h as f32 / w as f32);
         let response = ui.image(egui::load::SizedTexture::new(atlas, size));
         let scale = width / w as f32;
+        let orange = Color32::from_rgb(255, 120, 40);
         let mut count = std::collections::HashMap::new();
-        for (i, light) in tiles.iter().enumerate() {
-            let n = count.entry(*light).and_modify(|n| *n += 1).or_insert(1);
-            let at = response.rect.min
-                + egui::vec2(((i as u32 % COLUMNS) * TILE) as f32, ((i as u32 / COLUMNS) * TILE) as f32) * scale;
-            let text = format!("{light} · {n}");
-            ui.painter().text(
-                at + egui::vec2(3.0, 2.0),
-                egui::Align2::LEFT_TOP,
-                text,
-                egui::FontId::proportional(11.0),
-                Color32::from_rgb(255, 120, 40),
-            );
+        let mut hovered = None;
+        for (light, [x, y, side], texels) in tiles {
+            let n = *count.entry(*light).and_modify(|n| *n += 1).or_insert(1);
+            let rect = egui::Rect::from_min_size(response.rect.min + egui::vec2(*x, *y) * scale, egui::Vec2::splat(side * scale));
+            ui.painter().rect_stroke(rect, 0.0, egui::Stroke::new(1.0, orange.gamma_multiply(0.6)), egui::StrokeKind::Inside);
+            let text = format!("{light} · {n} ({texels}²)");
+            // The whole name where it fits in the tile, the light and layer where they do, else
+            // nothing (the pointer names it).
+            let fits = [text.clone(), format!("{light}·{n}")].into_iter().find_map(|t| {
+                let galley = ui.painter().layout_no_wrap(t, egui::FontId::proportional(11.0), orange);
+                (galley.size().x + 6.0 <= rect.width() && galley.size().y + 4.0 <= rect.height()).then_some(galley)
+            });
+            if let Some(galley) = fits {
+                ui.painter().galley(rect.min + egui::vec2(3.0, 2.0), galley, orange);
+            }
+            if response.hover_pos().is_some_and(|p| rect.contains(p)) {
+                hovered = Some(text);
+            }
         }
+        ui.label(hovered.unwrap_or_else(|| format!("{} tiles; point at one to name it", tiles.len())));
     });
     lab.map_viewer = open;
 }
