@@ -196,7 +196,7 @@ fn settings_options(s: &Settings) -> Vec<String> {
     flag(!s.receiver_plane, "no-receiver-plane");
     flag(!s.reuse_shadow_maps, "redraw-shadows");
     flag(!s.instancing, "no-instancing");
-    flag(!s.static_cache, "no-static-cache");
+    flag(s.static_cache, "static-cache");
     flag(!s.atlas_guard, "no-atlas-guard");
     flag(!s.character, "no-character");
     flag(!s.ground_grid, "no-ground-grid");

@@ -118,10 +118,10 @@ pub struct SceneArgs {
     /// Draw every caster into shadow maps with a call of its own, not instanced by mesh.
     #[arg(long)]
     pub no_instancing: bool,
-    /// Draw every caster into a dirty shadow map, not only those that moved over a copy of the
-    /// casters at rest.
+    /// Keep the casters at rest in static maps and draw a dirty shadow map over a copy of them,
+    /// only those that moved drawn again (twice the shadow memory a texel).
     #[arg(long)]
-    pub no_static_cache: bool,
+    pub static_cache: bool,
     /// Leave the walking character out.
     #[arg(long)]
     pub no_character: bool,
@@ -275,7 +275,7 @@ impl SceneArgs {
             tile_sizes: self.tile_sizes.unwrap_or(d.tile_sizes),
             reuse_shadow_maps: !self.redraw_shadows,
             instancing: !self.no_instancing,
-            static_cache: !self.no_static_cache,
+            static_cache: self.static_cache,
             character: !self.no_character,
             model: self.model.clone(),
             scene: self.scene.clone(),

@@ -80,7 +80,10 @@ pub struct Settings {
     pub instancing: bool,
     /// With the cache, a depth-only layer keeps the casters at rest in a static map of their
     /// own and, when only others moved, is drawn again from a copy of it (where the device can
-    /// copy depth textures: not on GL, which draws every caster).
+    /// read depth textures: not on GL, which draws every caster). Off by default: in the atlas
+    /// a copy is put back by a triangle over the tile that writes depth, which on a software
+    /// rasterizer costs more than drawing the casters at rest again, and the static copies take
+    /// half the shadow memory (see the README's Performance).
     pub static_cache: bool,
     /// Widest spot cone (half angle, radians) one perspective map shadows; a wider spot is
     /// shadowed through a cube.
@@ -147,7 +150,8 @@ impl Default for Settings {
             shadow_strength: 1.0,
             shadow_map_size: 2048,
             // Holds the sample scene's four 2048² cascades, its two spots at 2048² and its
-            // lantern's cube at 1024² a face, with their static copies; and 64 shadowed lamps.
+            // lantern's cube at 1024² a face, twice over (with static copies, or a colour map); and
+            // 64 shadowed lamps beside them.
             shadow_memory: 256,
             atlas_guard: true,
             shadow_updates: 0,
@@ -174,7 +178,7 @@ impl Default for Settings {
             tile_sizes: TileSizes::Screen,
             reuse_shadow_maps: true,
             instancing: true,
-            static_cache: true,
+            static_cache: false,
             cube_seams: true,
             receiver_plane: true,
             pcss_blocker_search: true,

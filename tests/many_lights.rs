@@ -85,8 +85,8 @@ fn shadowed_lamps_share_the_atlas_and_those_it_cannot_hold_are_lit_and_named() {
     let data = extract(&mut app.world);
     assert!(data.lights.iter().all(|l| l.layer_count == 6), "every lamp keeps its cube");
 
-    // 900 in the least memory: 5,400 faces of 32² at the least, and the atlas holds 2,048
-    // (4,096 on GL, which keeps no static copies): the lamps past them are named.
+    // 900 in the least memory: 5,400 faces of 32² at the least, and the atlas holds 4,096 of
+    // them: the lamps past them are named.
     let mut app = lamp_field(30, true);
     app.world.resource_mut::<Settings>().shadow_memory = 16;
     app.resize(SIZE, SIZE);
