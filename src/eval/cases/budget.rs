@@ -4,7 +4,7 @@
 //! spots that wait their turn under a starved update budget.
 
 use super::scenes::{add_box, unlit_ground};
-use super::{Score, measure_at, misclassified, on_ground};
+use super::{Score, count_flips, measure_at, misclassified, on_ground};
 use crate::App;
 use crate::assets::Vertex;
 use crate::components::{Camera, ShadowCaster, ShadowMap, SpotLight, Transform};
@@ -175,13 +175,7 @@ pub fn tile_resize(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, M
         place_camera(&mut app.world, eye, target);
         app.set_time(0.0);
         let seen = probe_visibility(gpu, renderer, app, &points)?.swap_remove(0);
-        score.garbage += seen.iter().filter(|v| !v.is_finite()).count() as u64;
-        let dark: Vec<bool> = seen.iter().map(|&v| (0.0..0.5).contains(&v)).collect();
-        if let Some(before) = &last {
-            score.of += dark.len() as u64;
-            score.hits += before.iter().zip(&dark).filter(|(a, b)| a != b).count() as u64;
-        }
-        last = Some(dark);
+        count_flips(&seen, &mut last, &mut score);
     }
     Ok(score)
 }

@@ -300,15 +300,21 @@ fn shimmer(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureEr
         place_camera(&mut app.world, eye, eye + turn * (Vec3::ZERO - Vec3::new(0.0, 4.0, 8.0)));
         app.set_time(0.0);
         let seen = probe_visibility(gpu, renderer, app, &points)?.swap_remove(0);
-        score.garbage += seen.iter().filter(|v| !v.is_finite()).count() as u64;
-        let dark: Vec<bool> = seen.iter().map(|&v| (0.0..0.5).contains(&v)).collect();
-        if let Some(before) = &last {
-            score.of += dark.len() as u64;
-            score.hits += before.iter().zip(&dark).filter(|(a, b)| a != b).count() as u64;
-        }
-        last = Some(dark);
+        count_flips(&seen, &mut last, &mut score);
     }
     Ok(score)
+}
+
+/// Adds to `score` the probes of `seen` that flipped lit/shadowed since `last` (then `seen`
+/// becomes the last), and any that are not numbers as garbage.
+fn count_flips(seen: &[f32], last: &mut Option<Vec<bool>>, score: &mut Score) {
+    score.garbage += seen.iter().filter(|v| !v.is_finite()).count() as u64;
+    let dark: Vec<bool> = seen.iter().map(|&v| (0.0..0.5).contains(&v)).collect();
+    if let Some(before) = last {
+        score.of += dark.len() as u64;
+        score.hits += before.iter().zip(&dark).filter(|(a, b)| a != b).count() as u64;
+    }
+    *last = Some(dark);
 }
 
 fn thin_casters(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
