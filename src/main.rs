@@ -327,7 +327,15 @@ fn lights(args: &BenchArgs) -> Result<()> {
     let shrink = shrink_sweep(&gpu, &settings)?;
     print!("{shrink}");
     std::fs::create_dir_all(&args.out)?;
-    let head = format!("adapter: {adapter}; {} frames at {}x{}\n\n", options.frames, options.size.0, options.size.1);
+    let head = format!(
+        "adapter: {adapter}; {} frames at {}x{}, measured at {}x{}\n\n{}\n\n",
+        options.frames,
+        options.size.0,
+        options.size.1,
+        options.measure.0,
+        options.measure.1,
+        many::COLUMNS_NOTE
+    );
     let tail = format!("\nThe tile-shrink case's spot with its tile held at each side (256x256, from 24 m up):\n\n{shrink}");
     std::fs::write(args.out.join("lights.md"), head + &table + &tail)?;
     many::charts(&args.out.join("lights"), &adapter, &rows)?;
