@@ -251,6 +251,17 @@ impl Renderer {
         self.timer.as_mut()?.poll(gpu)
     }
 
+    /// Frees the shadow atlas's memory, keeping the pipelines: the next frame makes the atlas
+    /// anew and draws every layer. For a holder of many scenes that draws one at a time (the
+    /// failure cases of a sweep), so that only the one it draws holds an atlas.
+    pub fn release_shadow_maps(&mut self, gpu: &Gpu) {
+        let least = crate::shadow::AtlasShape { page: crate::shadow::MIN_TILE, pages: 1 };
+        let depth = self.shadow.maps.depth;
+        if self.shadow.ensure_maps(&gpu.device, least, None, depth) {
+            self.main.rebind(&gpu.device, &self.shadow.maps);
+        }
+    }
+
     /// Tells `world` what this device keeps of shadows, so that its next update sizes the
     /// shadow tiles for it. Call it when the world is made, before it first updates.
     pub fn tell(&self, world: &mut World) {

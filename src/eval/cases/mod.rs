@@ -132,7 +132,7 @@ pub const CASES: [Case; 18] = [
     },
     Case {
         name: "light-bleeding",
-        measures: "share of the ground in two stacked plates' shadow, across the high one's edge, showing light (VSM)",
+        measures: "share of the ground in two stacked plates' shadow, across the high one's edge, showing light (VSM, or the moment method in use)",
         threshold: 0.01,
         run: soft::light_bleeding,
     },

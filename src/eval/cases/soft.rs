@@ -82,9 +82,11 @@ const LEAK: f32 = 0.05;
 /// low plate. A variance map blurred across that edge holds a mix of the two plates' depths whose
 /// variance is large next to the ground's distance behind them, and Chebyshev's bound lets up to
 /// a quarter of the light through where the truth has shadow. The score is the share of the
-/// shadowed ground across that edge (VSM) showing any light.
+/// shadowed ground across that edge showing any light, under the settings' method where it is a
+/// moment method and VSM otherwise.
 pub fn light_bleeding(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
-    let settings = Settings { method: ShadowMethod::Vsm, ..settings.clone() };
+    let method = if settings.method.moments() { settings.method } else { ShadowMethod::Vsm };
+    let settings = Settings { method, ..settings.clone() };
     let view = (Vec3::new(0.0, 3.0, 0.6), Vec3::new(0.0, 0.0, 0.5));
     m.subject(LIGHT_BLEEDING, &settings, |s| {
         let mut app = ground(s, 40.0, false, Vec3::new(0.0, -1.0, 1.0).normalize(), view)?;
