@@ -457,7 +457,7 @@ fn sweep(args: &BenchArgs) -> Result<()> {
         options.truth.soft_rays,
         light_sizes(options.truth.sizes),
     );
-    let summary = results::write_all(&rows, &args.out, &heading)?;
+    let summary = results::write_all(&rows, &args.out, &heading, &gpu.describe())?;
     println!("{summary}");
     println!("wrote {}: results.csv, summary.md and the charts (.png and .svg)", args.out.display());
     Ok(())

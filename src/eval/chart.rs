@@ -143,15 +143,23 @@ where
         .map_err(|e| e.to_string())
 }
 
-/// Cost against error, one marker per configuration, the Pareto front drawn and labelled.
-pub fn cost_chart(stem: &Path, title: &str, y_desc: &str, points: &[Point], front: &[usize]) -> Result<(), ChartError> {
-    both(stem, |a| draw_cost(a, title, y_desc, points, front), |a| draw_cost(a, title, y_desc, points, front))
+/// The cost axis's name: where the cost was measured matters as much as its number (a software
+/// rasterizer and a GPU rank the methods differently).
+#[must_use]
+pub fn cost_axis(adapter: &str) -> String {
+    format!("shadow cost per frame (ms on {adapter}): drawing every map + looking it up")
+}
+
+/// Cost against error, one marker per configuration, the Pareto front drawn and labelled;
+/// `axes` name the cost (see [`cost_axis`]) and the error.
+pub fn cost_chart(stem: &Path, title: &str, axes: (&str, &str), points: &[Point], front: &[usize]) -> Result<(), ChartError> {
+    both(stem, |a| draw_cost(a, title, axes, points, front), |a| draw_cost(a, title, axes, points, front))
 }
 
 fn draw_cost<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     title: &str,
-    y_desc: &str,
+    (x_desc, y_desc): (&str, &str),
     points: &[Point],
     front: &[usize],
 ) -> Result<(), String>
@@ -164,7 +172,7 @@ where
     let mut chart = log_chart(area, title, max_cost, (lo, hi))?;
     chart
         .configure_mesh()
-        .x_desc("shadow cost per frame (ms): drawing every map + looking it up")
+        .x_desc(x_desc)
         .y_desc(y_desc)
         .y_label_formatter(&|v| format!("{v}%"))
         .draw()

@@ -1,7 +1,7 @@
 //! The sweep's results on disk: a CSV table, a Markdown summary and the charts.
 
 use super::cases::CASES;
-use super::chart::{ChartError, Point, cost_chart, distance_chart, line_chart};
+use super::chart::{ChartError, Point, cost_axis, cost_chart, distance_chart, line_chart};
 use super::metrics::DISTANCE_BANDS;
 use super::sweep::{Config, Row, pareto};
 use crate::settings::Settings;
@@ -106,17 +106,18 @@ fn front(points: &[Point]) -> Vec<usize> {
 }
 
 /// Writes `results.csv`, `summary.md` and the charts into `dir`; `heading` says where and how the
-/// numbers were taken. Returns the summary.
-pub fn write_all(rows: &[Row], dir: &Path, heading: &str) -> Result<String, ResultsError> {
+/// numbers were taken, and every cost axis names `adapter`. Returns the summary.
+pub fn write_all(rows: &[Row], dir: &Path, heading: &str, adapter: &str) -> Result<String, ResultsError> {
     std::fs::create_dir_all(dir)
         .map_err(|e| ResultsError::Write { path: dir.display().to_string(), why: e.to_string() })?;
     write(&dir.join("results.csv"), &csv(rows))?;
+    let cost = cost_axis(adapter);
     let scene = points(rows, |r| r.scene_all().all.misclassified());
     let scene_front = front(&scene);
     cost_chart(
         &dir.join("scene"),
         "Sample scene: shadow cost against error (hard truth)",
-        "misclassified pixels (log; on the bottom line: none)",
+        (&cost, "misclassified pixels (log; on the bottom line: none)"),
         &scene,
         &scene_front,
     )?;
@@ -124,7 +125,7 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str) -> Result<String, Resu
     cost_chart(
         &dir.join("scene-edge"),
         "Sample scene: shadow cost against error within 2 pixels of a true shadow edge",
-        "misclassified edge pixels (log)",
+        (&cost, "misclassified edge pixels (log)"),
         &edge,
         &front(&edge),
     )?;
@@ -132,7 +133,7 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str) -> Result<String, Resu
     cost_chart(
         &dir.join("scene-soft"),
         "Sample scene: shadow cost against mean error against the soft truth",
-        "mean absolute error, as a percentage of full light (log)",
+        (&cost, "mean absolute error, as a percentage of full light (log)"),
         &soft,
         &front(&soft),
     )?;
@@ -142,7 +143,7 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str) -> Result<String, Resu
         cost_chart(
             &dir.join(format!("case-{}", case.name)),
             &title,
-            "error (log; on the bottom line: none)",
+            (&cost, "error (log; on the bottom line: none)"),
             &p,
             &front(&p),
         )?;
