@@ -334,7 +334,7 @@ fn lights(args: &BenchArgs) -> Result<()> {
         options.size.1,
         options.measure.0,
         options.measure.1,
-        many::COLUMNS_NOTE
+        many::columns_note()
     );
     let tail = format!("\nThe tile-shrink case's spot with its tile held at each side (256x256, from 24 m up):\n\n{shrink}");
     std::fs::write(args.out.join("lights.md"), head + &table + &tail)?;

@@ -40,10 +40,16 @@ pub const MAX_RUN_MIB: u32 = 4096;
 const MIN_PIXELS: u64 = 400;
 
 /// What the table's columns that need it mean, for the page the table is written to.
-pub const COLUMNS_NOTE: &str = "Errors count lights reaching at least 400 pixels of the measured frame. \
-     *All lights wrong* is the misclassified share of their pixels pooled (a pixel two lights reach counts twice); \
-     the worst light's share moves by a quarter of a percent a pixel. Without shadows the atlas is still held \
-     (turning shadows on draws into it), so its memory is what it holds, not what it draws.";
+#[must_use]
+pub fn columns_note() -> String {
+    format!(
+        "Errors count lights reaching at least {MIN_PIXELS} pixels of the measured frame. *All lights wrong* is the \
+         misclassified share of their pixels pooled (a pixel two lights reach counts twice); the worst light's share \
+         moves by up to {:.2} % a pixel. Without shadows the atlas is still held (turning shadows on draws into it), \
+         so its memory is what it holds, not what it draws.",
+        100.0 / MIN_PIXELS as f64
+    )
+}
 
 /// How shadows are kept.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
