@@ -36,6 +36,17 @@ struct Frame {
     cluster_far: f32,
     // 1 when lookups keep their taps inside their own tile (see atlas_uv in shadow_sampling.wgsl).
     atlas_guard: u32,
+    // The contact-shadow march (see contact.wgsl): its steps (0: none this frame), its length
+    // and the thickness surfaces are taken to have, in metres.
+    contact_steps: u32,
+    contact_length: f32,
+    contact_thickness: f32,
+    // The camera's near and far planes (contact shadows turn its depth back into distance).
+    camera_near: f32,
+    camera_far: f32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 };
 
 // One light; `kind` is LIGHT_SUN, LIGHT_SPOT or LIGHT_POINT.
@@ -72,7 +83,8 @@ struct GpuLight {
     // 1 when its filters compare each tap with the receiver's plane (see receiver_plane in
     // shadow_sampling.wgsl).
     receiver_plane: u32,
-    _pad0: u32,
+    // 1 when its shadow test adds a contact-shadow march (see contact.wgsl).
+    contact: u32,
     _pad1: u32,
     _pad2: u32,
     // The cookie's projection (spots with a cookie only).

@@ -237,6 +237,10 @@ fn light_sample(i: u32, p: vec3<f32>, n: vec3<f32>, f: Footprint, depth: f32, te
     if (s.reach > 0.0) {
         if (test) {
             s.visibility = light_visibility(light, p, n, s.l, f, depth, distance);
+            if (light.contact == 1u && frame.contact_steps > 0u && s.visibility > 0.0) {
+                let reach = select(distance, 1e30, light.kind == LIGHT_SUN);
+                s.visibility = min(s.visibility, contact_visibility(p, s.l, reach, f));
+            }
         }
         s.cookie = cookie(light, p);
     }

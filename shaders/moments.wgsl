@@ -87,7 +87,7 @@ fn round_to_half(x: f32) -> f32 {
 }
 
 // What a colour map stores for the surface at world point `p`, map depth `z`: VSM the depth and
-// its square, EVSM each warp and its square, MSM the depth's first four powers; R32F the linear
+// its square, EVSM each warp and its square (EVSM2 the positive one's), MSM the depth's first four powers; R32F the linear
 // depth (seed 001) and R16F radial the distance from the light rounded to a half float (seed
 // 004; rounded here, so a wider map shared with another method keeps the format's precision).
 // (render/moments.rs clears maps to these values at depth 1.)
@@ -102,6 +102,10 @@ fn encode_moments(layer: GpuLayer, z: f32, p: vec3<f32>) -> vec4<f32> {
     if (layer.method == METHOD_EVSM) {
         let w = evsm_warp(layer, d);
         return vec4<f32>(w.x, w.x * w.x, w.y, w.y * w.y);
+    }
+    if (layer.method == METHOD_EVSM2) {
+        let w = evsm_warp(layer, d).x;
+        return vec4<f32>(w, w * w, 0.0, 0.0);
     }
     if (layer.method == METHOD_MSM) {
         let d2 = d * d;

@@ -241,8 +241,12 @@ fn shadow_pcss(c: ShadowCoord, at: LayerRef) -> f32 {
 }
 
 // The moments of the lookup's layer around its point, bilinearly filtered from the blurred map.
+// The moment map may be smaller than the depth map (resolved at a half or a quarter of its
+// side): the tile is the same share of its page, and the seams' guard is half of its own texel.
 fn filtered_moments(c: ShadowCoord) -> vec4<f32> {
-    return textureSampleLevel(moment_maps, moment_sampler, atlas_uv(c, c.uv), c.layer, 0.0);
+    var m = c;
+    m.tile.w = c.tile.z * f32(textureDimensions(moment_maps).x);
+    return textureSampleLevel(moment_maps, moment_sampler, atlas_uv(m, c.uv), c.layer, 0.0);
 }
 
 // Chebyshev's one-sided inequality: of a distribution with this mean and mean square (its
@@ -283,6 +287,16 @@ fn shadow_evsm(c: ShadowCoord, at: LayerRef) -> f32 {
     let positive = chebyshev(m.x, m.y, w.x, slope.x * slope.x);
     let negative = chebyshev(m.z, m.w, w.y, slope.y * slope.y);
     return reduce_bleeding(min(positive, negative), at.layer.bleed);
+}
+
+// EVSM with the positive warp alone (two moments, in a map half EVSM's size): the bound of
+// shadow_evsm's first half. Where a receiver lies close behind an occluder over a far one, the
+// positive warp leaves light the negative warp would have cut.
+fn shadow_evsm2(c: ShadowCoord, at: LayerRef) -> f32 {
+    let m = filtered_moments(c);
+    let w = evsm_warp(at.layer, linear_depth(at.layer, c.depth)).x;
+    let slope = 2.0 * at.layer.warp.x * w * at.layer.moment_bias;
+    return reduce_bleeding(chebyshev(m.x, m.y, w, slope * slope), at.layer.bleed);
 }
 
 // Moment shadow maps (Peters and Klein 2015, "Moment shadow mapping"), the Hamburger
@@ -396,6 +410,9 @@ fn sample_shadow(method: u32, c: ShadowCoord, at: LayerRef) -> f32 {
     }
     if (method_used(METHOD_EVSM) && (only || method == METHOD_EVSM)) {
         return shadow_evsm(c, at);
+    }
+    if (method_used(METHOD_EVSM2) && (only || method == METHOD_EVSM2)) {
+        return shadow_evsm2(c, at);
     }
     if (method_used(METHOD_MSM) && (only || method == METHOD_MSM)) {
         return shadow_msm(c, at);

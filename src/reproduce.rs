@@ -4,7 +4,7 @@
 //! now, so `umbra render` draws the same picture headless.
 
 use crate::components::{
-    Camera, ShadowBias, ShadowMap, ShadowMethod, Time, Transform,
+    Camera, ContactShadows, ShadowBias, ShadowMap, ShadowMethod, Time, Transform,
 };
 use crate::settings::{MAX_BIAS_SCALE, Settings};
 use crate::light::{Kind, Light, light_list};
@@ -22,6 +22,8 @@ pub enum LightSetting {
     Size(f32),
     /// It casts no shadow.
     NoShadow,
+    /// Its shadow test adds contact shadows (or not).
+    Contact(bool),
 }
 
 /// Splits `"LIGHT=VALUE"` at its last `=`; `form` and `example` say what was wanted.
@@ -70,6 +72,16 @@ pub fn parse_size(s: &str) -> Result<(String, LightSetting), String> {
     }
 }
 
+/// Reads `"LIGHT=on"` or `"LIGHT=off"`: whether the light's shadow test adds contact shadows.
+pub fn parse_contact(s: &str) -> Result<(String, LightSetting), String> {
+    let (light, value) = named(s, "LIGHT=on|off", "spot 1=on")?;
+    match value {
+        "on" => Ok((light, LightSetting::Contact(true))),
+        "off" => Ok((light, LightSetting::Contact(false))),
+        _ => Err(format!("`{value}` is not on or off")),
+    }
+}
+
 /// Reads a count of texels: a whole number, or one with K (x1024) or M (x1024²) after it.
 pub fn parse_texels(s: &str) -> Result<u32, String> {
     let t = s.trim();
@@ -112,6 +124,9 @@ pub fn apply(world: &mut World, settings: &[(String, LightSetting)]) -> Result<(
                 world.entity_mut(e).remove::<ShadowMap>();
             }
             LightSetting::Size(x) => light.kind.set_size(world, e, x),
+            LightSetting::Contact(on) => {
+                world.entity_mut(e).insert(ContactShadows(on));
+            }
         }
     }
     Ok(())
@@ -166,6 +181,9 @@ pub fn command_line(world: &mut World) -> Vec<String> {
         if was.is_none_or(|w| size_of(w) != size_of(light)) {
             push("--light-size", format!("{name}={}", size_of(light)));
         }
+        if was.is_none_or(|w| w.contact != light.contact) {
+            push("--light-contact", format!("{name}={}", if light.contact { "on" } else { "off" }));
+        }
         if !light.shadowed && was.is_none_or(|w| w.shadowed) {
             push("--no-light-shadow", name);
         }
@@ -201,6 +219,7 @@ fn settings_options(s: &Settings) -> Vec<String> {
     flag(!s.character, "no-character");
     flag(!s.ground_grid, "no-ground-grid");
     flag(s.light_volumes, "light-volumes");
+    flag(s.contact_shadows, "contact-shadows");
     let mut value = |differs: bool, name: &str, v: String| {
         if differs {
             out.extend([format!("--{name}"), v]);
@@ -227,6 +246,10 @@ fn settings_options(s: &Settings) -> Vec<String> {
     value(s.moment_blur != d.moment_blur, "moment-blur", s.moment_blur.to_string());
     value(s.light_bleeding != d.light_bleeding, "light-bleeding", s.light_bleeding.to_string());
     value(s.moment_bits != d.moment_bits, "moment-bits", s.moment_bits.name().into());
+    value(s.moments_from != d.moments_from, "moments-from", s.moments_from.name().into());
+    value(s.contact_steps != d.contact_steps, "contact-steps", s.contact_steps.to_string());
+    value(s.contact_length != d.contact_length, "contact-length", s.contact_length.to_string());
+    value(s.contact_thickness != d.contact_thickness, "contact-thickness", s.contact_thickness.to_string());
     value(s.shadow_depth != d.shadow_depth, "shadow-depth", s.shadow_depth.name().into());
     value(s.toon_bands != d.toon_bands, "toon", s.toon_bands.to_string());
     value(s.caster_culling != d.caster_culling, "culling", s.caster_culling.name().into());

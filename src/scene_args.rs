@@ -5,8 +5,10 @@ use clap::Args;
 use std::path::PathBuf;
 use umbra::Settings;
 use umbra::components::ShadowMethod;
-use umbra::reproduce::{LightSetting, parse_bias, parse_method, parse_size as parse_light_size, parse_texels};
-use umbra::settings::{CasterCulling, MomentBits, ShadowDepth, ShadowFaces, TileSizes};
+use umbra::reproduce::{
+    LightSetting, parse_bias, parse_contact, parse_method, parse_size as parse_light_size, parse_texels,
+};
+use umbra::settings::{CasterCulling, MomentBits, MomentSource, ShadowDepth, ShadowFaces, TileSizes};
 use umbra::shadow::FitMode;
 
 /// Settings shared by every command.
@@ -75,10 +77,10 @@ pub struct SceneArgs {
     #[arg(long)]
     pub cascade_debug: bool,
     /// How shadow maps are sampled, for every light without a method of its own: nearest,
-    /// bilinear, pcf3, pcf5, gauss5, poisson16, poisson32, pcss, vsm, evsm, msm, r32f (depth in an R32F colour target) or r16f-radial (distance from the light in R16F).
+    /// bilinear, pcf3, pcf5, gauss5, poisson16, poisson32, pcss, vsm, evsm, evsm2 (EVSM's positive warp alone), msm, r32f (depth in an R32F colour target) or r16f-radial (distance from the light in R16F).
     #[arg(long, alias = "filter", value_name = "METHOD")]
     pub method: Option<ShadowMethod>,
-    /// Blur radius of moment maps (vsm, evsm, msm) in texels, 0..16 (0: none).
+    /// Blur radius of moment maps (vsm, evsm, evsm2, msm) in texels, 0..16 (0: none).
     #[arg(long, value_name = "TEXELS")]
     pub moment_blur: Option<u32>,
     /// Light-bleeding reduction of moment maps, 0..0.9: the share of their bound cut away.
@@ -87,6 +89,11 @@ pub struct SceneArgs {
     /// Float bits per moment: auto (each method's own choice), 16 or 32.
     #[arg(long, value_name = "BITS")]
     pub moment_bits: Option<MomentBits>,
+    /// How moment maps are made: depth (resolved from the depth map), depth/2 or depth/4 (at
+    /// half or a quarter of its side, each texel the mean of 2x2 or 4x4 depth texels), or
+    /// colour (drawn as a colour target of their own).
+    #[arg(long, value_name = "SOURCE")]
+    pub moments_from: Option<MomentSource>,
     /// Format of the depth maps: d32 (32-bit float) or d16 (16-bit fixed point, half the memory).
     #[arg(long, value_name = "FORMAT")]
     pub shadow_depth: Option<ShadowDepth>,
@@ -156,6 +163,25 @@ pub struct SceneArgs {
     /// This light casts no shadow (repeat for more lights).
     #[arg(long, value_name = "LIGHT")]
     pub no_light_shadow: Vec<String>,
+    /// Every light's shadow test adds screen-space contact shadows: a short march towards the
+    /// light through the camera's depth, which finds thin casters and the gap a bias opens at
+    /// contact (key J in play).
+    #[arg(long)]
+    pub contact_shadows: bool,
+    /// One light's contact shadows on or off: `--light-contact "spot 1=on"` (repeat for more
+    /// lights; the others follow --contact-shadows).
+    #[arg(long, value_name = "LIGHT=on|off", value_parser = parse_contact)]
+    pub light_contact: Vec<(String, LightSetting)>,
+    /// Steps of the contact-shadow march, 1..64 (default 16).
+    #[arg(long, value_name = "N")]
+    pub contact_steps: Option<u32>,
+    /// How far the contact-shadow march goes towards the light, in metres (default 0.3).
+    #[arg(long, value_name = "METRES")]
+    pub contact_length: Option<f32>,
+    /// How thick surfaces are taken to be by the contact-shadow march, in metres (default 0.1):
+    /// a step farther behind what the camera sees passes.
+    #[arg(long, value_name = "METRES")]
+    pub contact_thickness: Option<f32>,
     /// A plain ground, without the faint checker that shows stair-steps and shimmer.
     #[arg(long)]
     pub no_ground_grid: bool,
@@ -252,6 +278,11 @@ impl SceneArgs {
             moment_blur: self.moment_blur.unwrap_or(d.moment_blur),
             light_bleeding: self.light_bleeding.unwrap_or(d.light_bleeding),
             moment_bits: self.moment_bits.unwrap_or(d.moment_bits),
+            moments_from: self.moments_from.unwrap_or(d.moments_from),
+            contact_shadows: self.contact_shadows,
+            contact_steps: self.contact_steps.unwrap_or(d.contact_steps),
+            contact_length: self.contact_length.unwrap_or(d.contact_length),
+            contact_thickness: self.contact_thickness.unwrap_or(d.contact_thickness),
             shadow_depth: self.shadow_depth.unwrap_or(d.shadow_depth),
             planar_ground: self.planar_ground,
             receiver_plane: !self.no_receiver_plane,
@@ -263,6 +294,7 @@ impl SceneArgs {
                 .chain(self.light_method.iter().cloned())
                 .chain(self.light_bias.iter().cloned())
                 .chain(self.light_size.iter().cloned())
+                .chain(self.light_contact.iter().cloned())
                 .chain(self.no_light_shadow.iter().map(|l| (l.clone(), LightSetting::NoShadow)))
                 .collect(),
             shadow_distance: self.shadow_distance.unwrap_or(d.shadow_distance),

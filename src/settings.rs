@@ -106,6 +106,19 @@ pub struct Settings {
     pub light_bleeding: f32,
     /// Float bits per moment: each method's own choice (auto), 16 or 32.
     pub moment_bits: MomentBits,
+    /// Every light's shadow test adds screen-space contact shadows (a light's own
+    /// [`crate::components::ContactShadows`] overrides it).
+    pub contact_shadows: bool,
+    /// Steps of the contact-shadow march.
+    pub contact_steps: u32,
+    /// How far the contact-shadow march goes towards the light, in metres.
+    pub contact_length: f32,
+    /// How thick a surface the camera sees is taken to be by the march, in metres: a step
+    /// farther behind it than this passes (behind a thin pole, the far wall stays lit).
+    pub contact_thickness: f32,
+    /// How moment maps are made: resolved from the depth map (at its size, or a half or a
+    /// quarter of it), or drawn as colour targets of their own.
+    pub moments_from: MomentSource,
     /// The depth maps' format.
     pub shadow_depth: ShadowDepth,
     /// Lights that keep their shadow maps also draw planar shadows onto the ground, which then
@@ -185,6 +198,11 @@ impl Default for Settings {
             moment_blur: DEFAULT_MOMENT_BLUR,
             light_bleeding: DEFAULT_LIGHT_BLEEDING,
             moment_bits: MomentBits::Auto,
+            moments_from: MomentSource::Colour,
+            contact_shadows: false,
+            contact_steps: DEFAULT_CONTACT_STEPS,
+            contact_length: DEFAULT_CONTACT_LENGTH,
+            contact_thickness: DEFAULT_CONTACT_THICKNESS,
             shadow_depth: ShadowDepth::Float32,
             toon_bands: 0,
             ground_grid: true,
@@ -218,6 +236,50 @@ pub enum MomentBits {
     Full,
 }
 
+/// How a moment map is made from its light's view.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum MomentSource {
+    /// Resolved from the depth map the layer draws anyway (a pass that reads depth, turns it into
+    /// moments and blurs them), one moment texel per depth texel.
+    Depth,
+    /// The same at half the depth map's side: each moment texel is the mean of 2x2 depth
+    /// texels' moments (a resolve of four samples), a quarter of the memory and blur.
+    Half,
+    /// The same at a quarter of its side, each moment texel the mean of 4x4.
+    Quarter,
+    /// Drawn by the shadow pass as a colour target beside the depth map (every caster's
+    /// fragment writes its moments), then blurred. The default: on lavapipe it costs less than
+    /// the resolve (197 ms against 268 ms a frame with every VSM layer redrawn, `bench --cache`).
+    #[default]
+    Colour,
+}
+
+impl MomentSource {
+    /// Depth texels along a side per moment texel.
+    #[must_use]
+    pub fn scale(self) -> u32 {
+        match self {
+            MomentSource::Depth | MomentSource::Colour => 1,
+            MomentSource::Half => 2,
+            MomentSource::Quarter => 4,
+        }
+    }
+
+    /// Depth texels along a side per texel of the colour atlas, which moment maps share with
+    /// depth kept in colour: its own scale, but 1 while a light keeps `depth_in_colour`, which
+    /// must keep every texel.
+    #[must_use]
+    pub fn colour_scale(self, depth_in_colour: bool) -> u32 {
+        if depth_in_colour { 1 } else { self.scale() }
+    }
+
+    /// Moments are resolved from the depth map.
+    #[must_use]
+    pub fn from_depth(self) -> bool {
+        self != MomentSource::Colour
+    }
+}
+
 /// The format of the depth maps the shadow pass draws.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ShadowDepth {
@@ -229,6 +291,14 @@ pub enum ShadowDepth {
     Unorm16,
 }
 
+/// Steps of the contact-shadow march by default (Bevy's; Filament takes 8).
+pub const DEFAULT_CONTACT_STEPS: u32 = 16;
+/// Most steps of the contact-shadow march.
+pub const MAX_CONTACT_STEPS: u32 = 64;
+/// Length of the contact-shadow march by default, in metres (Bevy's and Filament's).
+pub const DEFAULT_CONTACT_LENGTH: f32 = 0.3;
+/// Thickness the contact-shadow march takes surfaces to have by default, in metres.
+pub const DEFAULT_CONTACT_THICKNESS: f32 = 0.1;
 /// Default blur radius of moment maps, in texels.
 pub const DEFAULT_MOMENT_BLUR: u32 = 2;
 /// Largest blur radius of moment maps, in texels.
@@ -298,6 +368,7 @@ named_choices!(
     Pcss = "pcss",
     Vsm = "vsm",
     Evsm = "evsm",
+    Evsm2 = "evsm2",
     Msm = "msm",
     DepthR32f = "r32f",
     RadialR16f = "r16f-radial",
@@ -305,6 +376,14 @@ named_choices!(
 );
 named_choices!(ShadowDepth, "a depth-map format", Float32 = "d32", Unorm16 = "d16");
 named_choices!(MomentBits, "a moment-map precision", Auto = "auto", Half = "16", Full = "32");
+named_choices!(
+    MomentSource,
+    "a moment-map source",
+    Colour = "colour",
+    Depth = "depth",
+    Half = "depth/2",
+    Quarter = "depth/4"
+);
 named_choices!(CasterCulling, "a culling mode", LightVolume = "light", CameraView = "camera");
 
 /// A setting outside what makes sense, with the reason.
@@ -421,6 +500,15 @@ impl Settings {
         if !(self.cascade_blend.is_finite() && (0.0..=0.5).contains(&self.cascade_blend)) {
             return bad("cascade_blend", self.cascade_blend, "must be a fraction between 0 and 0.5");
         }
+        if !(1..=MAX_CONTACT_STEPS).contains(&self.contact_steps) {
+            return bad("contact_steps", self.contact_steps, "must be between 1 and 64");
+        }
+        if !(self.contact_length.is_finite() && (0.0..=10.0).contains(&self.contact_length)) {
+            return bad("contact_length", self.contact_length, "must be between 0 and 10 metres");
+        }
+        if !(self.contact_thickness.is_finite() && self.contact_thickness > 0.0 && self.contact_thickness <= 10.0) {
+            return bad("contact_thickness", self.contact_thickness, "must be more than 0 and at most 10 metres");
+        }
         if self.moment_blur > MAX_MOMENT_BLUR {
             return bad("moment_blur", self.moment_blur, "must be between 0 and 16 texels");
         }
@@ -494,7 +582,10 @@ mod tests {
     #[test]
     fn nonsense_is_named() {
         type Case = (fn(&mut Settings), &'static str);
-        let cases: [Case; 23] = [
+        let cases: [Case; 26] = [
+            (|s| s.contact_steps = 0, "contact_steps"),
+            (|s| s.contact_length = f32::INFINITY, "contact_length"),
+            (|s| s.contact_thickness = 0.0, "contact_thickness"),
             (|s| s.cubes = MAX_CUBES + 1, "cubes"),
             (|s| s.lanterns = 5000, "lanterns"),
             (|s| s.camera = Some((glam::Vec3::ONE, glam::Vec3::ONE)), "camera"),

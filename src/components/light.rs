@@ -142,6 +142,11 @@ impl ShadowMap {
     }
 }
 
+/// Whether a light's shadow test adds screen-space contact shadows (a march through the camera's
+/// depth towards the light, see contact.wgsl). A light without one takes the settings'.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ContactShadows(pub bool);
+
 /// How far a light's shadow test pushes the surface before looking it up, in shadow-map texels.
 /// A light without one takes the settings' bias.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
@@ -219,6 +224,10 @@ pub enum ShadowMethod {
     /// ground along the light's rays and drawn over it, once per pixel through the stencil
     /// buffer. Exact on the ground; every other surface gets no shadow from the light.
     Planar = 13,
+    /// EVSM with the positive warp alone (two moments, as VSM keeps): half of EVSM's map and
+    /// blur, and more light bleeding, where the negative warp would have caught what the
+    /// positive one lets through.
+    Evsm2 = 14,
 }
 
 impl ShadowMethod {
@@ -234,7 +243,7 @@ impl ShadowMethod {
             // margin, where the edge texels repeat.
             ShadowMethod::Poisson32 | ShadowMethod::Pcss => 4,
             // One filtered read of a map blurred beforehand (the blur clamps at the map's edge).
-            ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Msm => 1,
+            ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Evsm2 | ShadowMethod::Msm => 1,
             ShadowMethod::DepthR32f | ShadowMethod::RadialR16f => 1,
             ShadowMethod::Planar => 0,
         }
@@ -258,7 +267,7 @@ impl ShadowMethod {
             ShadowMethod::Gauss5 => "Gaussian PCF",
             ShadowMethod::Poisson16 | ShadowMethod::Poisson32 => "Poisson PCF",
             ShadowMethod::Pcss => "PCSS",
-            ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Msm => "moment maps",
+            ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Evsm2 | ShadowMethod::Msm => "moment maps",
             ShadowMethod::DepthR32f | ShadowMethod::RadialR16f => "depth in colour",
             ShadowMethod::Planar => "planar",
         }
@@ -271,14 +280,23 @@ impl ShadowMethod {
     pub fn moment_bits(self) -> u32 {
         match self {
             ShadowMethod::Vsm | ShadowMethod::Msm => 32,
-            ShadowMethod::Evsm => 16,
+            ShadowMethod::Evsm | ShadowMethod::Evsm2 => 16,
+            _ => 0,
+        }
+    }
+
+    /// Moments it keeps per texel: two (VSM, EVSM2), four (EVSM, MSM), or none.
+    pub fn moment_count(self) -> u32 {
+        match self {
+            ShadowMethod::Vsm | ShadowMethod::Evsm2 => 2,
+            ShadowMethod::Evsm | ShadowMethod::Msm => 4,
             _ => 0,
         }
     }
 
     /// It reads a prefiltered moment map, not the depth map.
     pub fn moments(self) -> bool {
-        matches!(self, ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Msm)
+        self.moment_count() > 0
     }
 
     /// Bits of float a depth-in-colour method stores its one value in (0 for the others).

@@ -115,7 +115,7 @@ fn timed_maps(config: &Config) -> TimedMaps {
     TimedMaps {
         size: config.map_size,
         depth: config.depth,
-        colour: config.method.colour_map().then_some((config.method, config.moment_bits)),
+        colour: config.method.colour_map().then_some((config.method, config.moment_bits, config.moments_from)),
     }
 }
 
@@ -152,7 +152,7 @@ mod tests {
     #[test]
     fn configurations_share_a_timed_scene_only_when_their_maps_are_alike() {
         use crate::components::ShadowMethod;
-        use crate::settings::{MomentBits, ShadowDepth, ShadowFaces};
+        use crate::settings::{MomentBits, MomentSource, ShadowDepth, ShadowFaces};
         let d = Config::default_settings();
         let same = [
             Config { method: ShadowMethod::Pcf3, receiver_plane: false, ..d },
@@ -165,6 +165,7 @@ mod tests {
             Config { map_size: d.map_size * 2, ..d },
             Config { method: ShadowMethod::Vsm, ..d },
             Config { method: ShadowMethod::Vsm, moment_bits: MomentBits::Half, ..d },
+            Config { method: ShadowMethod::Vsm, moments_from: MomentSource::Half, ..d },
             Config { method: ShadowMethod::DepthR32f, ..d },
         ];
         for (i, a) in apart.iter().enumerate() {

@@ -64,8 +64,8 @@ pub struct TimedMaps {
     pub size: u32,
     /// The depth maps' format.
     pub depth: crate::settings::ShadowDepth,
-    /// The method and bits of the colour maps beside them, for a method that has them.
-    pub colour: Option<(crate::components::ShadowMethod, crate::settings::MomentBits)>,
+    /// The method, bits and source of the colour maps beside them, for a method that has them.
+    pub colour: Option<(crate::components::ShadowMethod, crate::settings::MomentBits, crate::settings::MomentSource)>,
 }
 
 /// The failure cases' scenes (see [`super::cases`]).
@@ -107,6 +107,8 @@ pub enum CaseScene {
     TileShrink,
     /// The same, seen from a camera creeping up and down.
     TileResize,
+    /// A thin bar near the camera over a far ground, with contact shadows.
+    ContactHalos,
     /// Three spots over sliding posts sharing a starved update budget.
     StarvedBudget,
 }

@@ -8,7 +8,7 @@ use super::metrics::{LightReport, report};
 use crate::App;
 use crate::components::ShadowMethod;
 use crate::render::Gpu;
-use crate::settings::{MomentBits, Settings, ShadowDepth, ShadowFaces};
+use crate::settings::{MomentBits, MomentSource, Settings, ShadowDepth, ShadowFaces};
 use crate::shadow::FitMode;
 use bevy_ecs::prelude::With;
 use glam::Vec3;
@@ -34,10 +34,14 @@ pub struct Config {
     pub blur: u32,
     /// Bits per moment of moment maps.
     pub moment_bits: MomentBits,
+    /// How moment maps are made.
+    pub moments_from: MomentSource,
     /// Format of the depth maps.
     pub depth: ShadowDepth,
     /// Multiplicative depth offset (share of the distance to the light).
     pub bias_scale: f32,
+    /// Every light adds contact shadows (at the settings' steps, length and thickness).
+    pub contact: bool,
     /// Instead of the above: the Bevy-like baseline ([`bevy_like`]).
     pub bevy_like: bool,
 }
@@ -83,8 +87,10 @@ impl Config {
             receiver_plane: d.receiver_plane,
             blur: d.moment_blur,
             moment_bits: d.moment_bits,
+            moments_from: d.moments_from,
             depth: d.shadow_depth,
             bias_scale: d.bias_scale,
+            contact: d.contact_shadows,
             bevy_like: false,
         }
     }
@@ -92,7 +98,7 @@ impl Config {
     /// `base` with this configuration's shadow settings.
     pub fn settings(&self, base: &Settings) -> Settings {
         if self.bevy_like {
-            return bevy_like(base);
+            return Settings { contact_shadows: self.contact, ..bevy_like(base) };
         }
         Settings {
             shadow_map_size: self.map_size,
@@ -106,9 +112,11 @@ impl Config {
             receiver_plane: self.receiver_plane,
             moment_blur: self.blur,
             moment_bits: self.moment_bits,
+            moments_from: self.moments_from,
             shadow_depth: self.depth,
             bias_scale: self.bias_scale,
             shadow_memory: self.memory_mib(),
+            contact_shadows: self.contact,
             ..base.clone()
         }
     }
@@ -123,19 +131,22 @@ impl Config {
     }
 
     /// Bytes a texel of one layer takes: the depth map's, and the colour map's where its method
-    /// reads one (moments at the bits they get where full floats exist).
+    /// reads one (moments at the bits they get where full floats exist, shared among the depth
+    /// texels a moment texel covers, at least a byte).
     pub fn texel_bytes(&self) -> u32 {
         let depth = match self.depth {
             ShadowDepth::Float32 => 4,
             ShadowDepth::Unorm16 => 2,
         };
+        let channels = self.method.moment_count();
         let colour_bits = match (self.method.moments(), self.moment_bits) {
             (false, _) => self.method.colour_depth_bits(),
-            (true, MomentBits::Auto) => 4 * self.method.moment_bits(),
-            (true, MomentBits::Half) => 4 * 16,
-            (true, MomentBits::Full) => 4 * 32,
+            (true, MomentBits::Auto) => channels * self.method.moment_bits(),
+            (true, MomentBits::Half) => channels * 16,
+            (true, MomentBits::Full) => channels * 32,
         };
-        depth + colour_bits / 8
+        let scale = self.moments_from.colour_scale(self.method.colour_depth_bits() > 0);
+        depth + (colour_bits / 8).div_ceil(scale * scale)
     }
 
     /// What it changes of the depth comparison: the depth format, the multiplicative offset.
@@ -157,7 +168,8 @@ impl Config {
             || !(self.method.colour_depth_bits() > 16 || self.method.moments() && self.moment_bits == MomentBits::Full)
     }
 
-    /// How its moment maps are made (blur radius, bits), for moment methods only.
+    /// How its moment maps are made (blur radius, bits, source when not the default), for
+    /// moment methods only.
     fn moment_label(&self) -> String {
         if !self.method.moments() {
             return String::new();
@@ -167,7 +179,10 @@ impl Config {
         } else {
             format!(" {}-bit", self.moment_bits.name())
         };
-        format!(" blur{}{bits}", self.blur)
+        let d = Config::default_settings();
+        let from =
+            if self.moments_from == d.moments_from { String::new() } else { format!(" {}", self.moments_from.name()) };
+        format!(" blur{}{bits}{from}", self.blur)
     }
 
     /// Its family for the charts and the summary: the method's, or the baseline's own.
@@ -177,8 +192,9 @@ impl Config {
 
     /// Its name for charts: map size and cascades, then only what differs from the defaults.
     pub fn short_label(&self) -> String {
+        let contact = if self.contact { " contact" } else { "" };
         if self.bevy_like {
-            return "bevy-like".into();
+            return format!("bevy-like{contact}");
         }
         let d = Config::default_settings();
         let mut out = format!("{} x{}", self.map_size, self.cascades);
@@ -197,19 +213,20 @@ impl Config {
         if !self.receiver_plane {
             out += " flat";
         }
-        out + &self.depth_label() + &self.moment_label()
+        out + &self.depth_label() + &self.moment_label() + contact
     }
 
     /// A short name: `2048 x4 stable bilinear b1`, with `back` when only back faces are drawn and
     /// `flat` when filters compare with the centre's depth, not the receiver's plane.
     pub fn label(&self) -> String {
+        let contact = if self.contact { " contact" } else { "" };
         if self.bevy_like {
-            return "bevy-like (2048 x4 gauss5, 0.02 m + 1.8 texels normal)".into();
+            return format!("bevy-like (2048 x4 gauss5, 0.02 m + 1.8 texels normal){contact}");
         }
         let faces = if self.faces == ShadowFaces::Back { " back" } else { "" };
         let flat = if self.receiver_plane { "" } else { " flat" };
         format!(
-            "{} x{} {} {} b{}{faces}{flat}{}{}",
+            "{} x{} {} {} b{}{faces}{flat}{}{}{contact}",
             self.map_size,
             self.cascades,
             self.fit.name(),
@@ -243,8 +260,8 @@ pub fn configs(quick: bool) -> Vec<Config> {
         for fit in [FitMode::Unsnapped, FitMode::Tight, FitMode::Sdsm] {
             push(Config { map_size, fit, ..d });
         }
-        // Moment maps (12 layers of 16 bytes a texel, blurred) only at the default size: on the
-        // software rasterizer one frame takes seconds. The quick sweep takes one of them.
+        // Moment maps only at the default size (on the software rasterizer one frame takes
+        // seconds); the quick sweep takes one of them.
         let moments_here = |m: &ShadowMethod| map_size == d.map_size && (!quick || *m == ShadowMethod::Vsm);
         // Planar shadows have no map: one row.
         let here = |m: &ShadowMethod| match m {
@@ -254,6 +271,15 @@ pub fn configs(quick: bool) -> Vec<Config> {
         };
         for &method in ShadowMethod::ALL.iter().filter(|m| here(m)) {
             push(Config { map_size, method, ..d });
+        }
+    }
+    // Moment maps resolved from the depth map, at its side, a half and a quarter of it (the full
+    // sweep only: on lavapipe the quick sweep took 32 minutes with them).
+    if !quick {
+        for &method in ShadowMethod::ALL.iter().filter(|m| m.moments()) {
+            for moments_from in [MomentSource::Depth, MomentSource::Half, MomentSource::Quarter] {
+                push(Config { method, moments_from, ..d });
+            }
         }
     }
     // Moment maps: half floats against full, and a narrower and a wider blur.
@@ -284,6 +310,14 @@ pub fn configs(quick: bool) -> Vec<Config> {
     }
     push(Config { faces: ShadowFaces::Back, bias: 0.0, ..d });
     push(Config { bevy_like: true, ..d });
+    // Contact shadows over the default, a member of each family and Bevy-like (full sweep only).
+    if !quick {
+        push(Config { contact: true, ..d });
+        for method in [ShadowMethod::Pcf5, ShadowMethod::Pcss, ShadowMethod::Evsm, ShadowMethod::Msm] {
+            push(Config { method, contact: true, ..d });
+        }
+        push(Config { bevy_like: true, contact: true, ..d });
+    }
     if !quick {
         push(Config { faces: ShadowFaces::Back, ..d });
     }
@@ -504,8 +538,13 @@ mod tests {
         assert_eq!(Config { depth: ShadowDepth::Unorm16, ..d }.texel_bytes(), 2);
         assert_eq!(Config { method: ShadowMethod::RadialR16f, ..d }.texel_bytes(), 6);
         assert_eq!(Config { method: ShadowMethod::DepthR32f, ..d }.texel_bytes(), 8);
-        assert_eq!(Config { method: ShadowMethod::Vsm, ..d }.texel_bytes(), 20);
+        assert_eq!(Config { method: ShadowMethod::Vsm, ..d }.texel_bytes(), 12);
         assert_eq!(Config { method: ShadowMethod::Evsm, ..d }.texel_bytes(), 12);
+        assert_eq!(Config { method: ShadowMethod::Evsm2, ..d }.texel_bytes(), 8);
+        assert_eq!(Config { method: ShadowMethod::Msm, ..d }.texel_bytes(), 20);
+        // Resolved at half the side, four depth texels share a moment texel.
+        let half = Config { method: ShadowMethod::Msm, moments_from: MomentSource::Half, ..d };
+        assert_eq!(half.texel_bytes(), 4 + 4);
         assert!(!Config { method: ShadowMethod::DepthR32f, ..d }.supported(false));
         assert!(Config { method: ShadowMethod::Vsm, ..d }.supported(false));
     }

@@ -18,7 +18,7 @@ pub use point::Point;
 pub use spot::Spot;
 pub use sun::Sun;
 
-use crate::components::{
+use crate::components::{ContactShadows, 
     Camera, Cookie, DirectionalLight, PointLight, ShadowBias, ShadowLayer, ShadowMap, ShadowMethod, SpotLight,
     Transform,
 };
@@ -275,6 +275,8 @@ pub struct Light {
     pub bias: ShadowBias,
     /// How its shadow map is sampled (its own, or the settings').
     pub method: ShadowMethod,
+    /// Its shadow test adds contact shadows (its own choice, or the settings').
+    pub contact: bool,
     /// The image its light is thrown through (spot lights only).
     pub cookie: Option<Cookie>,
     /// Its shadow's layers as the update fitted them (none when it casts no shadow).
@@ -347,6 +349,7 @@ pub fn light_list(world: &mut World) -> Vec<Light> {
                 shadowed: map.is_some(),
                 bias: world.get::<ShadowBias>(entity).copied().unwrap_or_else(|| settings.shadow_bias()),
                 method: world.get::<ShadowMethod>(entity).copied().unwrap_or(settings.method),
+                contact: world.get::<ContactShadows>(entity).map_or(settings.contact_shadows, |c| c.0),
                 cookie: world.get::<Cookie>(entity).copied(),
                 layers: map.map(|m| m.layers.clone()).unwrap_or_default(),
                 shows: map.map_or(0.0, |m| m.shows),

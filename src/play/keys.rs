@@ -7,7 +7,7 @@ use winit::keyboard::KeyCode;
 
 /// Changes the setting a key stands for (F: fit mode, C: cascade tints, 1-4: cascades, P:
 /// filter, R: receiver plane, K: caster culling, T: toon shading, G: planar shadows on the
-/// ground, L: light volumes); false for any other key.
+/// ground, L: light volumes, J: contact shadows); false for any other key.
 pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
     match code {
         KeyCode::KeyF => settings.fit_mode = settings.fit_mode.next(),
@@ -17,6 +17,7 @@ pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
         KeyCode::KeyK => settings.caster_culling = settings.caster_culling.next(),
         KeyCode::KeyG => settings.planar_ground = !settings.planar_ground,
         KeyCode::KeyL => settings.light_volumes = !settings.light_volumes,
+        KeyCode::KeyJ => settings.contact_shadows = !settings.contact_shadows,
         KeyCode::KeyT => {
             settings.toon_bands = if settings.toon_bands == 0 { crate::settings::DEFAULT_TOON_BANDS } else { 0 }
         }
@@ -39,8 +40,9 @@ pub fn settings_line(settings: &Settings) -> String {
     };
     let toon = if settings.toon_bands > 0 { format!(", toon {}", settings.toon_bands) } else { String::new() };
     let planar = if settings.planar_ground { ", planar ground" } else { "" };
+    let contact = if settings.contact_shadows { ", contact shadows" } else { "" };
     format!(
-        "{} cascades, {} fit, {} filter{flat}{culling}{tints}{toon}{planar}",
+        "{} cascades, {} fit, {} filter{flat}{culling}{tints}{toon}{planar}{contact}",
         settings.cascades,
         settings.fit_mode.name(),
         settings.method.name()
@@ -113,6 +115,8 @@ mod tests {
         assert!(change_setting(KeyCode::KeyT, &mut s) && s.toon_bands == crate::settings::DEFAULT_TOON_BANDS);
         assert!(change_setting(KeyCode::KeyT, &mut s) && s.toon_bands == 0);
         assert!(change_setting(KeyCode::KeyG, &mut s) && s.planar_ground);
+        assert!(change_setting(KeyCode::KeyJ, &mut s) && s.contact_shadows);
+        assert!(settings_line(&s).ends_with(", planar ground, contact shadows"));
         assert!(settings_line(&s).contains("pcf3 filter without receiver plane"));
         let before = s.clone();
         assert!(!change_setting(KeyCode::KeyW, &mut s));

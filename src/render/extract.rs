@@ -131,11 +131,19 @@ impl FrameLight {
             shape: light.shape.gpu_id(),
             size: light.size(),
             planar_ground: self.planar_ground as u32,
+            contact: (light.shadowed && light.contact) as u32,
             ..GpuLight::zeroed()
         };
         light.kind.pack(&mut g);
         g
     }
+}
+
+/// Steps of this frame's contact-shadow march: the settings' when shadows are on and a
+/// shadowed light asks for contact shadows, else none (and no camera depth is drawn for it).
+#[must_use]
+pub fn contact_steps<'a>(settings: &Settings, mut lights: impl Iterator<Item = &'a Light>) -> u32 {
+    if settings.shadows && lights.any(|l| l.shadowed && l.contact) { settings.contact_steps } else { 0 }
 }
 
 /// One light's planar shadow: its uniform and the casters flattened onto the ground.
@@ -185,6 +193,8 @@ impl FrameData {
     /// Tells the probe shader the size of the grid of pixels its probes are drawn into.
     pub fn set_probe_grid(&mut self, width: u32, height: u32) {
         (self.frame.probe_width, self.frame.probe_height) = (width, height);
+        // A probe is a point, not a pixel of the camera's picture: no march.
+        self.frame.contact_steps = 0;
     }
 
     /// Makes the measuring view report lights `first` to `first + MEASURED_PER_PASS - 1`.
@@ -381,6 +391,11 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
             .as_ref()
             .and_then(|name| lights.iter().position(|l| l.light.label.to_string() == *name))
             .map_or(0, |i| i as u32 + 1),
+        contact_steps: contact_steps(&settings, lights.iter().map(|l| &l.light)),
+        contact_length: settings.contact_length,
+        contact_thickness: settings.contact_thickness,
+        camera_near: depths.0,
+        camera_far: depths.1,
         ..Frame::zeroed()
     };
     if main_pass

@@ -95,6 +95,19 @@ gpu_struct! {
         pub cluster_far: f32,
         /// 1 when lookups keep their taps inside their own tile of the atlas.
         pub atlas_guard: u32,
+        /// Steps of a contact-shadow march (0: none this frame).
+        pub contact_steps: u32,
+        /// How far a contact-shadow march goes towards the light, in metres.
+        pub contact_length: f32,
+        /// How thick a surface the camera sees is taken to be, in metres.
+        pub contact_thickness: f32,
+        /// The camera's near plane distance.
+        pub camera_near: f32,
+        /// The camera's far plane distance.
+        pub camera_far: f32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 }
 
@@ -141,7 +154,8 @@ gpu_struct! {
         pub planar_ground: u32,
         /// 1 when its filters compare with the receiver's plane.
         pub receiver_plane: u32,
-        pub _pad0: u32,
+        /// 1 when its shadow test adds a contact-shadow march.
+        pub contact: u32,
         pub _pad1: u32,
         pub _pad2: u32,
         /// World to the cookie's clip space (spots with a cookie).
@@ -208,18 +222,21 @@ gpu_struct! {
 }
 
 gpu_struct! {
-    /// The tile a moment-blur pass reads and how far it reaches (`Blur` in blur.wgsl).
+    /// The tile a moment-blur pass reads and how far it reaches, and where a resolve reads the
+    /// depth it makes the tile's moments of (`Blur` in blur.wgsl).
     pub struct Blur {
-        /// Layer of the moment array.
+        /// Layer of the moment array (and of the depth array: they are page for page).
         pub layer: u32,
         /// Texels weighed each side of the centre.
         pub radius: i32,
         /// Texels along the side of the tile it blurs.
         pub size: u32,
-        pub _pad0: u32,
+        /// Depth texels along a side per moment texel (a resolve's).
+        pub scale: u32,
         /// The tile's first texel on the page.
         pub origin: [u32; 2],
-        pub _pad1: [u32; 2],
+        /// The layer's first texel on the depth page (a resolve's).
+        pub depth_origin: [u32; 2],
     }
 }
 

@@ -97,6 +97,8 @@ struct FrameResources {
     lights: GrowingBuffer,
     layers: GrowingBuffer,
     cluster_lists: GrowingRows,
+    /// The camera's depth drawn before the pass (a 1x1 stand-in until contact shadows need it).
+    camera_depth: wgpu::TextureView,
 }
 
 /// A read-only storage buffer at `binding`, seen by the fragment stage.
@@ -137,7 +139,8 @@ fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buff
 }
 
 /// Bind group 0 of the main pass: the frame, the shadow maps and their samplers, the cookies,
-/// the lights and the layers, the colour maps and their sampler, the clusters' light lists.
+/// the lights and the layers, the colour maps and their sampler, the clusters' light lists, the
+/// camera's depth (for contact shadows).
 fn layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
     let fragment = wgpu::ShaderStages::FRAGMENT;
     let cookie_bytes = Cookie::ALL.len() * (COOKIE_SIZE * COOKIE_SIZE) as usize;
@@ -188,6 +191,17 @@ fn layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
             },
             count: None,
         },
+        // The camera's depth, read as floats (GLSL cannot load from a depth texture).
+        wgpu::BindGroupLayoutEntry {
+            binding: 10,
+            visibility: fragment,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        },
     ]
 }
 
@@ -221,6 +235,7 @@ impl FrameResources {
             lights: GrowingBuffer::new(device, "lights", wgpu::BufferUsages::STORAGE),
             layers: GrowingBuffer::new(device, "layers", wgpu::BufferUsages::STORAGE),
             cluster_lists: GrowingRows::new(device, LIST_WIDTH),
+            camera_depth: super::camera_depth::depth_texture(device, (1, 1)),
         }
     }
 
@@ -236,6 +251,7 @@ impl FrameResources {
             wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(&maps.moments.array_view) },
             wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(&self.moment_sampler) },
             wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(&self.cluster_lists.view) },
+            wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::TextureView(&self.camera_depth) },
         ]
     }
 
@@ -360,6 +376,12 @@ impl MainPass {
     pub fn rebind(&mut self, device: &wgpu::Device, maps: &ShadowMaps) {
         self.bind_group = self.frame.bind(device, maps);
         self.planar.bind(device, &self.frame.entries(maps));
+    }
+
+    /// Points the pass at a new camera depth (see [`super::camera_depth`]), with `maps`.
+    pub fn set_camera_depth(&mut self, device: &wgpu::Device, view: wgpu::TextureView, maps: &ShadowMaps) {
+        self.frame.camera_depth = view;
+        self.rebind(device, maps);
     }
 
     /// Builds the probe pipeline that samples with `methods` (a bit each, as the main pass's

@@ -6,6 +6,7 @@
 //! back to the CPU for headless use.
 
 mod bare_depth;
+mod camera_depth;
 mod depth_reduction;
 mod extract;
 mod gpu;

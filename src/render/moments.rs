@@ -3,10 +3,12 @@
 //! they live in, slot for slot with the depth maps, and the blur that prefilters a moment layer
 //! once it is drawn.
 //!
-//! The shadow pass draws such a layer with a colour target (`fs_moments` in shadow.wgsl: GL
-//! cannot read a depth map's raw values, so what a method stores is made where the depth is
-//! known), and [`MomentBlur`] then blurs a moment layer along rows into a scratch map and along
-//! columns back.
+//! A moment layer is made from its depth map once that is drawn: [`MomentBlur`] reads the depth,
+//! turns it into moments (at the depth map's size or smaller, each moment texel the mean of the
+//! depth texels it covers) and blurs them along rows into a scratch map and along columns back.
+//! Depth in colour, and moments with [`MomentSource::Colour`], are drawn by the shadow pass as a
+//! colour target instead (`fs_moments` in shadow.wgsl: where the depth is known, so what a
+//! method stores is made there), and moments are then blurred alone.
 
 use super::gpu_types::{Blur, GpuLayer};
 use super::shaders::{BLUR_MODULE, Composed};
@@ -14,11 +16,11 @@ use super::texture::{LayeredTarget, render_target};
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
 use crate::components::ShadowMethod;
-use crate::settings::MomentBits;
+use crate::settings::{MomentBits, MomentSource};
 use crate::shadow::Tile;
 
-/// The colour maps' format: four channels for moments, one for depth in colour, in 16- or
-/// 32-bit floats.
+/// The colour maps' format: four channels for four moments, two for two, one for depth in
+/// colour, in 16- or 32-bit floats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ColourFormat {
     /// `Rgba16Float`.
@@ -29,9 +31,23 @@ pub enum ColourFormat {
     R16 = 2,
     /// `R32Float` (needs what `Full` needs).
     R32 = 3,
+    /// `Rg16Float`: two moments in half floats.
+    Rg16 = 4,
+    /// `Rg32Float` (needs what `Full` needs).
+    Rg32 = 5,
 }
 
 impl ColourFormat {
+    /// Every format, in the order of their numbers.
+    pub const ALL: [ColourFormat; 6] = [
+        ColourFormat::Half,
+        ColourFormat::Full,
+        ColourFormat::R16,
+        ColourFormat::R32,
+        ColourFormat::Rg16,
+        ColourFormat::Rg32,
+    ];
+
     /// The texture format.
     pub fn texture(self) -> wgpu::TextureFormat {
         match self {
@@ -39,20 +55,22 @@ impl ColourFormat {
             ColourFormat::Full => wgpu::TextureFormat::Rgba32Float,
             ColourFormat::R16 => wgpu::TextureFormat::R16Float,
             ColourFormat::R32 => wgpu::TextureFormat::R32Float,
+            ColourFormat::Rg16 => wgpu::TextureFormat::Rg16Float,
+            ColourFormat::Rg32 => wgpu::TextureFormat::Rg32Float,
         }
     }
 
     /// Bits per channel.
     pub fn bits(self) -> u32 {
         match self {
-            ColourFormat::Half | ColourFormat::R16 => 16,
-            ColourFormat::Full | ColourFormat::R32 => 32,
+            ColourFormat::Half | ColourFormat::R16 | ColourFormat::Rg16 => 16,
+            ColourFormat::Full | ColourFormat::R32 | ColourFormat::Rg32 => 32,
         }
     }
 
-    /// It holds four moments (else one depth).
+    /// It holds moments (else one depth).
     pub fn moments(self) -> bool {
-        matches!(self, ColourFormat::Half | ColourFormat::Full)
+        !matches!(self, ColourFormat::R16 | ColourFormat::R32)
     }
 }
 
@@ -60,15 +78,19 @@ impl ColourFormat {
 /// checked on the adapter, see [`full_supported`]).
 pub const FULL_FEATURES: wgpu::Features = wgpu::Features::FLOAT32_FILTERABLE;
 
-/// True when `adapter` can render into 32-bit float moment maps and filter them.
+/// True when `adapter` can render into 32-bit float moment maps (of two and of four channels)
+/// and filter them.
 pub fn full_supported(adapter: &wgpu::Adapter, features: wgpu::Features) -> bool {
-    let flags = adapter.get_texture_format_features(wgpu::TextureFormat::Rgba32Float).allowed_usages;
-    features.contains(FULL_FEATURES) && flags.contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
+    let renders = |f| adapter.get_texture_format_features(f).allowed_usages.contains(wgpu::TextureUsages::RENDER_ATTACHMENT);
+    features.contains(FULL_FEATURES)
+        && renders(wgpu::TextureFormat::Rgba32Float)
+        && renders(wgpu::TextureFormat::Rg32Float)
 }
 
 /// The format the colour maps of `methods` (a bit per [`ShadowMethod`]) take: `None` when no
-/// light uses one. Moments take four channels: with [`MomentBits::Auto`] as wide as any moment
-/// method prefers, halved where the device has no full floats. Depth in colour takes one
+/// light uses one. Moments take as many channels as the method that keeps the most (two or
+/// four): with [`MomentBits::Auto`] as wide as any moment method prefers, halved where the
+/// device has no full floats. Depth in colour takes one
 /// channel, as wide as its method needs (R16F radial rounds its value to a half float itself, so
 /// a wider map shared with others keeps its precision). An explicit 32, or R32F, on a device
 /// without full floats is an error.
@@ -84,13 +106,19 @@ pub fn colour_format(methods: u32, bits: MomentBits, full: bool) -> Result<Optio
     let Some(widest) = used.iter().filter(|m| m.moments()).map(|m| m.moment_bits()).max() else {
         return Ok((!used.is_empty()).then_some(if depth32 { ColourFormat::R32 } else { ColourFormat::R16 }));
     };
-    Ok(Some(match bits {
+    let four = match bits {
         _ if depth32 => ColourFormat::Full,
         MomentBits::Half => ColourFormat::Half,
         MomentBits::Full if !full => return Err("32-bit float moment maps (rendering into and filtering Rgba32Float)"),
         MomentBits::Full => ColourFormat::Full,
         MomentBits::Auto if widest > 16 && full => ColourFormat::Full,
         MomentBits::Auto => ColourFormat::Half,
+    };
+    let two = used.iter().all(|m| m.moment_count() <= 2);
+    Ok(Some(match four {
+        ColourFormat::Half if two => ColourFormat::Rg16,
+        ColourFormat::Full if two => ColourFormat::Rg32,
+        f => f,
     }))
 }
 
@@ -110,11 +138,11 @@ pub fn evsm_warp(format: ColourFormat) -> [f32; 2] {
 pub fn moment_bias(method: ShadowMethod, format: ColourFormat) -> f32 {
     match (method, format) {
         // Least variance: about the square of a depth step.
-        (ShadowMethod::Vsm, ColourFormat::Half | ColourFormat::R16) => 1e-6,
-        (ShadowMethod::Vsm, ColourFormat::Full) => 1e-9,
+        (ShadowMethod::Vsm, ColourFormat::Half | ColourFormat::Rg16 | ColourFormat::R16) => 1e-6,
+        (ShadowMethod::Vsm, ColourFormat::Full | ColourFormat::Rg32) => 1e-9,
         // Least depth spread, turned into warped units by the warp's slope.
-        (ShadowMethod::Evsm, ColourFormat::Half) => 1e-3,
-        (ShadowMethod::Evsm, ColourFormat::Full) => 1e-4,
+        (ShadowMethod::Evsm | ShadowMethod::Evsm2, ColourFormat::Half | ColourFormat::Rg16) => 1e-3,
+        (ShadowMethod::Evsm | ShadowMethod::Evsm2, ColourFormat::Full | ColourFormat::Rg32) => 1e-4,
         // The share of the two-point distribution mixed in (Peters and Klein use 3·10⁻⁵ for
         // full floats).
         (ShadowMethod::Msm, ColourFormat::Half) => 5e-3,
@@ -149,6 +177,9 @@ pub fn far_moments(layer: &GpuLayer) -> wgpu::Color {
         // Depth 1 is 1 after the -1..1 remap.
         let (p, n) = ((layer.warp[0] as f64).exp(), -(-layer.warp[1] as f64).exp());
         (p, p * p, n, n * n)
+    } else if layer.method == ShadowMethod::Evsm2 as u32 {
+        let p = (layer.warp[0] as f64).exp();
+        (p, p * p, 0.0, 0.0)
     } else if layer.method == ShadowMethod::Msm as u32 {
         (1.0, 1.0, 1.0, 1.0)
     } else {
@@ -157,11 +188,29 @@ pub fn far_moments(layer: &GpuLayer) -> wgpu::Color {
     wgpu::Color { r, g, b, a }
 }
 
-/// The moment maps: an array slot for slot with the depth maps, and a scratch layer for the
-/// blur. Without moment lights it is a 1x1 stand-in the main pass can bind.
+/// What the colour atlas is: its format (`None`: no light uses one) and the depth texels along a
+/// side per colour texel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ColourLayout {
+    /// The format.
+    pub format: Option<ColourFormat>,
+    /// Depth texels along a side per colour texel.
+    pub scale: u32,
+}
+
+impl ColourLayout {
+    /// No colour maps.
+    pub const NONE: ColourLayout = ColourLayout { format: None, scale: 1 };
+}
+
+/// The colour maps: an array page for page with the depth maps, tile for tile at `1 / scale`
+/// of their side (a tile's corner and side are the same shares of its page), and a scratch page
+/// for the blur. Without colour-map lights it is a 1x1 stand-in the main pass can bind.
 pub struct ColourMaps {
     /// Its format, `None` for the stand-in.
     pub format: Option<ColourFormat>,
+    /// Depth texels along a side per colour texel.
+    pub scale: u32,
     /// One render view per layer.
     pub layer_views: Vec<wgpu::TextureView>,
     /// The whole array, for sampling.
@@ -170,25 +219,69 @@ pub struct ColourMaps {
 }
 
 impl ColourMaps {
-    /// `layers` layers of `size`² texels in `format`, or the stand-in when `format` is `None`.
-    pub fn new(device: &wgpu::Device, format: Option<ColourFormat>, size: u32, layers: u32) -> Self {
-        let (size, layers) = if format.is_some() { (size, layers) } else { (1, 2) };
+    /// `layers` layers of `(page / scale)`² texels in the layout's format, or the stand-in when
+    /// it has none.
+    pub fn new(device: &wgpu::Device, ColourLayout { format, scale }: ColourLayout, page: u32, layers: u32) -> Self {
+        let scale = scale.clamp(1, page.max(1));
+        let (size, layers) = if format.is_some() { (page / scale, layers) } else { (1, 2) };
         let tex_format = format.unwrap_or(ColourFormat::Half).texture();
         let LayeredTarget { layer_views, array_view, .. } =
             LayeredTarget::new(device, "moment maps", tex_format, size, layers);
         let scratch_view =
             render_target(device, "moment scratch", tex_format, size, 1).create_view(&Default::default());
-        ColourMaps { format, layer_views, array_view, scratch_view }
+        ColourMaps { format, scale, layer_views, array_view, scratch_view }
+    }
+
+    /// Its layout.
+    pub fn layout(&self) -> ColourLayout {
+        ColourLayout { format: self.format, scale: self.scale }
     }
 }
 
-/// The separable Gaussian blur: one pipeline along rows (layer to scratch), one along columns
-/// (scratch back to the layer), for one format.
+/// Depth texels along a side per texel of the colour atlas for `methods` (a bit per
+/// [`ShadowMethod`]) with moments made from `source` ([`MomentSource::colour_scale`]).
+#[must_use]
+pub fn colour_scale(methods: u32, source: MomentSource) -> u32 {
+    let depth_in_colour = ShadowMethod::ALL.iter().any(|m| m.colour_depth_bits() > 0 && methods & (1 << *m as u32) != 0);
+    source.colour_scale(depth_in_colour)
+}
+
+/// One tile of the colour atlas a [`MomentBlur`] makes: where it is on its colour page (in
+/// colour texels), and for a resolve the layer's first texel on the depth page and its uniform.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MomentTile {
+    /// Its tile of the colour atlas.
+    pub tile: Tile,
+    /// Its layer's corner on the depth page.
+    pub depth_origin: [u32; 2],
+    /// Its layer's index in the shadow pass's layer uniforms.
+    pub uniform: usize,
+}
+
+/// Where the moments a [`MomentBlur`] blurs come from.
+pub enum MomentInput<'a> {
+    /// The tiles were drawn as colour targets: blur them.
+    Drawn,
+    /// Resolve them from the depth atlas (`pages`, its whole array), each with its layer's
+    /// uniform in `layers`, and blur them on the way.
+    Depth { pages: &'a wgpu::TextureView, layers: &'a UniformArray },
+}
+
+/// The render passes [`MomentBlur::encode`] takes per page: the resolve from depth, if the
+/// moments come from it, then rows and columns if they are blurred.
+#[must_use]
+pub fn passes_per_page(input: &MomentInput<'_>, radius: u32) -> usize {
+    usize::from(matches!(input, MomentInput::Depth { .. })) + if radius > 0 { 2 } else { 0 }
+}
+
+/// The resolve of depth into moments, and the separable Gaussian blur: one pipeline along rows
+/// (layer to scratch), one along columns (scratch back to the layer), for one format.
 pub struct MomentBlur {
     format: ColourFormat,
+    resolve: wgpu::RenderPipeline,
     rows: wgpu::RenderPipeline,
     columns: wgpu::RenderPipeline,
-    source_layouts: [wgpu::BindGroupLayout; 2],
+    source_layouts: [wgpu::BindGroupLayout; 3],
     uniforms: UniformArray,
 }
 
@@ -209,18 +302,20 @@ fn source_layout(device: &wgpu::Device, binding: u32, dimension: wgpu::TextureVi
 }
 
 impl MomentBlur {
-    /// The blur pipelines for maps of `format`.
-    pub fn new(device: &wgpu::Device, format: ColourFormat) -> Self {
+    /// The blur pipelines for maps of `format`; `layer_layout` is the layout of the shadow
+    /// pass's layer uniforms, which a resolve reads.
+    pub fn new(device: &wgpu::Device, format: ColourFormat, layer_layout: &wgpu::BindGroupLayout) -> Self {
         let uniforms = UniformArray::new(device, "blur", size_of::<Blur>() as u64, wgpu::ShaderStages::FRAGMENT);
         let module = Composed::new(BLUR_MODULE).module(device);
         let source_layouts = [
             source_layout(device, 0, wgpu::TextureViewDimension::D2Array),
             source_layout(device, 1, wgpu::TextureViewDimension::D2),
+            source_layout(device, 2, wgpu::TextureViewDimension::D2Array),
         ];
-        let pipeline = |entry: &str, source: &wgpu::BindGroupLayout| {
+        let pipeline = |entry: &str, groups: &[Option<&wgpu::BindGroupLayout>]| {
             let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("blur"),
-                bind_group_layouts: &[Some(&uniforms.layout), Some(source)],
+                bind_group_layouts: groups,
                 immediate_size: 0,
             });
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -245,9 +340,11 @@ impl MomentBlur {
                 cache: None,
             })
         };
-        let rows = pipeline("fs_blur_rows", &source_layouts[0]);
-        let columns = pipeline("fs_blur_columns", &source_layouts[1]);
-        MomentBlur { format, rows, columns, source_layouts, uniforms }
+        let own = Some(&uniforms.layout);
+        let rows = pipeline("fs_blur_rows", &[own, Some(&source_layouts[0])]);
+        let columns = pipeline("fs_blur_columns", &[own, Some(&source_layouts[1])]);
+        let resolve = pipeline("fs_resolve", &[own, Some(&source_layouts[2]), Some(layer_layout)]);
+        MomentBlur { format, resolve, rows, columns, source_layouts, uniforms }
     }
 
     /// The format its pipelines write.
@@ -255,25 +352,26 @@ impl MomentBlur {
         self.format
     }
 
-    /// Blurs `tiles` of `maps` (each with its side in texels) by `radius` texels each way, two
-    /// passes a page (rows into the scratch page, columns back), stamped by `timer` as shadow
-    /// passes `first`, `first + 1`, ... of `total`. Each tile reads only its own texels.
+    /// Makes `tiles` of `maps` from `input` and blurs them by `radius` texels each way, with
+    /// [`passes_per_page`] passes a page (the resolve into the page, rows into the scratch page,
+    /// columns back), stamped by `timer` as shadow passes `first`, `first + 1`, ... of `total`.
+    /// Each tile reads only its own texels.
     pub fn encode(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         encoder: &mut wgpu::CommandEncoder,
-        (maps, tiles, radius): (&ColourMaps, &[(Tile, u32)], u32),
+        (maps, tiles, radius, input): (&ColourMaps, &[MomentTile], u32, MomentInput<'_>),
         (mut timer, first, total): (Option<&mut PassTimer>, usize, usize),
     ) {
         let terms: Vec<Blur> = tiles
             .iter()
-            .map(|(t, size)| Blur {
-                layer: t.page,
+            .map(|t| Blur {
+                layer: t.tile.page,
                 radius: radius as i32,
-                size: *size,
-                _pad0: 0,
-                origin: [t.x, t.y],
-                _pad1: [0; 2],
+                size: t.tile.size,
+                scale: maps.scale,
+                origin: [t.tile.x, t.tile.y],
+                depth_origin: t.depth_origin,
             })
             .collect();
         self.uniforms.write(device, queue, &terms);
@@ -284,16 +382,27 @@ impl MomentBlur {
                 entries: &[wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(view) }],
             })
         };
+        let resolve = match input {
+            MomentInput::Drawn => None,
+            MomentInput::Depth { pages, layers } => Some((group(&self.source_layouts[2], 2, pages), layers)),
+        };
         let from_array = group(&self.source_layouts[0], 0, &maps.array_view);
         let from_scratch = group(&self.source_layouts[1], 1, &maps.scratch_view);
-        let mut pages: Vec<u32> = tiles.iter().map(|(t, _)| t.page).collect();
+        let mut pages: Vec<u32> = tiles.iter().map(|t| t.tile.page).collect();
         pages.sort_unstable();
         pages.dedup();
         let mut stamp = first;
         for page in pages {
             let Some(target) = maps.layer_views.get(page as usize) else { continue };
-            let passes = [(&self.rows, &from_array, &maps.scratch_view), (&self.columns, &from_scratch, target)];
-            for (pipeline, source, view) in passes {
+            let mut passes = Vec::new();
+            if let Some((from_depth, layers)) = &resolve {
+                passes.push((&self.resolve, from_depth, target, Some(*layers)));
+            }
+            if radius > 0 {
+                passes.push((&self.rows, &from_array, &maps.scratch_view, None));
+                passes.push((&self.columns, &from_scratch, target, None));
+            }
+            for (pipeline, source, view, layers) in passes {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("moment blur"),
                     color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -311,10 +420,14 @@ impl MomentBlur {
                 stamp += 1;
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(1, source, &[]);
-                for (i, (tile, size)) in tiles.iter().enumerate().filter(|(_, (t, _))| t.page == page) {
-                    pass.set_viewport(tile.x as f32, tile.y as f32, *size as f32, *size as f32, 0.0, 1.0);
-                    pass.set_scissor_rect(tile.x, tile.y, *size, *size);
+                for (i, t) in tiles.iter().enumerate().filter(|(_, t)| t.tile.page == page) {
+                    let Tile { x, y, size, .. } = t.tile;
+                    pass.set_viewport(x as f32, y as f32, size as f32, size as f32, 0.0, 1.0);
+                    pass.set_scissor_rect(x, y, size, size);
                     pass.set_bind_group(0, &self.uniforms.bind_group, &[self.uniforms.offset(i)]);
+                    if let Some(layers) = layers {
+                        pass.set_bind_group(2, &layers.bind_group, &[layers.offset(t.uniform)]);
+                    }
                     pass.draw(0..3, 0..1);
                 }
             }
@@ -340,7 +453,8 @@ mod tests {
         assert!(colour_format(bit(ShadowMethod::Msm), MomentBits::Full, false).is_err());
         // Auto never asks for what the device cannot do.
         for m in ShadowMethod::ALL.iter().filter(|m| m.moments()) {
-            assert_eq!(colour_format(bit(*m), MomentBits::Auto, false), Ok(Some(ColourFormat::Half)));
+            let half = if m.moment_count() == 2 { ColourFormat::Rg16 } else { ColourFormat::Half };
+            assert_eq!(colour_format(bit(*m), MomentBits::Auto, false), Ok(Some(half)));
             let auto = colour_format(bit(*m), MomentBits::Auto, true).unwrap().unwrap();
             assert_eq!(auto.bits(), m.moment_bits());
         }
@@ -351,7 +465,9 @@ mod tests {
         assert!(colour_format(r32, MomentBits::Auto, false).is_err());
         let shared = colour_format(r32 | bit(ShadowMethod::Evsm), MomentBits::Half, true);
         assert_eq!(shared, Ok(Some(ColourFormat::Full)));
-        assert_eq!(colour_format(r16 | bit(ShadowMethod::Vsm), MomentBits::Auto, false), Ok(Some(ColourFormat::Half)));
+        // Two moments take two channels.
+        assert_eq!(colour_format(r16 | bit(ShadowMethod::Vsm), MomentBits::Auto, false), Ok(Some(ColourFormat::Rg16)));
+        assert_eq!(colour_format(bit(ShadowMethod::Vsm), MomentBits::Auto, true), Ok(Some(ColourFormat::Rg32)));
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The renderer: uploads meshes, then each frame extracts, runs the shadow pass and the main pass.
 
 use super::bare_depth::BareDepth;
+use super::camera_depth::CameraDepth;
 use super::depth_reduction::{Binning, DepthReduction};
 use super::extract::{FrameData, Shadowless};
 use super::extract::{extract, extract_shadow_maps};
@@ -81,6 +82,8 @@ pub struct Renderer {
     map_view: Option<MapView>,
     /// The bare depth pass the bench compares the shadow pass with, made when first asked for.
     bare: Option<BareDepth>,
+    /// The camera's depth for contact shadows, made when first needed.
+    camera_depth: Option<CameraDepth>,
     /// The depth reduction of the SDSM fit, made when first needed (where compute shaders run).
     reduction: Option<DepthReduction>,
     /// The device runs compute shaders.
@@ -135,6 +138,7 @@ impl Renderer {
             lines: None,
             map_view: None,
             bare: None,
+            camera_depth: None,
             reduction: None,
             computes: super::depth_reduction::computes(&gpu.adapter),
             last_layers: Vec::new(),
@@ -257,7 +261,7 @@ impl Renderer {
     pub fn release_shadow_maps(&mut self, gpu: &Gpu) {
         let least = crate::shadow::AtlasShape { page: crate::shadow::MIN_TILE, pages: 1 };
         let depth = self.shadow.maps.depth;
-        if self.shadow.ensure_maps(&gpu.device, least, None, depth) {
+        if self.shadow.ensure_maps(&gpu.device, least, moments::ColourLayout::NONE, depth) {
             self.main.rebind(&gpu.device, &self.shadow.maps);
         }
     }
@@ -316,7 +320,8 @@ impl Renderer {
         if shape.page > max {
             return Err(RenderError::ShadowMapTooLarge { size: shape.page, max });
         }
-        if self.shadow.ensure_maps(device, shape, format, settings.shadow_depth) {
+        let colour = moments::ColourLayout { format, scale: moments::colour_scale(data.methods, settings.moments_from) };
+        if self.shadow.ensure_maps(device, shape, colour, settings.shadow_depth) {
             self.main.rebind(device, &self.shadow.maps);
         }
         let how = DrawOptions::from(&settings);
@@ -342,6 +347,15 @@ impl Renderer {
             ShadowStats::default()
         };
         self.atlas_stale |= stats.drawn() > 0 || stats.blurred() > 0;
+        if data.frame.contact_steps > 0 && matches!(output, Output::Picture(_) | Output::Measure(..)) {
+            let pass = self.camera_depth.get_or_insert_with(|| {
+                CameraDepth::new(device, &self.objects.layout, &self.joints, &self.textures)
+            });
+            let target = ((width, height), self.timer.as_mut());
+            if let Some(view) = pass.encode((device, queue), &mut encoder, &data, drawables, target) {
+                self.main.set_camera_depth(device, view, &self.shadow.maps);
+            }
+        }
         let timer = self.timer.as_ref();
         let reduces = settings.fit_mode == FitMode::Sdsm && matches!(output, Output::Picture(_) | Output::Measure(..));
         self.main.keep_depth = reduces;

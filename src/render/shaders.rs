@@ -29,6 +29,8 @@ pub const BLUR: ShaderFile = shader_file!("blur.wgsl");
 pub const SHADOW: ShaderFile = shader_file!("shadow.wgsl");
 /// The frame uniform, the lights and the layers (bind group 0 of the main pass).
 pub const FRAME: ShaderFile = shader_file!("frame.wgsl");
+/// Screen-space contact shadows: a march through the camera's depth.
+pub const CONTACT: ShaderFile = shader_file!("contact.wgsl");
 /// The shadow-map lookups, one function per method.
 pub const SAMPLING: ShaderFile = shader_file!("shadow_sampling.wgsl");
 /// Every light kind seen from a surface point: reach, shadow test, cookie.
@@ -50,12 +52,12 @@ pub const TILE: ShaderFile = shader_file!("tile.wgsl");
 
 /// The shadow pass's files, in dependency order.
 pub const SHADOW_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, SHADOW];
-/// The moment blur's files.
-pub const BLUR_MODULE: &[ShaderFile] = &[BLUR];
+/// The moment blur's and resolve's files.
+pub const BLUR_MODULE: &[ShaderFile] = &[MOMENTS, BLUR];
 /// The main pass's files, in dependency order.
-pub const MAIN_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, LIGHTS, MAIN];
+pub const MAIN_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, CONTACT, LIGHTS, MAIN];
 /// The planar shadows' files: the main pass's, and its own.
-pub const PLANAR_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, LIGHTS, MAIN, PLANAR];
+pub const PLANAR_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, CONTACT, LIGHTS, MAIN, PLANAR];
 
 /// A module's text, and the line where each of its parts begins.
 #[derive(Clone, Debug)]

@@ -4,7 +4,7 @@
 //! size. A layer the atlas cannot hold leaves its light lit without a shadow, and said so.
 
 use super::extract::{FrameData, Shadowless};
-use super::moments::ColourMaps;
+use super::moments::{ColourLayout, ColourMaps};
 use super::texture::LayeredTarget;
 use crate::settings::ShadowDepth;
 use crate::shadow::{Atlas, AtlasShape, Tile};
@@ -41,13 +41,8 @@ pub struct ShadowMaps {
 }
 
 impl ShadowMaps {
-    /// Pages of `shape` in `depth`, with colour pages of `colour` (if any).
-    pub fn new(
-        device: &wgpu::Device,
-        shape: AtlasShape,
-        colour: Option<super::moments::ColourFormat>,
-        depth: ShadowDepth,
-    ) -> Self {
+    /// Pages of `shape` in `depth`, with colour pages of `colour`.
+    pub fn new(device: &wgpu::Device, shape: AtlasShape, colour: ColourLayout, depth: ShadowDepth) -> Self {
         let layers = array_layers(shape.pages);
         let pages = LayeredTarget::new(device, "shadow atlas", depth_texture(depth), shape.page, layers);
         let moments = ColourMaps::new(device, colour, shape.page, layers);

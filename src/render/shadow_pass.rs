@@ -13,7 +13,9 @@ use super::extract::{FrameData, LayerDraw};
 use super::gpu_types::{Fill, GpuLayer};
 use super::instances::{InstanceBuffer, layer_calls};
 use super::mesh::{Drawables, JointPalette, Pipelines, Recipe};
-use super::moments::{ColourFormat, MomentBlur, far_moments};
+use super::moments::{
+    ColourFormat, ColourLayout, MomentBlur, MomentInput, MomentTile, far_moments, passes_per_page,
+};
 use super::shaders::{Composed, SHADOW_MODULE};
 use super::shadow_atlas::{LayerKey, Placement, ShadowMaps, depth_texture};
 use super::shadow_stats::ShadowStats;
@@ -33,7 +35,7 @@ use std::collections::{HashMap, HashSet};
 /// map of each [`ColourFormat`] (indexed by it).
 struct PipelineSet {
     depth: Pipelines,
-    colour: [Pipelines; 4],
+    colour: [Pipelines; ColourFormat::ALL.len()],
 }
 
 impl PipelineSet {
@@ -130,13 +132,13 @@ impl ShadowPass {
         let set = |depth: ShadowDepth| {
             let pipelines =
                 |fragment, targets| Pipelines::new(device, recipe(fragment, targets, depth), groups, palette, textures);
-            let colour = [ColourFormat::Half, ColourFormat::Full, ColourFormat::R16, ColourFormat::R32]
+            let colour = ColourFormat::ALL
                 .map(|f| pipelines("fs_moments", vec![Some(f.texture().into())]));
             PipelineSet { depth: pipelines("fs_shadow", Vec::new()), colour }
         };
         let sets = [set(ShadowDepth::Float32), set(ShadowDepth::Unorm16)];
         let shape = AtlasShape { page: MIN_TILE, pages: 1 };
-        let maps = ShadowMaps::new(device, shape, None, ShadowDepth::default());
+        let maps = ShadowMaps::new(device, shape, ColourLayout::NONE, ShadowDepth::default());
         ShadowPass {
             sets,
             blur: None,
@@ -161,11 +163,11 @@ impl ShadowPass {
         &mut self,
         device: &wgpu::Device,
         shape: AtlasShape,
-        colour: Option<ColourFormat>,
+        colour: ColourLayout,
         depth: ShadowDepth,
     ) -> bool {
         let m = &self.maps;
-        if m.shape == shape && m.moments.format == colour && m.depth == depth {
+        if m.shape == shape && m.moments.layout() == colour && m.depth == depth {
             return false;
         }
         self.maps = ShadowMaps::new(device, shape, colour, depth);
@@ -174,10 +176,10 @@ impl ShadowPass {
         }
         self.drawn.clear();
         self.statics = None;
-        if let Some(format) = colour.filter(|f| f.moments())
+        if let Some(format) = colour.format.filter(|f| f.moments())
             && self.blur.as_ref().is_none_or(|b| b.format() != format)
         {
-            self.blur = Some(MomentBlur::new(device, format));
+            self.blur = Some(MomentBlur::new(device, format, &self.layer_uniforms.layout));
         }
         true
     }
@@ -263,10 +265,16 @@ impl ShadowPass {
         }
     }
 
-    /// The colour format layer `layer` is drawn in, if its method reads a colour map and there
-    /// are colour maps.
+    /// The format of layer `layer`'s colour map, if its method reads one and there are colour
+    /// maps.
     fn colour_format(&self, layer: &LayerDraw) -> Option<ColourFormat> {
         self.maps.moments.format.filter(|_| layer.method.colour_map())
+    }
+
+    /// The colour target layer `layer` is drawn with, if any: its colour map's, unless that holds
+    /// moments resolved from the depth map afterwards (with `from_depth`).
+    fn colour_target(&self, layer: &LayerDraw, from_depth: bool) -> Option<ColourFormat> {
+        self.colour_format(layer).filter(|_| !(from_depth && layer.method.moments()))
     }
 
     /// What `layer` is drawn as in `tile` with moment maps blurred by `blur` texels, with `gpu`
@@ -291,7 +299,8 @@ impl ShadowPass {
         how: DrawOptions,
         timer: Option<&mut PassTimer>,
     ) -> ShadowStats {
-        let DrawOptions { reuse, faces, blur, instancing, static_cache, .. } = how;
+        let DrawOptions { reuse, faces, blur, instancing, static_cache, moments_from, .. } = how;
+        let from_depth = moments_from.from_depth();
         if let Some(statics) = &mut self.statics {
             statics.forget_others(&data.draws.iter().map(|d| d.key).collect());
         }
@@ -314,22 +323,29 @@ impl ShadowPass {
         let uniforms: Vec<GpuLayer> = todo.iter().map(|(l, _)| data.layers[l.slot as usize]).collect();
         self.layer_uniforms.write(device, queue, &uniforms);
         let split = reuse && static_cache && self.reads_depth;
-        if split && todo.iter().any(|(l, _)| self.colour_format(l).is_none()) {
+        if split && todo.iter().any(|(l, _)| self.colour_target(l, from_depth).is_none()) {
             self.ensure_statics(device);
         }
-        let jobs = self.jobs((device, queue), data, &todo, (split, instancing, faces));
+        let jobs = self.jobs((device, queue), data, &todo, (split, instancing, faces, from_depth));
         self.prepare((device, queue), data, &jobs, &mut stats);
-        let blurred: Vec<(Tile, u32)> = jobs
+        let input = if from_depth {
+            MomentInput::Depth { pages: &self.maps.pages.array_view, layers: &self.layer_uniforms }
+        } else {
+            MomentInput::Drawn
+        };
+        let per_page = passes_per_page(&input, blur);
+        let made: Vec<MomentTile> = jobs
             .iter()
-            .filter(|j| blur > 0 && j.layer.method.moments() && j.colour.is_some())
-            .map(|j| (j.tile, j.layer.resolution))
+            .filter(|j| per_page > 0 && j.layer.method.moments() && self.colour_format(j.layer).is_some())
+            .map(|j| self.moment_tile(j))
             .collect();
-        let blur_passes = 2 * distinct_pages(blurred.iter().map(|(t, _)| t.page)).len();
-        let mut stamps = Stamps { timer, next: 0, total: self.passes(&jobs) + blur_passes };
+        let moment_passes = per_page * distinct_pages(made.iter().map(|t| t.tile.page)).len();
+        let mut stamps = Stamps { timer, next: 0, total: self.passes(&jobs) + moment_passes };
         self.encode_jobs((device, encoder), data, &jobs, with, &mut stamps);
-        if let Some(moment_blur) = self.blur.as_mut().filter(|_| !blurred.is_empty()) {
+        if let Some(moment_blur) = self.blur.as_mut().filter(|_| !made.is_empty()) {
             let Stamps { timer, next, total } = stamps;
-            moment_blur.encode((device, queue), encoder, (&self.maps.moments, &blurred, blur), (timer, next, total));
+            let what = (&self.maps.moments, made.as_slice(), blur, input);
+            moment_blur.encode((device, queue), encoder, what, (timer, next, total));
         }
         for job in &jobs {
             let done = self.drawn_as(job.layer, job.tile, blur, uniforms[job.uniform]);
@@ -340,10 +356,19 @@ impl ShadowPass {
                 statics.mark_drawn(job.layer.key, job.tile, job.layer.static_version);
             }
         }
-        for job in jobs.iter().filter(|j| blur > 0 && j.layer.method.moments() && j.colour.is_some()) {
+        for job in jobs.iter().filter(|j| blur > 0 && j.layer.method.moments() && self.colour_format(j.layer).is_some()) {
             stats.count_blur(job.layer.light);
         }
         stats
+    }
+
+    /// Where `job`'s moments go in the colour atlas (its tile, as wide as the layer draws,
+    /// scaled down to it) and where its depth is.
+    fn moment_tile(&self, job: &Job) -> MomentTile {
+        let scale = self.maps.moments.scale;
+        let Tile { page, x, y, .. } = job.tile;
+        let size = (job.layer.resolution / scale).max(1);
+        MomentTile { tile: Tile { page, x: x / scale, y: y / scale, size }, depth_origin: [x, y], uniform: job.uniform }
     }
 
     /// The passes the jobs take: per page, one over the static atlas if a static map on it is
@@ -360,7 +385,7 @@ impl ShadowPass {
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         data: &'a FrameData,
         todo: &[(&'a LayerDraw, Tile)],
-        (split, instancing, faces): (bool, bool, ShadowFaces),
+        (split, instancing, faces, from_depth): (bool, bool, ShadowFaces, bool),
     ) -> Vec<Job<'a>> {
         let mut placements = Vec::new();
         let mut calls_of = |casters: &[usize], batch: bool| {
@@ -370,7 +395,7 @@ impl ShadowPass {
             .iter()
             .enumerate()
             .map(|(uniform, &(layer, tile))| {
-                let colour = self.colour_format(layer);
+                let colour = self.colour_target(layer, from_depth);
                 let batch = instancing && colour.is_none();
                 let job = |statics, over_static, calls| Job { layer, tile, uniform, colour, statics, over_static, calls };
                 if !(split && colour.is_none()) {

@@ -10,7 +10,7 @@ use super::tile_fill::{FillKind, TileFill};
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
 use crate::components::AlphaMode;
-use crate::settings::ShadowFaces;
+use crate::settings::{MomentSource, ShadowFaces};
 use crate::shadow::Tile;
 
 /// The pages, each once, in order.
@@ -93,6 +93,8 @@ pub struct DrawOptions {
     pub updates: u32,
     /// Frames a layer may wait before it goes ahead of those that show more.
     pub max_stale: u32,
+    /// How moment maps are made.
+    pub moments_from: MomentSource,
 }
 
 impl From<&crate::Settings> for DrawOptions {
@@ -105,6 +107,7 @@ impl From<&crate::Settings> for DrawOptions {
             static_cache: s.static_cache,
             updates: s.shadow_updates,
             max_stale: s.max_stale,
+            moments_from: s.moments_from,
         }
     }
 }

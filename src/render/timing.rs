@@ -19,6 +19,9 @@ pub struct PassTimer {
     period: f64,
     /// Whether the frame being encoded draws any shadow layer (otherwise its shadow time is zero).
     shadow_written: bool,
+    /// Whether the frame being encoded drew the camera's depth before the main pass (which then
+    /// starts the main pass's time).
+    main_started: bool,
     /// Whether the frame whose stamps `read` holds drew any shadow layer.
     copied_shadow: bool,
     /// `read` holds the stamps of a submitted frame that nobody has asked for yet.
@@ -32,7 +35,8 @@ pub struct PassTimer {
 pub struct PassTimes {
     /// Every shadow layer drawn, first pass start to last pass end, in milliseconds.
     pub shadow_ms: f64,
-    /// The main pass, in milliseconds.
+    /// The main pass (with the camera's depth drawn before it, for contact shadows), in
+    /// milliseconds.
     pub main_ms: f64,
 }
 
@@ -66,6 +70,7 @@ impl PassTimer {
             read,
             period,
             shadow_written: false,
+            main_started: false,
             copied_shadow: false,
             copied: false,
             mapping: None,
@@ -83,18 +88,30 @@ impl PassTimer {
         })
     }
 
-    /// Writes for the main pass.
-    pub fn main_writes(&self) -> wgpu::RenderPassTimestampWrites<'_> {
+    /// Writes for the camera's depth drawn before the main pass (for contact shadows): the main
+    /// pass's time starts with it.
+    pub fn camera_writes(&mut self) -> wgpu::RenderPassTimestampWrites<'_> {
+        self.main_started = true;
         wgpu::RenderPassTimestampWrites {
             query_set: &self.queries,
             beginning_of_pass_write_index: Some(MAIN_START),
+            end_of_pass_write_index: None,
+        }
+    }
+
+    /// Writes for the main pass (its start, unless the camera's depth started it).
+    pub fn main_writes(&self) -> wgpu::RenderPassTimestampWrites<'_> {
+        wgpu::RenderPassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: (!self.main_started).then_some(MAIN_START),
             end_of_pass_write_index: Some(MAIN_END),
         }
     }
 
-    /// Starts a frame: no shadow layer written yet.
+    /// Starts a frame: no shadow layer written yet, no camera depth drawn.
     pub fn begin(&mut self) {
         self.shadow_written = false;
+        self.main_started = false;
     }
 
     /// Copies the frame's timestamps out; call after both passes are encoded. While an earlier

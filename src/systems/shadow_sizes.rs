@@ -62,7 +62,9 @@ impl ShadowAtlas {
 /// Bytes a texel of the atlas takes with `settings` on a device that can do `caps` and lights
 /// sampled with `methods`: the depth, a copy of it for the casters at rest (with the static
 /// cache), and the widest colour map any of them keeps (moments or depth in colour; 32-bit
-/// moments when a method needs them and the device has them).
+/// moments when a method needs them and the device has them), shared by the depth texels each
+/// colour texel covers (moments resolved at a half or a quarter of the depth map's side), at
+/// least a byte.
 fn texel_bytes(settings: &Settings, caps: ShadowCaps, methods: impl Iterator<Item = ShadowMethod>) -> u32 {
     let depth = match settings.shadow_depth {
         ShadowDepth::Float32 => 4,
@@ -70,20 +72,23 @@ fn texel_bytes(settings: &Settings, caps: ShadowCaps, methods: impl Iterator<Ite
     };
     // Whether maps are kept this frame does not matter: the atlas stays as it is when it changes.
     let statics = if settings.static_cache && caps.static_maps { depth } else { 0 };
-    let (mut moments, mut in_colour) = (0, 0);
+    let (mut moments, mut channels, mut in_colour) = (0, 0, 0);
     for m in methods {
         moments = moments.max(m.moment_bits());
+        channels = channels.max(m.moment_count());
         in_colour = in_colour.max(m.colour_depth_bits());
     }
-    let colour = match (moments, settings.moment_bits) {
-        (0, _) => in_colour / 8,
-        // Four channels of 32 bits, unless every moment method keeps half floats.
-        (_, MomentBits::Half) if in_colour <= 16 => 8,
-        (16, MomentBits::Auto) if in_colour <= 16 => 8,
-        (_, MomentBits::Auto) if !caps.full_float_moments => 8,
-        _ => 16,
+    let per_channel = match (moments, settings.moment_bits) {
+        (0, _) => 0,
+        // 32-bit floats, unless every moment method keeps half floats.
+        (_, MomentBits::Half) if in_colour <= 16 => 2,
+        (16, MomentBits::Auto) if in_colour <= 16 => 2,
+        (_, MomentBits::Auto) if !caps.full_float_moments => 2,
+        _ => 4,
     };
-    depth + statics + colour
+    let colour = if moments == 0 { in_colour / 8 } else { per_channel * channels };
+    let scale = settings.moments_from.colour_scale(in_colour > 0);
+    depth + statics + colour.div_ceil(scale * scale)
 }
 
 /// What a light surrounding the camera covers: twice a light filling the screen from outside,
@@ -201,6 +206,7 @@ fn fitted(current: Option<&ShadowAtlas>, budget: ShadowAtlas, (needs, sides): (&
 mod tests {
     use super::*;
     use crate::components::{DirectionalLight, PointLight, SpotLight};
+    use crate::settings::MomentSource;
     use bevy_ecs::system::RunSystemOnce;
 
     #[test]
@@ -217,7 +223,19 @@ mod tests {
         assert_eq!(bytes(&d16, &[ShadowMethod::Bilinear]), 4);
         // GL: half-float moments, no static copies.
         let gl = ShadowCaps { full_float_moments: false, static_maps: false };
-        assert_eq!(texel_bytes(&d, gl, [ShadowMethod::Vsm].into_iter()), 12);
+        assert_eq!(texel_bytes(&d, gl, [ShadowMethod::Vsm].into_iter()), 8);
+        // Two moments take two channels, unless a method beside them keeps four.
+        assert_eq!(bytes(&d, &[ShadowMethod::Vsm]), 16);
+        assert_eq!(bytes(&d, &[ShadowMethod::Evsm2]), 12);
+        assert_eq!(bytes(&d, &[ShadowMethod::Vsm, ShadowMethod::Msm]), 24);
+        // Moments at half the side share a colour texel among four depth texels, at a quarter
+        // among sixteen; depth in colour keeps every texel.
+        let half = Settings { moments_from: MomentSource::Half, ..d.clone() };
+        assert_eq!(bytes(&half, &[ShadowMethod::Evsm]), 8 + 2);
+        assert_eq!(bytes(&half, &[ShadowMethod::Vsm]), 8 + 2);
+        assert_eq!(bytes(&half, &[ShadowMethod::Vsm, ShadowMethod::RadialR16f]), 8 + 8);
+        let quarter = Settings { moments_from: MomentSource::Quarter, ..d.clone() };
+        assert_eq!(bytes(&quarter, &[ShadowMethod::Evsm]), 8 + 1);
     }
 
     #[test]

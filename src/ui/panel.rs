@@ -4,11 +4,11 @@
 //! an untouched panel dirties nothing.
 
 use super::History;
-use crate::components::{ShadowBias, ShadowMap, ShadowMethod};
+use crate::components::{ContactShadows, ShadowBias, ShadowMap, ShadowMethod};
 use crate::eval::live::LiveReport;
 use crate::eval::metrics::Tally;
 use crate::render::ShadowStats;
-use crate::settings::{CasterCulling, MAX_BIAS_SCALE, MomentBits, Settings, ShadowDepth, ShadowFaces};
+use crate::settings::{CasterCulling, MAX_BIAS_SCALE, MomentBits, MomentSource, Settings, ShadowDepth, ShadowFaces};
 use crate::shadow::FitMode;
 use crate::light::{Kind, Light, LightLabel, light_list};
 use bevy_ecs::prelude::*;
@@ -239,6 +239,11 @@ fn shadow_settings(ui: &mut Ui, s: &mut Settings) {
     ui.add(slide(&mut s.moment_blur, 0..=crate::settings::MAX_MOMENT_BLUR).text("moment blur (texels)"));
     ui.add(slide(&mut s.light_bleeding, 0.0..=0.9).text("light-bleeding cut"));
     choice(ui, "moment bits", &mut s.moment_bits, MomentBits::ALL, MomentBits::name);
+    choice(ui, "moments from", &mut s.moments_from, MomentSource::ALL, MomentSource::name);
+    ui.checkbox(&mut s.contact_shadows, "contact shadows, lights without their own (J)");
+    ui.add(slide(&mut s.contact_steps, 1..=crate::settings::MAX_CONTACT_STEPS).text("contact steps"));
+    ui.add(slide(&mut s.contact_length, 0.0..=2.0).text("contact length (m)"));
+    ui.add(slide(&mut s.contact_thickness, 0.01..=1.0).text("contact thickness (m)"));
 }
 
 fn bias_sliders(ui: &mut Ui, constant: &mut f32, slope: &mut f32, normal: &mut f32, scale: &mut f32) {
@@ -349,6 +354,11 @@ fn one_light(ui: &mut Ui, world: &mut World, light: &Light, settings: &Settings)
     }
     if own.is_some() && ui.button("use the settings' bias").clicked() {
         world.entity_mut(e).remove::<ShadowBias>();
+    }
+    let mut contact = light.contact;
+    ui.checkbox(&mut contact, "contact shadows");
+    if contact != light.contact {
+        world.entity_mut(e).insert(ContactShadows(contact));
     }
     light_size(ui, world, light);
 }

@@ -5,6 +5,7 @@
 //! benchmark charts each against the cost of every configuration.
 
 pub mod budget;
+mod contact;
 pub mod precision;
 pub mod scenes;
 mod soft;
@@ -60,7 +61,7 @@ pub struct Case {
 }
 
 /// Every case, in the order the issues list them.
-pub const CASES: [Case; 18] = [
+pub const CASES: [Case; 19] = [
     Case {
         name: "acne", measures: "false-shadow share of an open plane, sun at 2°..89°", threshold: 0.001, run: acne
     },
@@ -165,6 +166,12 @@ pub const CASES: [Case; 18] = [
         measures: "misclassified share of three spots' ground while a budget of one tile a frame serves their sliding posts, 4 cm a frame (a wait past 8 frames and a turn: 100%)",
         threshold: 0.05,
         run: budget::starved_budget,
+    },
+    Case {
+        name: "contact-halos",
+        measures: "false-shadow share of the ground seen past a 5 cm bar near the camera, with contact shadows on",
+        threshold: 0.002,
+        run: contact::contact_halos,
     },
 ];
 
