@@ -4,6 +4,9 @@ use crate::components::ShadowMethod;
 use crate::shadow::{FitMode, MAX_CASCADES};
 use bevy_ecs::prelude::*;
 
+mod moments;
+pub use moments::{MomentBits, MomentSource};
+
 /// Everything a user can tune; [`Settings::validate`] rejects nonsense before it reaches the GPU.
 #[derive(Resource, Clone, Debug, PartialEq)]
 pub struct Settings {
@@ -223,63 +226,6 @@ impl Default for Settings {
     }
 }
 
-/// How many bits of float a moment map stores per moment.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum MomentBits {
-    /// What each method does best with ([`ShadowMethod::moment_bits`]); 16 where the device
-    /// cannot render or filter 32-bit floats (GL).
-    #[default]
-    Auto,
-    /// Half floats: half the memory and bandwidth.
-    Half,
-    /// Full floats (not on GL, which cannot render into them).
-    Full,
-}
-
-/// How a moment map is made from its light's view.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum MomentSource {
-    /// Resolved from the depth map the layer draws anyway (a pass that reads depth, turns it into
-    /// moments and blurs them), one moment texel per depth texel.
-    Depth,
-    /// The same at half the depth map's side: each moment texel is the mean of 2x2 depth
-    /// texels' moments (a resolve of four samples), a quarter of the memory and blur.
-    Half,
-    /// The same at a quarter of its side, each moment texel the mean of 4x4.
-    Quarter,
-    /// Drawn by the shadow pass as a colour target beside the depth map (every caster's
-    /// fragment writes its moments), then blurred. The default: on lavapipe it costs less than
-    /// the resolve (197 ms against 268 ms a frame with every VSM layer redrawn, `bench --cache`).
-    #[default]
-    Colour,
-}
-
-impl MomentSource {
-    /// Depth texels along a side per moment texel.
-    #[must_use]
-    pub fn scale(self) -> u32 {
-        match self {
-            MomentSource::Depth | MomentSource::Colour => 1,
-            MomentSource::Half => 2,
-            MomentSource::Quarter => 4,
-        }
-    }
-
-    /// Depth texels along a side per texel of the colour atlas, which moment maps share with
-    /// depth kept in colour: its own scale, but 1 while a light keeps `depth_in_colour`, which
-    /// must keep every texel.
-    #[must_use]
-    pub fn colour_scale(self, depth_in_colour: bool) -> u32 {
-        if depth_in_colour { 1 } else { self.scale() }
-    }
-
-    /// Moments are resolved from the depth map.
-    #[must_use]
-    pub fn from_depth(self) -> bool {
-        self != MomentSource::Colour
-    }
-}
-
 /// The format of the depth maps the shadow pass draws.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ShadowDepth {
@@ -375,15 +321,6 @@ named_choices!(
     Planar = "planar"
 );
 named_choices!(ShadowDepth, "a depth-map format", Float32 = "d32", Unorm16 = "d16");
-named_choices!(MomentBits, "a moment-map precision", Auto = "auto", Half = "16", Full = "32");
-named_choices!(
-    MomentSource,
-    "a moment-map source",
-    Colour = "colour",
-    Depth = "depth",
-    Half = "depth/2",
-    Quarter = "depth/4"
-);
 named_choices!(CasterCulling, "a culling mode", LightVolume = "light", CameraView = "camera");
 
 /// A setting outside what makes sense, with the reason.
