@@ -45,7 +45,7 @@ fn fs_tile(in: TileOut) -> @location(0) vec4<f32> {
     let method = u32(b.y);
     var grey: f32;
     switch method {
-        case METHOD_VSM, METHOD_MSM, METHOD_R32F: {
+        case METHOD_VSM, METHOD_MSM, METHOD_MSM_HAUSDORFF, METHOD_R32F: {
             // Linear depth, 0 at the near plane and 1 at the far one, as moments.wgsl keeps it.
             grey = textureLoad(colours, colour, layer, 0).x;
         }

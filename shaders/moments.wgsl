@@ -107,7 +107,7 @@ fn encode_moments(layer: GpuLayer, z: f32, p: vec3<f32>) -> vec4<f32> {
         let w = evsm_warp(layer, d).x;
         return vec4<f32>(w, w * w, 0.0, 0.0);
     }
-    if (layer.method == METHOD_MSM) {
+    if (layer.method == METHOD_MSM || layer.method == METHOD_MSM_HAUSDORFF) {
         let d2 = d * d;
         return vec4<f32>(d, d2, d2 * d, d2 * d2);
     }

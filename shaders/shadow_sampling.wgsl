@@ -299,16 +299,26 @@ fn shadow_evsm2(c: ShadowCoord, at: LayerRef) -> f32 {
     return reduce_bleeding(chebyshev(m.x, m.y, w, slope * slope), at.layer.bleed);
 }
 
-// Moment shadow maps (Peters and Klein 2015, "Moment shadow mapping"), the Hamburger
-// reconstruction: of every distribution of depths with these four moments, the one that puts
-// the most of its weight in front of `d` has three points (d and two more, z2 and z3, the roots
-// of a quadratic found through a Cholesky solve of the moments' Hankel matrix); its weight in
-// front of d bounds the shadow. The moments are first mixed with a little of a distribution
-// half at 0 and half at 1 (moments 0.5 each), which keeps the matrix invertible under rounding.
-fn shadow_msm(c: ShadowCoord, at: LayerRef) -> f32 {
+// Moment shadow maps (Peters and Klein 2015, "Moment shadow mapping"). Of every distribution
+// of depths with the four filtered moments, the reconstruction finds the one that puts the most
+// of its weight in front of the receiver's depth `d`; that weight bounds the shadow. The
+// moments are first mixed with a little of a distribution half at 0 and half at 1 (moments 0.5
+// each), which keeps the solve invertible under rounding.
+struct MsmSolve {
+    // The biased moments, and the receiver's depth.
+    b: vec4<f32>,
+    d: f32,
+    // Hamburger's other two points, z2 <= z3.
+    z2: f32,
+    z3: f32,
+};
+
+// Hamburger's three points: d and the two roots z2, z3 of a quadratic found through a
+// Cholesky solve of the moments' Hankel matrix [[1, b1, b2], [b1, b2, b3], [b2, b3, b4]].
+fn msm_solve(c: ShadowCoord, at: LayerRef) -> MsmSolve {
     let b = mix(filtered_moments(c), vec4<f32>(0.5), at.layer.moment_bias);
     let d = linear_depth(at.layer, c.depth);
-    // Cholesky factor L of [[1, b1, b2], [b1, b2, b3], [b2, b3, b4]].
+    // Cholesky factor L of the Hankel matrix.
     let l22 = sqrt(max(b.y - b.x * b.x, 1e-12));
     let l32 = (b.z - b.x * b.y) / l22;
     let l33 = sqrt(max(b.w - b.y * b.y - l32 * l32, 1e-12));
@@ -318,22 +328,62 @@ fn shadow_msm(c: ShadowCoord, at: LayerRef) -> f32 {
     let q2 = y3 / l33;
     let q1 = (y2 - l32 * q2) / l22;
     let q0 = 1.0 - b.x * q1 - b.y * q2;
-    // The roots of q2 z² + q1 z + q0, z2 <= z3.
+    // The roots of q2 z² + q1 z + q0.
     let root = sqrt(max(q1 * q1 - 4.0 * q2 * q0, 0.0));
     let r = vec2<f32>(-q1 - root, -q1 + root) / (2.0 * q2);
-    let z2 = min(r.x, r.y);
-    let z3 = max(r.x, r.y);
-    var shadow = 0.0;
-    if (d <= z2) {
-        shadow = 0.0;
-    } else if (d <= z3) {
-        shadow = (d * z3 - b.x * (d + z3) + b.y) / ((z3 - z2) * (d - z2));
-    } else {
-        shadow = 1.0 - (z2 * z3 - b.x * (z2 + z3) + b.y) / ((d - z2) * (d - z3));
+    return MsmSolve(b, d, min(r.x, r.y), max(r.x, r.y));
+}
+
+// The weight of Hamburger's three points in front of d.
+fn hamburger_shadow(s: MsmSolve) -> f32 {
+    let b = s.b;
+    if (s.d <= s.z2) {
+        return 0.0;
     }
+    if (s.d <= s.z3) {
+        return (s.d * s.z3 - b.x * (s.d + s.z3) + b.y) / ((s.z3 - s.z2) * (s.d - s.z2));
+    }
+    return 1.0 - (s.z2 * s.z3 - b.x * (s.z2 + s.z3) + b.y) / ((s.d - s.z2) * (s.d - s.z3));
+}
+
+// The Hausdorff bound where Hamburger's points leave 0..1: four points at 0, d, a free one f
+// and 1. The moments of x^k (1 - x), k = 1..3, vanish at 0 and 1, so they weigh d and f alone;
+// the three of them give f, then each point's weight, and the shadow is the weight at 0 with
+// f's where f lies in front of d.
+fn hausdorff_shadow(s: MsmSolve) -> f32 {
+    let b = s.b;
+    let d = s.d;
+    let e = vec3<f32>(b.x - b.y, b.y - b.z, b.z - b.w);
+    let f = (e.z - d * e.y) / (e.y - d * e.x);
+    // u = w (x (1 - x)) at f and at d.
+    let u_f = (e.y - d * e.x) / (f - d);
+    let w_f = u_f / (f * (1.0 - f));
+    let w_d = (e.x - u_f) / (d * (1.0 - d));
+    let w_1 = b.x - w_d * d - w_f * f;
+    let w_0 = 1.0 - w_d - w_f - w_1;
+    return w_0 + select(0.0, w_f, f < d);
+}
+
+// Light through a reconstruction's `shadow`, with the light-bleeding reduction. Rounding can
+// leave a degenerate solve: read as lit rather than as a black speck.
+fn msm_lit(shadow: f32, at: LayerRef) -> f32 {
     let lit = 1.0 - clamp(shadow, 0.0, 1.0);
-    // Rounding can leave a degenerate solve: read that as lit rather than as a black speck.
     return reduce_bleeding(select(1.0, lit, lit == lit), at.layer.bleed);
+}
+
+// The Hamburger reconstruction: depths may lie anywhere.
+fn shadow_msm(c: ShadowCoord, at: LayerRef) -> f32 {
+    return msm_lit(hamburger_shadow(msm_solve(c, at)), at);
+}
+
+// The Hausdorff reconstruction: depths lie in 0..1, so a bound with points outside that range
+// is replaced by the four-point one inside it.
+fn shadow_msm_hausdorff(c: ShadowCoord, at: LayerRef) -> f32 {
+    let s = msm_solve(c, at);
+    if (s.z2 >= 0.0 && s.z3 <= 1.0) {
+        return msm_lit(hamburger_shadow(s), at);
+    }
+    return msm_lit(hausdorff_shadow(s), at);
 }
 
 // Depth kept in a colour target (seeds 001 and 004): the values of the 2x2 texels around the
@@ -416,6 +466,9 @@ fn sample_shadow(method: u32, c: ShadowCoord, at: LayerRef) -> f32 {
     }
     if (method_used(METHOD_MSM) && (only || method == METHOD_MSM)) {
         return shadow_msm(c, at);
+    }
+    if (method_used(METHOD_MSM_HAUSDORFF) && (only || method == METHOD_MSM_HAUSDORFF)) {
+        return shadow_msm_hausdorff(c, at);
     }
     if (method_used(METHOD_R32F) && (only || method == METHOD_R32F)) {
         return shadow_r32f(c, at);

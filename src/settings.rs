@@ -316,6 +316,7 @@ named_choices!(
     Evsm = "evsm",
     Evsm2 = "evsm2",
     Msm = "msm",
+    MsmHausdorff = "msm-hausdorff",
     DepthR32f = "r32f",
     RadialR16f = "r16f-radial",
     Planar = "planar"

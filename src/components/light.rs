@@ -228,6 +228,12 @@ pub enum ShadowMethod {
     /// blur, and more light bleeding, where the negative warp would have caught what the
     /// positive one lets through.
     Evsm2 = 14,
+    /// Moment shadow maps with the Hausdorff reconstruction (Peters and Klein 2015): the same
+    /// four moments as [`ShadowMethod::Msm`], but every depth is known to lie in 0..1, so
+    /// where Hamburger's three points would fall outside that range, four points inside it
+    /// (at 0, 1, the receiver and one more) bound the shadow instead: less light bleeding
+    /// behind casters close to the range's ends.
+    MsmHausdorff = 15,
 }
 
 impl ShadowMethod {
@@ -243,7 +249,11 @@ impl ShadowMethod {
             // margin, where the edge texels repeat.
             ShadowMethod::Poisson32 | ShadowMethod::Pcss => 4,
             // One filtered read of a map blurred beforehand (the blur clamps at the map's edge).
-            ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Evsm2 | ShadowMethod::Msm => 1,
+            ShadowMethod::Vsm
+            | ShadowMethod::Evsm
+            | ShadowMethod::Evsm2
+            | ShadowMethod::Msm
+            | ShadowMethod::MsmHausdorff => 1,
             ShadowMethod::DepthR32f | ShadowMethod::RadialR16f => 1,
             ShadowMethod::Planar => 0,
         }
@@ -267,7 +277,11 @@ impl ShadowMethod {
             ShadowMethod::Gauss5 => "Gaussian PCF",
             ShadowMethod::Poisson16 | ShadowMethod::Poisson32 => "Poisson PCF",
             ShadowMethod::Pcss => "PCSS",
-            ShadowMethod::Vsm | ShadowMethod::Evsm | ShadowMethod::Evsm2 | ShadowMethod::Msm => "moment maps",
+            ShadowMethod::Vsm
+            | ShadowMethod::Evsm
+            | ShadowMethod::Evsm2
+            | ShadowMethod::Msm
+            | ShadowMethod::MsmHausdorff => "moment maps",
             ShadowMethod::DepthR32f | ShadowMethod::RadialR16f => "depth in colour",
             ShadowMethod::Planar => "planar",
         }
@@ -279,7 +293,7 @@ impl ShadowMethod {
     /// powers of the depth in half floats lose the fourth moment). 0 for the other methods.
     pub fn moment_bits(self) -> u32 {
         match self {
-            ShadowMethod::Vsm | ShadowMethod::Msm => 32,
+            ShadowMethod::Vsm | ShadowMethod::Msm | ShadowMethod::MsmHausdorff => 32,
             ShadowMethod::Evsm | ShadowMethod::Evsm2 => 16,
             _ => 0,
         }
@@ -289,7 +303,7 @@ impl ShadowMethod {
     pub fn moment_count(self) -> u32 {
         match self {
             ShadowMethod::Vsm | ShadowMethod::Evsm2 => 2,
-            ShadowMethod::Evsm | ShadowMethod::Msm => 4,
+            ShadowMethod::Evsm | ShadowMethod::Msm | ShadowMethod::MsmHausdorff => 4,
             _ => 0,
         }
     }

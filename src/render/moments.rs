@@ -145,8 +145,8 @@ pub fn moment_bias(method: ShadowMethod, format: ColourFormat) -> f32 {
         (ShadowMethod::Evsm | ShadowMethod::Evsm2, ColourFormat::Full | ColourFormat::Rg32) => 1e-4,
         // The share of the two-point distribution mixed in (Peters and Klein use 3·10⁻⁵ for
         // full floats).
-        (ShadowMethod::Msm, ColourFormat::Half) => 5e-3,
-        (ShadowMethod::Msm, ColourFormat::Full) => 3e-5,
+        (ShadowMethod::Msm | ShadowMethod::MsmHausdorff, ColourFormat::Half) => 5e-3,
+        (ShadowMethod::Msm | ShadowMethod::MsmHausdorff, ColourFormat::Full) => 3e-5,
         _ => 0.0,
     }
 }
@@ -180,7 +180,7 @@ pub fn far_moments(layer: &GpuLayer) -> wgpu::Color {
     } else if layer.method == ShadowMethod::Evsm2 as u32 {
         let p = (layer.warp[0] as f64).exp();
         (p, p * p, 0.0, 0.0)
-    } else if layer.method == ShadowMethod::Msm as u32 {
+    } else if layer.method == ShadowMethod::Msm as u32 || layer.method == ShadowMethod::MsmHausdorff as u32 {
         (1.0, 1.0, 1.0, 1.0)
     } else {
         (1.0, 1.0, 0.0, 0.0)
