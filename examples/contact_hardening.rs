@@ -1,5 +1,6 @@
-//! The README's contact-hardening picture: the failure case's 2.5 m pole under a 10 cm spot light,
-//! seen from the side, with the hardware's bilinear filter (left) and with PCSS (right). PCSS's
+//! The book's contact-hardening picture (docs/book/2-methods.md): the failure case's 2.5 m pole
+//! under a 10 cm spot light, seen from the side, with the hardware's bilinear filter (left) and
+//! with PCSS (right). PCSS's
 //! penumbra is sharp at the pole's foot and widens towards the tip's shadow, as the ray-traced
 //! soft truth's does; bilinear draws one narrow edge all along.
 //!

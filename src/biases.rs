@@ -4,15 +4,13 @@
 //! [`crate::light::light_list`] names them ("sun", "spot 1", "point 1").
 
 use crate::components::{ShadowBias, ShadowMethod};
-use crate::settings::MAX_BIAS_SCALE;
 use crate::light::light_list;
+use crate::settings::MAX_BIAS_SCALE;
 use bevy_ecs::prelude::*;
 use serde_json::{Value, json};
 use std::path::Path;
 
-/// One bias per light, by the light's name.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct LightBiases(pub Vec<(String, ShadowBias)>);
+pub use crate::settings::LightBiases;
 
 /// A bias file that could not be read, and why.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -27,10 +25,10 @@ pub struct BiasFileError {
 fn bias_from(v: &Value, at: &str) -> Result<ShadowBias, String> {
     let field = |name: &str| -> Result<f32, String> {
         let x = v.get(name).and_then(Value::as_f64).ok_or(format!("{at}: `{name}` must be a number"))?;
-        if (0.0..=100.0).contains(&x) {
+        if ShadowBias::texels_ok(x as f32) {
             Ok(x as f32)
         } else {
-            Err(format!("{at}: `{name}` = {x} must be between 0 and 100 texels"))
+            Err(format!("{at}: `{name}` = {x} must be between 0 and {} texels", ShadowBias::MAX_TEXELS))
         }
     };
     // The multiplicative offset is a share of the distance, not texels, and older files lack it.

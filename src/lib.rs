@@ -2,6 +2,51 @@
 //!
 //! The [`App`] owns a bevy_ecs [`World`] and the fixed-step update schedule; the renderer in
 //! [`render`] reads the world's components and draws the shadow pass and then the main pass.
+//!
+//! # Adding a gameplay system
+//!
+//! A system is a plain function over queries and resources; [`App::add_systems`] puts it into the
+//! update schedule after animation and camera control and before the lights' matrices are
+//! fitted, so whatever it moves casts its shadow in the same frame:
+//!
+//! ```no_run
+//! use bevy_ecs::prelude::*;
+//! use glam::Vec3;
+//! use umbra::assets::{MeshLibrary, cube};
+//! use umbra::components::{Material, ShadowCaster, Transform};
+//! use umbra::{App, Settings};
+//!
+//! #[derive(Component)]
+//! struct Spinner;
+//!
+//! fn spin(mut q: Query<&mut Transform, With<Spinner>>) {
+//!     for mut t in &mut q {
+//!         t.rotation *= glam::Quat::from_rotation_y(0.02);
+//!     }
+//! }
+//!
+//! let mut app = App::new(Settings::default())?;
+//! let mesh = app.world.resource_mut::<MeshLibrary>().add(cube(Vec3::splat(0.5)));
+//! app.world.spawn((mesh, Material::color(0.8, 0.3, 0.3), Spinner, ShadowCaster));
+//! app.add_systems(spin);
+//! # Ok::<(), umbra::AppError>(())
+//! ```
+//!
+//! `examples/gameplay.rs` is the whole program, window included.
+//!
+//! # Where the pieces live
+//!
+//! - [`components`]: what the world holds (transforms, meshes, materials, lights and their
+//!   shadow settings); [`light`]: one module per light kind, and the typed list the renderer reads.
+//! - [`systems`]: the update schedule's systems (animation, bounds, cascades, every light's layers).
+//! - [`shadow`]: the CPU math of shadow maps (cascade fits, the atlas, the update budget), apart
+//!   from any GPU code; [`render`]: the wgpu passes and their WGSL in `shaders/`.
+//! - [`settings`]: every setting, validated where it is defined; [`scene`], [`scene_file`] and
+//!   [`assets`]: the sample scene, scene files and glTF models.
+//! - [`eval`]: the ray-traced truth, the bench, the failure cases; [`play`] and [`ui`]: the window,
+//!   its keys and the panel.
+//!
+//! The book (`docs/book/` in the repository) tells the rest, in order.
 
 /// `ALL`, `name`, `next` and `FromStr` for a settings enum that the command line and the keys step
 /// through by name.

@@ -192,11 +192,33 @@ struct TuneArgs {
 }
 
 fn main() {
+    quiet_mesa();
     if let Err(e) = run(Cli::parse()) {
         eprintln!("error: {e:#}");
         std::process::exit(1);
     }
 }
+
+/// Mesa's EGL looks for a Wayland session through `XDG_RUNTIME_DIR` and, where there is none (CI,
+/// ssh, a container), prints "error: XDG_RUNTIME_DIR is invalid or not set", which reads like
+/// umbra failing. Where it is unset or not a directory, point it at a private one of umbra's own
+/// in the temporary directory; called first, before any thread exists or any driver loads.
+#[cfg(unix)]
+fn quiet_mesa() {
+    use std::os::unix::fs::PermissionsExt;
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir()) {
+        return;
+    }
+    let dir = std::env::temp_dir().join("umbra-runtime");
+    let private = std::fs::Permissions::from_mode(0o700);
+    if std::fs::create_dir_all(&dir).is_ok() && std::fs::set_permissions(&dir, private).is_ok() {
+        // SAFETY: nothing else runs yet to read the environment at the same time.
+        unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
+    }
+}
+
+#[cfg(not(unix))]
+fn quiet_mesa() {}
 
 fn run(cli: Cli) -> Result<()> {
     match cli.command.unwrap_or(Command::Play(PlayArgs::default())) {
@@ -231,8 +253,8 @@ fn gallery(args: &GalleryArgs) -> Result<()> {
             .with_context(|| format!("rendering {}", path.display()))?;
         println!("wrote {}", path.display());
     }
-    let dir = args.out.to_string_lossy().replace('\\', "/");
-    let md = format!("Numbers from {}.\n\n{}", args.bench.display(), markdown(&all, &results, &dir, 4));
+    // The pictures sit beside gallery.md; the README shows the same grid from the repository's root.
+    let md = format!("Numbers from {}.\n\n{}", args.bench.display(), markdown(&all, &results, "", 4));
     let path = args.out.join("gallery.md");
     std::fs::write(&path, md).with_context(|| format!("writing {}", path.display()))?;
     println!("wrote {}", path.display());
@@ -248,10 +270,7 @@ fn shadow_pass(args: &BenchArgs) -> Result<()> {
     let gpu = Gpu::headless()?;
     let adapter = gpu.describe();
     println!("adapter: {adapter}");
-    println!(
-        "{} frames per scene, {}² shadow maps, every layer drawn every frame",
-        frames, settings.shadow_map_size
-    );
+    println!("{} frames per scene, {}² shadow maps, every layer drawn every frame", frames, settings.shadow_map_size);
     let rows = passes::run(&gpu, &settings, &passes::SCENE_SIZES, frames, |r| {
         eprintln!("{} cubes: umbra {:.2} ms, bare {:.2} ms", r.cubes, r.umbra_ms, r.bare_ms);
     })?;
@@ -292,10 +311,10 @@ fn bench(args: &BenchArgs) -> Result<()> {
     );
     let frames = args.frames.unwrap_or(60);
     let rows = umbra::eval::bench::run(&gpu, &settings, scenarios, frames, args.width, args.height, |done, all| {
-            if done == all || done % 10 == 0 {
-                eprint!("\r{done}/{all} rounds");
-            }
-        })?;
+        if done == all || done % 10 == 0 {
+            eprint!("\r{done}/{all} rounds");
+        }
+    })?;
     eprintln!();
     print!("{}", umbra::eval::bench::table(&rows));
     Ok(())
@@ -336,7 +355,8 @@ fn lights(args: &BenchArgs) -> Result<()> {
         options.measure.1,
         many::columns_note()
     );
-    let tail = format!("\nThe tile-shrink case's spot with its tile held at each side (256x256, from 24 m up):\n\n{shrink}");
+    let tail =
+        format!("\nThe tile-shrink case's spot with its tile held at each side (256x256, from 24 m up):\n\n{shrink}");
     std::fs::write(args.out.join("lights.md"), head + &table + &tail)?;
     many::charts(&args.out.join("lights"), &adapter, &rows)?;
     println!("wrote {}", args.out.join("lights.md").display());
@@ -375,8 +395,7 @@ fn app(scene: &SceneArgs) -> Result<App> {
     }
     if let Some((model, _)) = models.iter(&app.world).find(|_| scene.scene.is_some()) {
         let (lights, camera) = (model.0.lights.len(), model.0.camera.is_some());
-        let names: Vec<String> =
-            umbra::light::light_list(&mut app.world).iter().map(|l| l.label.to_string()).collect();
+        let names: Vec<String> = umbra::light::light_list(&mut app.world).iter().map(|l| l.label.to_string()).collect();
         println!(
             "lights: {}{}; {}",
             names.join(", "),
@@ -388,7 +407,7 @@ fn app(scene: &SceneArgs) -> Result<App> {
 }
 
 fn sweep(args: &BenchArgs) -> Result<()> {
-    use umbra::eval::{results, sweep};
+    use umbra::eval::{config, cost, results, sweep};
     let settings = args.scene.settings()?;
     let d = Settings::default();
     if (Settings { scene: None, exposure: d.exposure, ..settings.clone() }) != d {
@@ -396,9 +415,9 @@ fn sweep(args: &BenchArgs) -> Result<()> {
             "the sweep sets the shadow settings itself; of the scene options it takes --scene and --exposure, the rest apply to `bench --cache` only"
         );
     }
-    let mut options = sweep::SweepOptions::new(args.quick);
+    let mut options = config::SweepOptions::new(args.quick);
     if settings.scene.is_some() {
-        options.views = sweep::views(&mut app(&args.scene)?);
+        options.views = config::views(&mut app(&args.scene)?);
         options.base = settings;
     }
     let gpu = Gpu::headless()?;
@@ -411,12 +430,12 @@ fn sweep(args: &BenchArgs) -> Result<()> {
     if let Some(r) = args.spot_radius {
         options.truth.sizes.light_radius = Some(r);
     }
-    let configs = sweep::configs(args.quick).len();
+    let configs = config::configs(args.quick).len();
     let scene = match &options.base.scene {
         Some(path) => format!("the scene {}", path.display()),
         None => "the sample scene".to_string(),
     };
-    let timing = if sweep::timed_on_gpu(&gpu) { "GPU timestamps" } else { "the wall clock (no timestamps here)" };
+    let timing = if cost::timed_on_gpu(&gpu) { "GPU timestamps" } else { "the wall clock (no timestamps here)" };
     println!("adapter: {}", gpu.describe());
     println!(
         "{} sweep: {configs} configurations; {scene} at {}x{} from {} views, failure cases at {}x{}; timed by {timing}",

@@ -3,28 +3,13 @@
 //! `--no-light-shadow`, and [`command_line`], every option that rebuilds what the window shows
 //! now, so `umbra render` draws the same picture headless.
 
-use crate::components::{
-    Camera, ContactShadows, ShadowBias, ShadowMap, ShadowMethod, Time, Transform,
-};
-use crate::settings::{MAX_BIAS_SCALE, Settings};
+use crate::components::{Camera, ContactShadows, ShadowBias, ShadowMap, ShadowMethod, Time, Transform};
 use crate::light::{Kind, Light, light_list};
+use crate::settings::{MAX_BIAS_SCALE, Settings};
 use crate::{App, AppError};
 use bevy_ecs::prelude::*;
 
-/// One of a light's own settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum LightSetting {
-    /// Its own sampling method.
-    Method(ShadowMethod),
-    /// Its own bias.
-    Bias(ShadowBias),
-    /// Its size: a sun's disc radius in degrees, a spot's or point light's radius in metres.
-    Size(f32),
-    /// It casts no shadow.
-    NoShadow,
-    /// Its shadow test adds contact shadows (or not).
-    Contact(bool),
-}
+pub use crate::settings::LightSetting;
 
 /// Splits `"LIGHT=VALUE"` at its last `=`; `form` and `example` say what was wanted.
 fn named<'a>(s: &'a str, form: &str, example: &str) -> Result<(String, &'a str), String> {
@@ -42,20 +27,22 @@ pub fn parse_method(s: &str) -> Result<(String, LightSetting), String> {
 /// (default 0), then `flat` to turn the receiver plane off.
 pub fn parse_bias(s: &str) -> Result<(String, LightSetting), String> {
     let (light, value) = named(s, "LIGHT=CONSTANT,SLOPE,NORMAL", "spot 1=0.5,1,0.5")?;
-    let why = || format!("`{value}` is not CONSTANT,SLOPE,NORMAL[,SCALE][,flat] (texels 0..100, scale 0..0.5)");
+    let why = || {
+        let most = (ShadowBias::MAX_TEXELS, MAX_BIAS_SCALE);
+        format!("`{value}` is not CONSTANT,SLOPE,NORMAL[,SCALE][,flat] (texels 0..{}, scale 0..{})", most.0, most.1)
+    };
     let mut parts: Vec<&str> = value.split(',').map(str::trim).collect();
     let receiver_plane = parts.last() != Some(&"flat");
     if !receiver_plane {
         parts.pop();
     }
     let numbers: Vec<f32> = parts.iter().map(|p| p.parse::<f32>()).collect::<Result<_, _>>().map_err(|_| why())?;
-    let texels = |x: f32| x.is_finite() && (0.0..=100.0).contains(&x);
     let bias = match numbers[..] {
         [constant, slope, normal] => ShadowBias { constant, slope, normal, scale: 0.0, receiver_plane },
         [constant, slope, normal, scale] => ShadowBias { constant, slope, normal, scale, receiver_plane },
         _ => return Err(why()),
     };
-    if ![bias.constant, bias.slope, bias.normal].into_iter().all(texels)
+    if ![bias.constant, bias.slope, bias.normal].into_iter().all(ShadowBias::texels_ok)
         || !(0.0..=MAX_BIAS_SCALE).contains(&bias.scale)
     {
         return Err(why());

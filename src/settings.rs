@@ -4,7 +4,9 @@ use crate::components::ShadowMethod;
 use crate::shadow::{FitMode, MAX_CASCADES};
 use bevy_ecs::prelude::*;
 
+mod lights;
 mod moments;
+pub use lights::{LightBiases, LightSetting};
 pub use moments::{MomentBits, MomentSource};
 
 /// Everything a user can tune; [`Settings::validate`] rejects nonsense before it reaches the GPU.
@@ -66,7 +68,7 @@ pub struct Settings {
     /// Settings of their own for the lights so named ("sun", "spot 1", "point 1"): a method, a
     /// bias, a size, no shadow; applied in order when the scene is made, and a name no light has
     /// is an error then.
-    pub light_settings: Vec<(String, crate::reproduce::LightSetting)>,
+    pub light_settings: Vec<(String, LightSetting)>,
     /// Where the camera starts (eye, target), instead of the scene's own camera.
     pub camera: Option<(glam::Vec3, glam::Vec3)>,
     /// Which casters are drawn into a shadow map and fitted into its depth range.
@@ -86,7 +88,7 @@ pub struct Settings {
     /// read depth textures: not on GL, which draws every caster). Off by default: in the atlas
     /// a copy is put back by a triangle over the tile that writes depth, which on a software
     /// rasterizer costs more than drawing the casters at rest again, and the static copies take
-    /// half the shadow memory (see the README's Performance).
+    /// half the shadow memory (see docs/book/5-performance.md).
     pub static_cache: bool,
     /// Widest spot cone (half angle, radians) one perspective map shadows; a wider spot is
     /// shadowed through a cube.
@@ -154,7 +156,7 @@ pub struct Settings {
     /// (point, spot): see [`crate::scene_file`].
     pub exposure: f32,
     /// Per-light biases (as `umbra tune` finds them) that replace the three above, light by light.
-    pub biases: Option<crate::biases::LightBiases>,
+    pub biases: Option<LightBiases>,
     /// Fixed simulation step in seconds.
     pub dt: f32,
 }
@@ -255,6 +257,9 @@ pub const DEFAULT_TOON_BANDS: u32 = 4;
 pub const MAX_TOON_BANDS: u32 = 16;
 /// Largest multiplicative depth offset (half the distance to the light).
 pub const MAX_BIAS_SCALE: f32 = 0.5;
+
+/// Why a bias term in texels was refused ([`crate::components::ShadowBias::MAX_TEXELS`]).
+const BIAS_TEXELS_WHY: &str = "must be between 0 and 100 texels";
 /// Default light-bleeding reduction.
 pub const DEFAULT_LIGHT_BLEEDING: f32 = 0.2;
 
@@ -396,7 +401,11 @@ impl Settings {
             return bad("shadow_memory", self.shadow_memory, "must be between 16 and 16384 MiB");
         }
         if self.shadow_updates != 0 && self.shadow_updates < MIN_SHADOW_UPDATES {
-            return bad("shadow_updates", self.shadow_updates, "must be 0 (no limit) or at least 1024 texels (a 32² tile)");
+            return bad(
+                "shadow_updates",
+                self.shadow_updates,
+                "must be 0 (no limit) or at least 1024 texels (a 32² tile)",
+            );
         }
         if !(1..=MAX_STALE_FRAMES).contains(&self.max_stale) {
             return bad("max_stale", self.max_stale, "must be between 1 and 1000 frames");
@@ -407,8 +416,8 @@ impl Settings {
         for (name, v) in
             [("depth_bias", self.depth_bias), ("slope_bias", self.slope_bias), ("normal_bias", self.normal_bias)]
         {
-            if !non_negative(v) || v > 100.0 {
-                return bad(name, v, "must be between 0 and 100 texels");
+            if !crate::components::ShadowBias::texels_ok(v) {
+                return bad(name, v, BIAS_TEXELS_WHY);
             }
         }
         if !(non_negative(self.bias_scale) && self.bias_scale <= MAX_BIAS_SCALE) {

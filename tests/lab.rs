@@ -7,12 +7,13 @@ use common::gpu;
 use glam::Vec3;
 use umbra::components::{ShadowBias, SpotLight};
 use umbra::eval::cases::scenes::{ground, set_sun, sun_direction};
+use umbra::eval::config::{SweepOptions, VIEWS};
 use umbra::eval::live::{OVERLAY_OPACITY, Taken, Worker, snapshot};
 use umbra::eval::measure::{Measurer, TruthSettings, place_camera};
 use umbra::eval::metrics::{DARK, rendered};
-use umbra::eval::sweep::{SweepOptions, VIEWS, scene_accuracy};
-use umbra::render::{HEADLESS_FORMAT, Renderer, ShadowStats, render_headless};
+use umbra::eval::sweep::scene_accuracy;
 use umbra::light::light_list;
+use umbra::render::{HEADLESS_FORMAT, Renderer, ShadowStats, render_headless};
 use umbra::ui::{History, Lab, Live};
 use umbra::{App, Settings};
 

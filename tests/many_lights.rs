@@ -196,7 +196,8 @@ fn a_starved_budget_draws_one_map_a_frame_and_the_other_keeps_its_old_shadow_unt
     let (swung, _) = frame(&mut app);
     let waiting = swung.lights.iter().position(|l| l.stale > 0).expect("one waits");
     let (before, now) = (&seen[seen.len() - 2][waiting], &seen[seen.len() - 1][waiting]);
-    let both: Vec<(f32, f32)> = before.iter().zip(now).filter(|(b, n)| **b >= 0.0 && **n >= 0.0).map(|(b, n)| (*b, *n)).collect();
+    let both: Vec<(f32, f32)> =
+        before.iter().zip(now).filter(|(b, n)| **b >= 0.0 && **n >= 0.0).map(|(b, n)| (*b, *n)).collect();
     let changed = both.iter().filter(|(b, n)| (b > &0.5) != (n > &0.5)).count();
     assert!(changed * 200 <= both.len(), "{changed} of {} pixels changed while it waited", both.len());
 }

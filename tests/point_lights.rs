@@ -8,8 +8,8 @@ use glam::Vec3;
 use umbra::assets::{MeshLibrary, cube, plane};
 use umbra::components::*;
 use umbra::eval::{metrics, truth};
-use umbra::render::{HEADLESS_FORMAT, Renderer, render_debug_frame};
 use umbra::light::light_list;
+use umbra::render::{HEADLESS_FORMAT, Renderer, render_debug_frame};
 use umbra::{App, Settings};
 
 fn grey() -> Material {

@@ -10,8 +10,8 @@ use glam::Vec3;
 use serde_json::json;
 use umbra::components::*;
 use umbra::eval::{metrics, truth};
-use umbra::render::{HEADLESS_FORMAT, Renderer, render_debug_frame};
 use umbra::light::light_list;
+use umbra::render::{HEADLESS_FORMAT, Renderer, render_debug_frame};
 use umbra::{App, Settings};
 
 const SPOT_AT: Vec3 = Vec3::new(-3.0, 5.0, 2.0);

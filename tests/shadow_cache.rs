@@ -81,8 +81,14 @@ struct World {
 }
 
 fn build(reuse: bool, method: ShadowMethod) -> World {
-    let settings =
-        Settings { shadow_map_size: 512, cascades: 3, reuse_shadow_maps: reuse, static_cache: reuse, method, ..Settings::default() };
+    let settings = Settings {
+        shadow_map_size: 512,
+        cascades: 3,
+        reuse_shadow_maps: reuse,
+        static_cache: reuse,
+        method,
+        ..Settings::default()
+    };
     let mut app = App::empty(settings).unwrap();
     let (ground, block) = {
         let mut meshes = app.world.resource_mut::<MeshLibrary>();

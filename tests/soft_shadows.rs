@@ -199,7 +199,12 @@ fn moment_maps_resolved_from_depth_at_every_size_put_the_shadows_where_drawn_one
             // The same moments of the same depths, made in another pass: the same picture to a
             // few pixels of 65,000 (a shifted or a wrong resolve moves whole edges).
             let apart = seen.tally.mae_soft() - drawn.tally.mae_soft();
-            assert!(apart.abs() < 2e-4, "resolved {:.5} against drawn {:.5}", seen.tally.mae_soft(), drawn.tally.mae_soft());
+            assert!(
+                apart.abs() < 2e-4,
+                "resolved {:.5} against drawn {:.5}",
+                seen.tally.mae_soft(),
+                drawn.tally.mae_soft()
+            );
             let wrong = |s: &Seen| s.tally.misclassified() * s.tally.pixels as f64;
             assert!((wrong(&seen) - wrong(&drawn)).abs() < 40.0, "misclassified pixels apart");
         }

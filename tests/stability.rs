@@ -5,10 +5,10 @@
 
 mod common;
 
+use umbra::components::ShadowMethod;
 use umbra::eval::cases::budget::{threshold_sides, tile_shrink_sweep};
 use umbra::eval::cases::{Score, case, skinned_caster_bounded};
 use umbra::eval::measure::{Measurer, TruthSettings};
-use umbra::components::ShadowMethod;
 use umbra::settings::{CasterCulling, Settings, ShadowFaces};
 use umbra::shadow::FitMode;
 
@@ -165,14 +165,9 @@ fn evsm_and_msm_leak_less_light_than_vsm_between_stacked_casters_without_bleedin
         eprintln!("{method:?}: {:.4} of the shadow across the edge leaks ({score:?})", score.value());
         score.value()
     };
-    let [vsm, evsm, evsm2, msm, hausdorff] = [
-        ShadowMethod::Vsm,
-        ShadowMethod::Evsm,
-        ShadowMethod::Evsm2,
-        ShadowMethod::Msm,
-        ShadowMethod::MsmHausdorff,
-    ]
-    .map(leak);
+    let [vsm, evsm, evsm2, msm, hausdorff] =
+        [ShadowMethod::Vsm, ShadowMethod::Evsm, ShadowMethod::Evsm2, ShadowMethod::Msm, ShadowMethod::MsmHausdorff]
+            .map(leak);
     // The case's own threshold is 1 %; here VSM leaks 5 to 9 % and the others none, but MSM's
     // plain powers of the depth need 32-bit floats: in half floats (GL) it leaks 38 %.
     assert!(vsm > case.threshold, "VSM leaks here without bleeding reduction: {vsm}");

@@ -168,6 +168,18 @@ pub struct ShadowBias {
     pub receiver_plane: bool,
 }
 
+impl ShadowBias {
+    /// The largest constant, slope or normal term accepted, in texels: settings, bias files and
+    /// the panel's command lines all refuse more.
+    pub const MAX_TEXELS: f32 = 100.0;
+
+    /// Whether `x` is a term in texels this bias accepts (0 to [`ShadowBias::MAX_TEXELS`]).
+    #[must_use]
+    pub fn texels_ok(x: f32) -> bool {
+        x.is_finite() && (0.0..=ShadowBias::MAX_TEXELS).contains(&x)
+    }
+}
+
 impl Default for ShadowBias {
     /// Half a texel each: of the uniform biases `umbra bench` swept (0, 0.5, 1, 2, 4), the one
     /// with the fewest wrong pixels on the sample scene that still keeps every failure case in

@@ -152,7 +152,13 @@ pub fn cost_axis(adapter: &str) -> String {
 
 /// Cost against error, one marker per configuration, the Pareto front drawn and labelled;
 /// `axes` name the cost (see [`cost_axis`]) and the error.
-pub fn cost_chart(stem: &Path, title: &str, axes: (&str, &str), points: &[Point], front: &[usize]) -> Result<(), ChartError> {
+pub fn cost_chart(
+    stem: &Path,
+    title: &str,
+    axes: (&str, &str),
+    points: &[Point],
+    front: &[usize],
+) -> Result<(), ChartError> {
     both(stem, |a| draw_cost(a, title, axes, points, front), |a| draw_cost(a, title, axes, points, front))
 }
 

@@ -6,8 +6,8 @@
 //! shadows off. A machine whose speed drifts over the run slows all configurations alike and the
 //! ratios stay fair.
 
+use super::config::{Config, SweepOptions};
 use super::measure::{MeasureError, Measurer, Subject, SubjectId, TimedMaps, apply_settings, place_camera};
-use super::sweep::{Config, SweepOptions};
 use crate::App;
 use crate::render::{Gpu, HEADLESS_FORMAT, Renderer};
 use crate::settings::Settings;
@@ -77,7 +77,7 @@ pub fn time_all(
     let (w, h) = options.size;
     let texture = gpu.target("timed frame", (w, h), HEADLESS_FORMAT)?;
     let view = texture.create_view(&Default::default());
-    let stamps = super::sweep::timed_on_gpu(gpu);
+    let stamps = timed_on_gpu(gpu);
     let mut m = Measurer::new(gpu, options.size, options.truth);
     let mut times: Vec<Vec<Timed>> = vec![Vec::new(); configs.len()];
     let mut round = 0;
@@ -135,6 +135,11 @@ fn cost(frames: &[Timed]) -> Cost {
         shadow.iter().copied().fold(f64::NEG_INFINITY, f64::max),
     );
     Cost { shadow_ms: median(shadow), lookup_ms: lookup, range_ms: range }
+}
+
+/// Whether timing came from the GPU's timestamps on this device.
+pub fn timed_on_gpu(gpu: &Gpu) -> bool {
+    gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY)
 }
 
 #[cfg(test)]

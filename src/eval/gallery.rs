@@ -2,7 +2,7 @@
 //! and a Markdown grid that labels every picture with its cost and error from a bench run's
 //! `results.csv` (learners look before they read).
 
-use super::sweep::Config;
+use super::config::Config;
 use crate::components::ShadowMethod;
 use crate::settings::{DEFAULT_TOON_BANDS, Settings};
 use glam::Vec3;
@@ -105,8 +105,9 @@ pub fn read_results(csv: &str) -> Result<Vec<(String, Measured)>, String> {
 }
 
 /// The Markdown grid: `columns` pictures a row, each captioned with its name and, where the
-/// bench measured its configuration, its cost and errors; `dir` is where the pictures are, as
-/// the Markdown's reader finds them.
+/// bench measured its configuration, its cost and errors; `dir` is put before each picture's file
+/// name: where the pictures are as the Markdown's reader finds them (`""` beside it,
+/// `"docs/gallery/"` from the README).
 #[must_use]
 pub fn markdown(entries: &[Entry], results: &[(String, Measured)], dir: &str, columns: usize) -> String {
     let columns = columns.max(1);
@@ -118,7 +119,7 @@ pub fn markdown(entries: &[Entry], results: &[(String, Measured)], dir: &str, co
             let numbers = measured.map_or("not in this bench run".to_string(), |m| {
                 format!("{:.1} ms, {:.3} % wrong, soft error {:.4}", m.cost_ms, m.misclassified_pct, m.mae_soft)
             });
-            let _ = write!(out, " ![{}]({dir}/{}.png)<br>**{}**: {numbers} |", e.name, e.slug, e.name);
+            let _ = write!(out, " ![{}]({dir}{}.png)<br>**{}**: {numbers} |", e.name, e.slug, e.name);
         }
         out += &" |".repeat(columns - row.len());
         out.push('\n');
@@ -156,7 +157,7 @@ mod tests {
         let pcss = e.iter().find(|e| e.slug == "pcss").unwrap();
         let results =
             vec![(pcss.config.label(), Measured { cost_ms: 706.62, misclassified_pct: 0.0712, mae_soft: 0.00131 })];
-        let md = markdown(&e, &results, "docs/gallery", 4);
+        let md = markdown(&e, &results, "docs/gallery/", 4);
         assert_eq!(md.lines().count(), 2 + 4, "a header, a rule and four rows of four (the last one short)");
         assert!(md.contains("![PCSS](docs/gallery/pcss.png)<br>**PCSS**: 706.6 ms, 0.071 % wrong, soft error 0.0013"));
         assert_eq!(md.matches("not in this bench run").count(), 12);

@@ -7,8 +7,8 @@
 use super::measure::TruthSettings;
 use super::metrics::{EDGE_RADIUS, LightReport, report};
 use super::truth::{CasterTriangle, Occluders, Truth, caster_triangles, truth_frame, truth_lights};
-use crate::light::Emitter;
 use crate::App;
+use crate::light::Emitter;
 use crate::render::{DebugFrame, Gpu, RenderError, Renderer, render_debug_frame};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::{Duration, Instant};

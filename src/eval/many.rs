@@ -145,7 +145,12 @@ fn memory_needed(settings: &Settings) -> Result<u32, BenchError> {
 
 /// Runs `policy` with `lights` lights: warm-up frames, `frames` timed ones, then one measured
 /// against the truth.
-pub fn run_one(gpu: &Gpu, base: &Settings, (policy, lights): (Policy, u32), o: LightsOptions) -> Result<LightsRow, BenchError> {
+pub fn run_one(
+    gpu: &Gpu,
+    base: &Settings,
+    (policy, lights): (Policy, u32),
+    o: LightsOptions,
+) -> Result<LightsRow, BenchError> {
     let mut settings = policy.settings(base, lights);
     if matches!(policy, Policy::Fixed | Policy::Bevy) {
         settings.shadow_memory = memory_needed(&settings)?.max(settings.shadow_memory);
@@ -190,7 +195,8 @@ pub fn run_one(gpu: &Gpu, base: &Settings, (policy, lights): (Policy, u32), o: L
         frames.push(start.elapsed().as_secs_f64() * 1e3);
         if let Some(times) = renderer.pass_times(gpu).filter(|_| stamps) {
             let times = times?;
-            (shadow.push(times.shadow_ms), main.push(times.main_ms));
+            shadow.push(times.shadow_ms);
+            main.push(times.main_ms);
         }
         let stats = app.world.resource::<ShadowStats>();
         row.drawn += f64::from(stats.drawn()) / f64::from(o.frames);
@@ -205,7 +211,12 @@ pub fn run_one(gpu: &Gpu, base: &Settings, (policy, lights): (Policy, u32), o: L
 }
 
 /// Measures the frame the app is at against the truth, light by light, into `row`.
-fn measure(gpu: &Gpu, (app, renderer): (&mut App, &mut Renderer), o: LightsOptions, row: &mut LightsRow) -> Result<(), BenchError> {
+fn measure(
+    gpu: &Gpu,
+    (app, renderer): (&mut App, &mut Renderer),
+    o: LightsOptions,
+    row: &mut LightsRow,
+) -> Result<(), BenchError> {
     let (w, h) = o.measure;
     app.resize(w, h);
     app.step_held();
@@ -220,7 +231,8 @@ fn measure(gpu: &Gpu, (app, renderer): (&mut App, &mut Renderer), o: LightsOptio
             continue;
         }
         all.merge(&t);
-        if !(t.misclassified() <= row.worst_wrong) {
+        // A NaN share counts as the worst.
+        if t.misclassified().partial_cmp(&row.worst_wrong).is_none_or(|o| o.is_gt()) {
             row.worst_wrong = t.misclassified();
             let side = light.layers.first().map_or(0, |layer| layer.resolution);
             row.worst = format!("{} ({side}², {} px)", light.label, t.pixels);
@@ -318,9 +330,11 @@ pub fn charts(stem: &Path, adapter: &str, rows: &[LightsRow]) -> Result<(), Char
         let at = rows.iter().filter(|r| r.policy == p && r.ran).map(|r| (f64::from(r.lights).log2(), y(r)));
         (p.name().to_string(), at.filter(|(_, y)| y.is_finite()).collect::<Vec<_>>())
     };
-    let counts: Vec<String> = rows.iter().filter(|r| r.policy == Policy::ALL[0]).map(|r| format!("{}", r.lights)).collect();
+    let counts: Vec<String> =
+        rows.iter().filter(|r| r.policy == Policy::ALL[0]).map(|r| format!("{}", r.lights)).collect();
     let cost: Vec<_> = Policy::ALL.iter().map(|&p| line(p, |r| r.frame_ms)).collect();
-    let name = |s: &str| stem.with_file_name(format!("{}-{s}", stem.file_name().and_then(|n| n.to_str()).unwrap_or("lights")));
+    let name =
+        |s: &str| stem.with_file_name(format!("{}-{s}", stem.file_name().and_then(|n| n.to_str()).unwrap_or("lights")));
     let axes = ("lights (log2)", "milliseconds a frame (median)");
     line_chart(&name("cost"), &format!("frame cost against lights ({adapter})"), axes, &cost, &counts)?;
     let error: Vec<_> = Policy::ALL[1..].iter().map(|&p| line(p, |r| r.worst_wrong * 100.0)).collect();
@@ -336,7 +350,10 @@ mod tests {
     fn policies_set_what_they_stand_for() {
         let base = Settings::default();
         let bevy = Policy::Bevy.settings(&base, 64);
-        assert_eq!((bevy.lanterns, bevy.tile_sizes, bevy.reuse_shadow_maps, bevy.static_cache), (60, TileSizes::Bevy, false, false));
+        assert_eq!(
+            (bevy.lanterns, bevy.tile_sizes, bevy.reuse_shadow_maps, bevy.static_cache),
+            (60, TileSizes::Bevy, false, false)
+        );
         assert_eq!(Policy::Atlas.settings(&base, 4), Settings { lanterns: 0, ..base.clone() });
         assert!(!Policy::Unshadowed.settings(&base, 16).shadows);
         // Every lamp at 2048² a face: far more than the atlas's default.
@@ -364,7 +381,11 @@ mod tests {
             pooled_wrong: 0.002,
             soft_error: 0.01,
         };
-        let t = table(&[row(Policy::Atlas, 4, 10.0, true), row(Policy::Atlas, 64, 25.0, true), row(Policy::Fixed, 64, 0.0, false)]);
+        let t = table(&[
+            row(Policy::Atlas, 4, 10.0, true),
+            row(Policy::Atlas, 64, 25.0, true),
+            row(Policy::Fixed, 64, 0.0, false),
+        ]);
         assert!(t.contains("| 64 | umbra's atlas | 256 | 25.0 | 2.50 | – | 1.0 | 2.0 | 0.0 | 3 | 0.200 | 0.100 | 0.400 | spot (512², 900 px) | 0.0100 |"), "{t}");
         assert!(t.contains("| 64 | fixed layers | needs 256 MiB: not run |"), "{t}");
     }

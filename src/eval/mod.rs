@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod cases;
 pub mod chart;
+pub mod config;
 pub mod cost;
 pub mod gallery;
 pub mod live;

@@ -2,8 +2,9 @@
 
 use super::cases::CASES;
 use super::chart::{ChartError, Point, cost_axis, cost_chart, distance_chart, line_chart};
+use super::config::Config;
 use super::metrics::DISTANCE_BANDS;
-use super::sweep::{Config, Row, pareto};
+use super::sweep::{Row, pareto};
 use crate::settings::Settings;
 use std::fmt::Write;
 use std::path::Path;

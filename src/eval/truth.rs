@@ -10,8 +10,8 @@
 use crate::assets::skin::skin_vertices;
 use crate::assets::{MeshLibrary, TextureData, TextureLibrary};
 use crate::components::{Joints, Material, Mesh, ShadowCaster, Transform};
-use crate::render::DebugFrame;
 use crate::light::{Emitter, Kind, light_list};
+use crate::render::DebugFrame;
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3, Vec4};
 use obvhs::cwbvh::CwBvh;

@@ -55,7 +55,12 @@ impl ClusterView {
     /// `forward`, from `near` to `far`, with slices that end where the farthest of `reaches`
     /// does (so every light reaching past the last slice reaches everywhere: a sun).
     #[must_use]
-    pub fn new(clip_from_world: Mat4, (eye, forward): (Vec3, Vec3), (near, far): (f32, f32), reaches: &[Reach]) -> Self {
+    pub fn new(
+        clip_from_world: Mat4,
+        (eye, forward): (Vec3, Vec3),
+        (near, far): (f32, f32),
+        reaches: &[Reach],
+    ) -> Self {
         let near = if near.is_finite() && near > 0.0 { near } else { 0.1 };
         let reached = reaches
             .iter()
@@ -102,7 +107,7 @@ impl ClusterView {
     /// box is projected, and a box that crosses the near plane takes the whole screen.
     fn sphere_clusters(&self, centre: Vec3, radius: f32) -> Option<[(u32, u32); 3]> {
         let depth = (centre - self.eye).dot(self.forward);
-        if !(depth + radius >= self.near && depth - radius <= self.far) || !radius.is_finite() {
+        if !(depth + radius >= self.near && depth - radius <= self.far && radius.is_finite()) {
             return None;
         }
         let slices = (self.slice_of(depth - radius), self.slice_of(depth + radius));

@@ -18,16 +18,16 @@ pub use point::Point;
 pub use spot::Spot;
 pub use sun::Sun;
 
-use crate::components::{ContactShadows, 
-    Camera, Cookie, DirectionalLight, PointLight, ShadowBias, ShadowLayer, ShadowMap, ShadowMethod, SpotLight,
-    Transform,
+use crate::components::{
+    Camera, ContactShadows, Cookie, DirectionalLight, PointLight, ShadowBias, ShadowLayer, ShadowMap, ShadowMethod,
+    SpotLight, Transform,
 };
 use crate::render::gpu_types::{GpuLight, SHAPE_CASCADES, SHAPE_CUBE, SHAPE_SINGLE};
 use crate::settings::Settings;
 use crate::shadow::{Aabb, LightProjection, VisibleSamples, cube_projections};
-use clusters::Reach;
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::{SystemParam, SystemState};
+use clusters::Reach;
 use glam::{Vec3, Vec4};
 
 /// How a light's shadow is laid out in layers.

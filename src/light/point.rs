@@ -23,7 +23,8 @@ pub struct Point {
 impl Point {
     /// The point light of `entity`'s component at `transform`, its range made sensible.
     pub(super) fn source(entity: Entity, light: &PointLight, transform: &Transform) -> Source {
-        let point = Point { position: transform.translation, range: light_range(light.range), radius: light.radius.max(0.0) };
+        let point =
+            Point { position: transform.translation, range: light_range(light.range), radius: light.radius.max(0.0) };
         Source { entity, kind: super::LightKind::Point(point), color: light.color * light.intensity }
     }
 }

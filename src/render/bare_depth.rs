@@ -5,16 +5,16 @@
 //! `umbra bench --shadow-pass` times umbra's shadow pass against it, drawing the same casters
 //! into tiles of the same size, place and format.
 
-use super::extract::FrameData;
+use super::frame::FrameData;
 use super::instances::InstanceBuffer;
 use super::instances::{LayerCalls, layer_calls};
 use super::mesh::{AlphaClass, GpuMesh, PLACEMENT, Variant};
 use super::shaders::{BARE_DEPTH, Composed};
 use super::shadow_atlas::array_layers;
 use super::texture::LayeredTarget;
-use crate::shadow::AtlasShape;
 use super::uniform_array::UniformArray;
 use crate::assets::Vertex;
+use crate::shadow::AtlasShape;
 use glam::Mat4;
 
 /// The bare pass's pipeline, its layer matrices and its own depth maps.

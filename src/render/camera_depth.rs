@@ -6,7 +6,7 @@
 //! of the frame's size costs. Without contact shadows it is not drawn, and the main pass reads a
 //! stand-in of its own.
 
-use super::extract::{DrawItem, FrameData};
+use super::frame::{DrawItem, FrameData};
 use super::gpu_types::GpuLayer;
 use super::instances::{InstanceBuffer, layer_calls};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
@@ -67,7 +67,12 @@ impl CameraDepth {
         palette: &JointPalette,
         textures: &MaterialTextures,
     ) -> Self {
-        let camera = UniformArray::new(device, "camera layer", size_of::<GpuLayer>() as u64, wgpu::ShaderStages::VERTEX_FRAGMENT);
+        let camera = UniformArray::new(
+            device,
+            "camera layer",
+            size_of::<GpuLayer>() as u64,
+            wgpu::ShaderStages::VERTEX_FRAGMENT,
+        );
         let recipe = Recipe {
             label: "camera depth",
             module: Composed::new(SHADOW_MODULE).module(device),
@@ -111,7 +116,8 @@ impl CameraDepth {
         let mut placements = Vec::new();
         let calls = layer_calls(&data.items, &drawn, camera_variant, true, &mut placements);
         self.instances.write(device, queue, &placements);
-        self.pipelines.prepare(device, calls.singles.iter().map(|s| s.1).chain(calls.batches.iter().map(|b| b.variant)));
+        self.pipelines
+            .prepare(device, calls.singles.iter().map(|s| s.1).chain(calls.batches.iter().map(|b| b.variant)));
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("camera depth"),
             color_attachments: &[],

@@ -186,7 +186,7 @@ gpu_struct! {
         pub perspective: u32,
         /// EVSM's positive and negative exponents.
         pub warp: [f32; 2],
-        /// A moment method's stabiliser (see [`super::moments::moment_bias`]).
+        /// A moment method's stabiliser (see `moment_bias` in `render/moments.rs`).
         pub moment_bias: f32,
         /// Light-bleeding reduction of a moment method.
         pub bleed: f32,

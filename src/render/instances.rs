@@ -7,21 +7,9 @@
 //! equally near fragments, and keeps its casters' order by drawing them one by one. Skinned and
 //! cut-out casters read their own joints, texture and cutoff, and are drawn one by one too.
 
-use super::extract::DrawItem;
-use super::mesh::{AlphaClass, Variant};
+use super::frame::DrawItem;
+use super::mesh::{AlphaClass, Batch, Variant};
 use glam::Mat4;
-use std::ops::Range;
-
-/// One call drawing `mesh` once for each placement in `instances` of the instance buffer.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Batch {
-    /// The pipeline variant (rigid, opaque, instanced).
-    pub variant: Variant,
-    /// The mesh's library index.
-    pub mesh: usize,
-    /// Its placements' range in the instance buffer.
-    pub instances: Range<u32>,
-}
 
 /// A layer's casters: those drawn one by one (in the order given) and the batches.
 #[derive(Clone, Debug, Default, PartialEq)]

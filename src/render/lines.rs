@@ -1,9 +1,9 @@
 //! The light volumes drawn as lines over the picture: every shadow layer's clip volume (a sun's
 //! cascade boxes, a spot's frustum, a cube's six face frusta), in its light's colour.
 
-use super::extract::FrameData;
-use crate::light::Kind;
+use super::frame::FrameData;
 use super::shaders::{Composed, LINES};
+use crate::light::Kind;
 use crate::shadow::frustum_corners;
 use glam::Mat4;
 

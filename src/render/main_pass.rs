@@ -1,7 +1,8 @@
 //! The main pass: Phong lighting from the camera, each light's share scaled by its shadow test,
 //! then the planar shadows drawn over the ground ([`super::planar`]).
 
-use super::extract::{DrawItem, FrameData};
+use super::RenderError;
+use super::frame::{DrawItem, FrameData};
 use super::gpu_types::{Frame, LIST_WIDTH};
 use super::growing::{GrowingBuffer, GrowingRows};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
@@ -11,7 +12,6 @@ use super::shadow_atlas::ShadowMaps;
 use super::texture::MaterialTextures;
 use super::timing::PassTimer;
 use crate::assets::{COOKIE_SIZE, cookie_image};
-use super::RenderError;
 use crate::components::{AlphaMode, Cookie};
 
 /// The feature that gives the camera's depth buffer 32-bit float depth beside its stencil.
@@ -365,7 +365,8 @@ impl MainPass {
         if let Some(debug) = &mut self.debug {
             debug.prepare(device, data.items.iter().map(|i| main_variant(i, data.methods, true)));
         }
-        let grew = self.frame.upload(device, queue, data)? | self.planar.prepare(device, queue, data, self.debug.is_some());
+        let grew =
+            self.frame.upload(device, queue, data)? | self.planar.prepare(device, queue, data, self.debug.is_some());
         if grew {
             self.rebind(device, maps);
         }

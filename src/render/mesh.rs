@@ -2,13 +2,25 @@
 //! pipelines of a pass, one for each variant (rigid or skinned, which faces, what alpha does)
 //! the scene's objects need, each built the first time it is needed.
 
-use super::extract::DrawItem;
+use super::frame::DrawItem;
 use super::texture::MaterialTextures;
 use super::uniform_array::UniformArray;
 use crate::assets::{MeshData, SkinVertex, Vertex};
 use glam::Mat4;
 use std::collections::HashMap;
+use std::ops::Range;
 use wgpu::util::DeviceExt;
+
+/// One call drawing `mesh` once for each placement in `instances` of the instance buffer.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Batch {
+    /// The pipeline variant (rigid, opaque, instanced).
+    pub variant: Variant,
+    /// The mesh's library index.
+    pub mesh: usize,
+    /// Its placements' range in the instance buffer.
+    pub instances: Range<u32>,
+}
 
 /// A mesh in GPU memory; a skinned mesh has a second vertex stream of joint influences.
 pub struct GpuMesh {
@@ -347,7 +359,7 @@ impl Pipelines {
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         with: Drawables<'_>,
-        batches: &[super::instances::Batch],
+        batches: &[Batch],
         instances: &wgpu::Buffer,
     ) {
         if batches.is_empty() {

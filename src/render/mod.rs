@@ -1,17 +1,18 @@
 //! The renderer: wgpu only. It reads components, draws the shadow pass, then the main pass.
 //!
-//! Sections follow the data flow: [`gpu`] opens a device, [`extract`] turns the world into GPU
-//! structs and culls casters per layer, [`shadow_pass`] draws the layers of dirty lights (one per
-//! spot, one per sun cascade), [`main_pass`] lights the scene, and [`readback`] brings a frame
-//! back to the CPU for headless use.
+//! Sections follow the data flow: `gpu.rs` opens a device, [`extract`] turns the world into the
+//! frame's structs ([`FrameData`]) and culls casters per layer, `shadow_pass.rs` draws the layers
+//! of dirty lights (one per spot, one per sun cascade), `main_pass.rs` lights the scene, and
+//! `readback.rs` brings a frame back to the CPU for headless use.
 
 mod bare_depth;
 mod camera_depth;
 mod depth_reduction;
 mod extract;
+mod frame;
 mod gpu;
-mod growing;
 pub mod gpu_types;
+mod growing;
 mod instances;
 pub mod lines;
 mod main_pass;
@@ -24,20 +25,21 @@ mod renderer;
 mod shaders;
 mod shadow_atlas;
 mod shadow_pass;
-mod shadow_tiles;
 mod shadow_stats;
+mod shadow_tiles;
 mod static_maps;
 mod texture;
 mod tile_fill;
 mod timing;
 mod uniform_array;
 
-pub use extract::{DrawItem, FrameData, FrameLight, LayerDraw, SHADOW_FADE, Shadowless, extract, extract_shadow_maps};
+pub use extract::{extract, extract_shadow_maps};
+pub use frame::{DrawItem, FrameData, FrameLight, LayerDraw, SHADOW_FADE, Shadowless};
 pub use gpu::{Gpu, colour_pass, instance};
 pub use readback::{
     DebugFrame, HEADLESS_FORMAT, Image, probe_visibility, read_picture, render_debug_frame, render_headless, render_png,
 };
-pub use renderer::{MapAtlas, Renderer};
+pub use renderer::{AtlasTile, MapAtlas, Renderer};
 pub use shadow_stats::{LightPasses, ShadowStats};
 pub use timing::PassTimes;
 

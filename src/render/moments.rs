@@ -81,7 +81,8 @@ pub const FULL_FEATURES: wgpu::Features = wgpu::Features::FLOAT32_FILTERABLE;
 /// True when `adapter` can render into 32-bit float moment maps (of two and of four channels)
 /// and filter them.
 pub fn full_supported(adapter: &wgpu::Adapter, features: wgpu::Features) -> bool {
-    let renders = |f| adapter.get_texture_format_features(f).allowed_usages.contains(wgpu::TextureUsages::RENDER_ATTACHMENT);
+    let renders =
+        |f| adapter.get_texture_format_features(f).allowed_usages.contains(wgpu::TextureUsages::RENDER_ATTACHMENT);
     features.contains(FULL_FEATURES)
         && renders(wgpu::TextureFormat::Rgba32Float)
         && renders(wgpu::TextureFormat::Rg32Float)
@@ -242,7 +243,8 @@ impl ColourMaps {
 /// [`ShadowMethod`]) with moments made from `source` ([`MomentSource::colour_scale`]).
 #[must_use]
 pub fn colour_scale(methods: u32, source: MomentSource) -> u32 {
-    let depth_in_colour = ShadowMethod::ALL.iter().any(|m| m.colour_depth_bits() > 0 && methods & (1 << *m as u32) != 0);
+    let depth_in_colour =
+        ShadowMethod::ALL.iter().any(|m| m.colour_depth_bits() > 0 && methods & (1 << *m as u32) != 0);
     source.colour_scale(depth_in_colour)
 }
 

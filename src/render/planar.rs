@@ -9,12 +9,12 @@
 //! the shadow behind whatever stands on the ground (a box top under a floating cube stays lit).
 //! In the measuring view the same draws write visibility 0 into the light's channel instead.
 
-use super::extract::{DrawItem, FrameData, FrameLight, PlanarDraw};
+use super::frame::{DrawItem, FrameData, FrameLight, PlanarDraw};
 use super::gpu_types::{GpuPlanar, MEASURED_PER_PASS};
+use super::growing::GrowingBuffer;
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
 use super::texture::MaterialTextures;
 use crate::components::ShadowMethod;
-use super::growing::GrowingBuffer;
 use crate::light::{Kind, Light};
 use crate::shadow::{Aabb, GROUND_PLANE, PLANAR_LIFT, flat_from_world, lights_plane};
 
@@ -36,10 +36,6 @@ pub fn ground(items: &[(DrawItem, Aabb)]) -> Option<usize> {
 pub fn draws_planar(light: &Light, ground_too: bool) -> bool {
     light.shadowed && (light.method == ShadowMethod::Planar || ground_too)
 }
-
-/// Most lights that draw planar shadows: the stencil that keeps each from darkening a pixel twice
-/// counts them in 8 bits (0 is no light).
-pub const MAX_PLANAR: usize = 255;
 
 /// The planar shadows of `lights` (a light's index is its place in the list) over the ground of
 /// `items`, for the lights [`draws_planar`] picks: none without a ground, and none from a light

@@ -3,8 +3,8 @@
 use super::bare_depth::BareDepth;
 use super::camera_depth::CameraDepth;
 use super::depth_reduction::{Binning, DepthReduction};
-use super::extract::{FrameData, Shadowless};
 use super::extract::{extract, extract_shadow_maps};
+use super::frame::{FrameData, Shadowless};
 use super::gpu_types::{GpuLayer, Object, Reduce};
 use super::lines::{LinePass, volume_lines};
 use super::main_pass::MainPass;
@@ -19,10 +19,10 @@ use super::uniform_array::UniformArray;
 use super::{Gpu, RenderError};
 use crate::assets::{MeshLibrary, TextureLibrary};
 use crate::components::{Camera, DirectionalLight, Notices, SeenByCamera};
-use crate::settings::Settings;
-use crate::systems::{ShadowAtlas, ShadowCaps};
-use crate::shadow::FitMode;
 use crate::light::LightLabel;
+use crate::settings::Settings;
+use crate::shadow::FitMode;
+use crate::systems::{ShadowAtlas, ShadowCaps};
 use bevy_ecs::prelude::*;
 
 /// Where a frame goes: a picture, or the measuring targets.
@@ -55,11 +55,21 @@ pub struct MapAtlas<'a> {
     pub view: &'a wgpu::TextureView,
     /// Changes when the atlas texture is replaced (a texture shown elsewhere must be rebound).
     pub generation: u64,
-    /// Each layer's light, the layer's place in the picture (corner and side, pixels) and its
-    /// side in texels.
-    pub tiles: Vec<(LightLabel, [f32; 3], u32)>,
+    /// Each layer's tile.
+    pub tiles: Vec<AtlasTile>,
     /// Pages the picture shows.
     pub pages: u32,
+}
+
+/// One layer's tile in the shadow-map viewer's picture.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AtlasTile {
+    /// Its light.
+    pub light: LightLabel,
+    /// Its place in the picture: corner x, y and side, in pixels.
+    pub rect: [f32; 3],
+    /// Its side in texels.
+    pub texels: u32,
 }
 
 /// GPU state that lives across frames: pipelines, meshes, shadow maps and the depth buffer.
@@ -201,7 +211,7 @@ impl Renderer {
     }
 
     /// Draws `data`'s casters into its layers with the bare depth pass (see
-    /// [`super::bare_depth`]), in the tiles umbra's shadow pass gives them, of `depth`.
+    /// `render/bare_depth.rs`), in the tiles umbra's shadow pass gives them, of `depth`.
     pub fn render_bare_depth(
         &mut self,
         gpu: &Gpu,
@@ -232,7 +242,11 @@ impl Renderer {
         }
         let (atlas, generation) = view.atlas().expect("drawn above");
         let page = self.shadow.maps.shape.page as f32;
-        let tiles = self.last_layers.iter().map(|(g, l)| (*l, map_view::tile_rect(g), (g.tile[2] * page).round() as u32));
+        let tiles = self.last_layers.iter().map(|(g, l)| AtlasTile {
+            light: *l,
+            rect: map_view::tile_rect(g),
+            texels: (g.tile[2] * page).round() as u32,
+        });
         let pages = map_view::pages_of(&self.last_layers.iter().map(|(g, _)| *g).collect::<Vec<_>>());
         MapAtlas { view: atlas, generation, tiles: tiles.collect(), pages }
     }
@@ -320,7 +334,8 @@ impl Renderer {
         if shape.page > max {
             return Err(RenderError::ShadowMapTooLarge { size: shape.page, max });
         }
-        let colour = moments::ColourLayout { format, scale: moments::colour_scale(data.methods, settings.moments_from) };
+        let colour =
+            moments::ColourLayout { format, scale: moments::colour_scale(data.methods, settings.moments_from) };
         if self.shadow.ensure_maps(device, shape, colour, settings.shadow_depth) {
             self.main.rebind(device, &self.shadow.maps);
         }
@@ -348,9 +363,9 @@ impl Renderer {
         };
         self.atlas_stale |= stats.drawn() > 0 || stats.blurred() > 0;
         if data.frame.contact_steps > 0 && matches!(output, Output::Picture(_) | Output::Measure(..)) {
-            let pass = self.camera_depth.get_or_insert_with(|| {
-                CameraDepth::new(device, &self.objects.layout, &self.joints, &self.textures)
-            });
+            let pass = self
+                .camera_depth
+                .get_or_insert_with(|| CameraDepth::new(device, &self.objects.layout, &self.joints, &self.textures));
             let target = ((width, height), self.timer.as_mut());
             if let Some(view) = pass.encode((device, queue), &mut encoder, &data, drawables, target) {
                 self.main.set_camera_depth(device, view, &self.shadow.maps);

@@ -3,14 +3,11 @@
 //! tiles of them ([`crate::shadow::Atlas`]), kept from frame to frame while a layer keeps its
 //! size. A layer the atlas cannot hold leaves its light lit without a shadow, and said so.
 
-use super::extract::{FrameData, Shadowless};
+use super::frame::{FrameData, LayerKey, Shadowless};
 use super::moments::{ColourLayout, ColourMaps};
 use super::texture::LayeredTarget;
 use crate::settings::ShadowDepth;
 use crate::shadow::{Atlas, AtlasShape, Tile};
-
-/// A layer's name across frames: its light's entity and its place among the light's layers.
-pub type LayerKey = (u64, u32);
 
 /// The texture format of depth maps of `depth`.
 pub(super) fn depth_texture(depth: ShadowDepth) -> wgpu::TextureFormat {

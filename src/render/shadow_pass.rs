@@ -9,15 +9,14 @@
 //! new to it; with an update budget, the out-of-date layers take turns ([`plan_updates`]) and
 //! those left waiting are sampled with the projection their map was drawn with.
 
-use super::extract::{FrameData, LayerDraw};
+use super::frame::LayerKey;
+use super::frame::{FrameData, LayerDraw};
 use super::gpu_types::{Fill, GpuLayer};
 use super::instances::{InstanceBuffer, layer_calls};
 use super::mesh::{Drawables, JointPalette, Pipelines, Recipe};
-use super::moments::{
-    ColourFormat, ColourLayout, MomentBlur, MomentInput, MomentTile, far_moments, passes_per_page,
-};
+use super::moments::{ColourFormat, ColourLayout, MomentBlur, MomentInput, MomentTile, far_moments, passes_per_page};
 use super::shaders::{Composed, SHADOW_MODULE};
-use super::shadow_atlas::{LayerKey, Placement, ShadowMaps, depth_texture};
+use super::shadow_atlas::{Placement, ShadowMaps, depth_texture};
 use super::shadow_stats::ShadowStats;
 pub use super::shadow_tiles::DrawOptions;
 use super::shadow_tiles::{Drawing, Job, Stamps, begin, distinct_pages, groups, shadow_variant};
@@ -132,8 +131,7 @@ impl ShadowPass {
         let set = |depth: ShadowDepth| {
             let pipelines =
                 |fragment, targets| Pipelines::new(device, recipe(fragment, targets, depth), groups, palette, textures);
-            let colour = ColourFormat::ALL
-                .map(|f| pipelines("fs_moments", vec![Some(f.texture().into())]));
+            let colour = ColourFormat::ALL.map(|f| pipelines("fs_moments", vec![Some(f.texture().into())]));
             PipelineSet { depth: pipelines("fs_shadow", Vec::new()), colour }
         };
         let sets = [set(ShadowDepth::Float32), set(ShadowDepth::Unorm16)];
@@ -356,7 +354,8 @@ impl ShadowPass {
                 statics.mark_drawn(job.layer.key, job.tile, job.layer.static_version);
             }
         }
-        for job in jobs.iter().filter(|j| blur > 0 && j.layer.method.moments() && self.colour_format(j.layer).is_some()) {
+        for job in jobs.iter().filter(|j| blur > 0 && j.layer.method.moments() && self.colour_format(j.layer).is_some())
+        {
             stats.count_blur(job.layer.light);
         }
         stats
@@ -397,7 +396,8 @@ impl ShadowPass {
             .map(|(uniform, &(layer, tile))| {
                 let colour = self.colour_target(layer, from_depth);
                 let batch = instancing && colour.is_none();
-                let job = |statics, over_static, calls| Job { layer, tile, uniform, colour, statics, over_static, calls };
+                let job =
+                    |statics, over_static, calls| Job { layer, tile, uniform, colour, statics, over_static, calls };
                 if !(split && colour.is_none()) {
                     return job(None, false, calls_of(&layer.casters, batch));
                 }
@@ -478,7 +478,9 @@ impl ShadowPass {
                 }
             }
         }
-        let restore = statics.filter(|_| jobs.iter().any(|j| j.over_static)).map(|s| self.fill.statics(device, &s.pages.array_view));
+        let restore = statics
+            .filter(|_| jobs.iter().any(|j| j.over_static))
+            .map(|s| self.fill.statics(device, &s.pages.array_view));
         // A page none of whose tiles is kept this frame is cleared whole by its first pass (a
         // fill of memory: on a software rasterizer far cheaper than a triangle over each tile),
         // and its tiles then need no clear of their own.
@@ -506,5 +508,12 @@ impl ShadowPass {
 /// warp (what the map holds was made with them); its method, bleeding reduction, moment
 /// stabiliser and tile stay `now`'s.
 fn as_drawn(now: GpuLayer, drawn: &GpuLayer) -> GpuLayer {
-    GpuLayer { method: now.method, moment_bias: now.moment_bias, bleed: now.bleed, page: now.page, tile: now.tile, ..*drawn }
+    GpuLayer {
+        method: now.method,
+        moment_bias: now.moment_bias,
+        bleed: now.bleed,
+        page: now.page,
+        tile: now.tile,
+        ..*drawn
+    }
 }

@@ -74,11 +74,16 @@ impl ShadowStats {
     /// Counts a layer of `light`: drawn or kept, and if it was left `waits` frames stale.
     pub(super) fn count(&mut self, light: LightLabel, drawn: bool, waits: Option<u32>) {
         if self.lights.last().is_none_or(|l| l.light != light) {
-            let zero = LightPasses { light, drawn: 0, kept: 0, stale: 0, waited: 0, blurred: 0, calls: 0, from_static: 0 };
+            let zero =
+                LightPasses { light, drawn: 0, kept: 0, stale: 0, waited: 0, blurred: 0, calls: 0, from_static: 0 };
             self.lights.push(zero);
         }
         let entry = self.lights.last_mut().expect("pushed above");
-        if drawn { entry.drawn += 1 } else { entry.kept += 1 }
+        if drawn {
+            entry.drawn += 1
+        } else {
+            entry.kept += 1
+        }
         if let Some(frames) = waits {
             entry.stale += 1;
             entry.waited = entry.waited.max(frames);

@@ -1,8 +1,7 @@
 //! The pieces a frame's shadow passes are made of: a page's pass, its timestamps, a tile's job
 //! and how it is drawn, and which variant draws a caster.
 
-use super::extract::DrawItem;
-use super::extract::LayerDraw;
+use super::frame::{DrawItem, LayerDraw};
 use super::instances::LayerCalls;
 use super::mesh::{AlphaClass, Drawables, Pipelines, Variant};
 use super::moments::ColourFormat;
@@ -146,12 +145,19 @@ pub(super) struct Drawing<'a> {
 
 /// A fill: the pipelines, which one (depth format and kind), its uniform's index and the static
 /// atlas's bind group (for a restore); none when the tile is already clear.
-pub(super) type FillWith<'a> = Option<(&'a TileFill, (wgpu::TextureFormat, FillKind), usize, Option<&'a wgpu::BindGroup>)>;
+pub(super) type FillWith<'a> =
+    Option<(&'a TileFill, (wgpu::TextureFormat, FillKind), usize, Option<&'a wgpu::BindGroup>)>;
 
 impl Drawing<'_> {
     /// Draws `job` into its tile of `pass`: the viewport and scissor on the tile, the tile
     /// filled (unless it is clear already), then `calls` with `pipelines` and the layer's uniform.
-    pub(super) fn tile(&self, pass: &mut wgpu::RenderPass<'_>, job: &Job, fill: FillWith<'_>, (pipelines, calls): (&Pipelines, &LayerCalls)) {
+    pub(super) fn tile(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        job: &Job,
+        fill: FillWith<'_>,
+        (pipelines, calls): (&Pipelines, &LayerCalls),
+    ) {
         let (x, y, side) = (job.tile.x, job.tile.y, job.layer.resolution);
         pass.set_viewport(x as f32, y as f32, side as f32, side as f32, 0.0, 1.0);
         pass.set_scissor_rect(x, y, side, side);

@@ -12,7 +12,7 @@
 //! of depth for it, and it has no `DEPTH_TEXTURE_AND_BUFFER_COPIES`): there every dirty layer
 //! draws all of its casters, as without this cache.
 
-use super::shadow_atlas::LayerKey;
+use super::frame::LayerKey;
 use super::texture::LayeredTarget;
 use crate::shadow::Tile;
 use std::collections::HashMap;

@@ -135,7 +135,8 @@ impl Page {
         self.nodes[Self::index(level, x, y)] = Node::Free;
         while level > 0 {
             let (px, py) = (x / 2, y / 2);
-            let siblings = [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(dx, dy)| Self::index(level, 2 * px + dx, 2 * py + dy));
+            let siblings =
+                [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(dx, dy)| Self::index(level, 2 * px + dx, 2 * py + dy));
             if siblings.iter().any(|&s| self.nodes[s] != Node::Free) {
                 break;
             }
@@ -221,7 +222,10 @@ impl<K: Copy + Eq + Hash> Atlas<K> {
                 }
                 None => {
                     self.repack(wanted, &sizes);
-                    return wanted.iter().map(|(k, _)| Placed { tile: self.placed.get(k).copied(), moved: true }).collect();
+                    return wanted
+                        .iter()
+                        .map(|(k, _)| Placed { tile: self.placed.get(k).copied(), moved: true })
+                        .collect();
                 }
             }
         }
@@ -295,8 +299,20 @@ mod tests {
         let shape = AtlasShape { page: 1024, pages: 1 };
         let mut atlas = Atlas::new(shape);
         // 3 of 512, 8 of 128 and 32 of 64 fill 1024² exactly.
-        let wanted: Vec<(u32, u32)> =
-            (0..43).map(|k| (k, if k < 3 { 512 } else if k < 11 { 128 } else { 64 })).collect();
+        let wanted: Vec<(u32, u32)> = (0..43)
+            .map(|k| {
+                (
+                    k,
+                    if k < 3 {
+                        512
+                    } else if k < 11 {
+                        128
+                    } else {
+                        64
+                    },
+                )
+            })
+            .collect();
         let placed = atlas.place(&wanted);
         assert!(placed.iter().all(|p| p.tile.is_some() && p.moved));
         check(shape, &placed);

@@ -11,10 +11,10 @@ mod fit;
 mod planar;
 mod poisson;
 mod sdsm;
-mod tile_size;
-mod updates;
 #[cfg(test)]
 pub(crate) mod test_rng;
+mod tile_size;
+mod updates;
 
 pub use atlas::{Atlas, AtlasShape, MAX_PAGE, MIN_TILE, Placed, Tile};
 pub use bounds::{Aabb, ClipVolume, MAX_WORLD_EXTENT, frustum_corners, intersects_clip_volume};
@@ -29,6 +29,6 @@ pub use fit::{
 };
 pub use planar::{GROUND_PLANE, PLANAR_LIFT, flat_from_world, lights_plane};
 pub use poisson::{poisson_disc, wgsl_array};
+pub use sdsm::{SDSM_BINS, SDSM_WORDS, VisibleSamples, bin_of, bin_start, from_order_key, initial_words, order_key};
 pub use tile_size::{HYSTERESIS, TileNeed, fit_budget, size_class, texels_for};
 pub use updates::{MAX_STALE, TileState, Update, plan_updates};
-pub use sdsm::{SDSM_BINS, SDSM_WORDS, VisibleSamples, bin_of, bin_start, from_order_key, initial_words, order_key};

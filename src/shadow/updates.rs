@@ -118,7 +118,11 @@ mod tests {
     #[test]
     fn an_overdue_layer_goes_first_and_nothing_passes_it() {
         let layers = [stale(0, 100, f32::INFINITY), stale(MAX_STALE, 200, 0.0), stale(MAX_STALE + 2, 100, 0.0)];
-        assert_eq!(plan_updates(&layers, Some(250), MAX_STALE), [false, false, true], "the oldest first, then it waits");
+        assert_eq!(
+            plan_updates(&layers, Some(250), MAX_STALE),
+            [false, false, true],
+            "the oldest first, then it waits"
+        );
         assert_eq!(plan_updates(&layers, Some(300), MAX_STALE), [false, true, true]);
     }
 
@@ -129,7 +133,11 @@ mod tests {
         let layers = [stale(MAX_STALE, 1 << 22, 1.0), stale(0, 100, 0.5)];
         assert_eq!(plan_updates(&layers, Some(1024), MAX_STALE), [true, false]);
         let empty = Update { state: TileState::Empty, texels: 100, shows: 0.0 };
-        assert_eq!(plan_updates(&[layers[0], empty], Some(1024), MAX_STALE), [false, true], "not past an empty tile's cost");
+        assert_eq!(
+            plan_updates(&[layers[0], empty], Some(1024), MAX_STALE),
+            [false, true],
+            "not past an empty tile's cost"
+        );
     }
 
     #[test]
@@ -151,7 +159,7 @@ mod tests {
                 *age = (!drawn).then_some(now);
             }
         }
-        assert!(worst >= MAX_STALE && worst <= MAX_STALE + 6, "a layer waited {worst} frames");
+        assert!((MAX_STALE..=MAX_STALE + 6).contains(&worst), "a layer waited {worst} frames");
     }
 
     #[test]

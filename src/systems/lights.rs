@@ -48,6 +48,33 @@ fn usable_boxes<'a>(
     usable
 }
 
+/// The settings that change what every map holds: a new map size, face choice, culling, cube
+/// seams or spot limit redraws every map.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapOptions {
+    map_size: u32,
+    faces: crate::settings::ShadowFaces,
+    culling: CasterCulling,
+    cube_seams: bool,
+    spot_limit_bits: u32,
+}
+
+impl MapOptions {
+    fn of(settings: &Settings) -> MapOptions {
+        MapOptions {
+            map_size: settings.shadow_map_size,
+            faces: settings.shadow_faces,
+            culling: settings.caster_culling,
+            cube_seams: settings.cube_seams,
+            spot_limit_bits: settings.spot_map_limit.to_bits(),
+        }
+    }
+}
+
+/// Every object that bounds casters or meshes: its entity, bounds, and whether it casts and is a mesh.
+type BoundedObjects<'w, 's> =
+    Query<'w, 's, (Entity, &'static WorldBounds, Has<ShadowCaster>, Has<Mesh>), Or<(With<ShadowCaster>, With<Mesh>)>>;
+
 /// Recomputes every shadowed light's layers (each kind fits its own: a sun's cascades, a spot's
 /// cone, a cube's faces) and sets their dirty flags.
 ///
@@ -61,23 +88,16 @@ pub fn update_light_matrices(
     settings: Res<Settings>,
     viewport: Res<Viewport>,
     changes: Res<CasterChanges>,
-    mut last_maps: Local<Option<(u32, crate::settings::ShadowFaces, CasterCulling, bool, u32)>>,
+    mut last_maps: Local<Option<MapOptions>>,
     mut told: Local<HashSet<Entity>>,
     mut notices: Option<ResMut<Notices>>,
     seen: Option<Res<SeenByCamera>>,
     cameras: Query<(&Camera, Ref<Transform>)>,
-    boxes: Query<(Entity, &WorldBounds, Has<ShadowCaster>, Has<Mesh>), Or<(With<ShadowCaster>, With<Mesh>)>>,
+    boxes: BoundedObjects,
     lights: LightSources,
     mut maps: Query<&mut ShadowMap>,
 ) {
-    // A new map size, face choice, culling, cube seams or spot limit changes every map.
-    let options = (
-        settings.shadow_map_size,
-        settings.shadow_faces,
-        settings.caster_culling,
-        settings.cube_seams,
-        settings.spot_map_limit.to_bits(),
-    );
+    let options = MapOptions::of(&settings);
     // Culled to the camera's view, what a map holds changes whenever the camera moves.
     let camera_moved = cameras.iter().any(|(_, t)| t.is_changed());
     let all_dirty = last_maps.replace(options) != Some(options)

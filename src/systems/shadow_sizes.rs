@@ -96,7 +96,7 @@ fn texel_bytes(settings: &Settings, caps: ShadowCaps, methods: impl Iterator<Ite
 const INSIDE: f32 = 2.0;
 
 /// The radius of the disc `reach` covers on screen, as a share of the screen's half height (at
-/// most 1 from outside, [`INSIDE`] when the camera is inside it, 0 when it is wholly behind the
+/// most 1 from outside, `INSIDE` when the camera is inside it, 0 when it is wholly behind the
 /// camera, infinite for a light that reaches everywhere).
 #[must_use]
 pub fn coverage(reach: Reach, (eye, forward): (Vec3, Vec3), tan_half_fov: f32) -> f32 {
@@ -240,8 +240,11 @@ mod tests {
 
     #[test]
     fn the_default_atlas_is_256_mib_of_four_pages_at_most() {
-        let atlas =
-            ShadowAtlas::for_settings(&Settings::default(), ShadowCaps::default(), [ShadowMethod::Bilinear].into_iter());
+        let atlas = ShadowAtlas::for_settings(
+            &Settings::default(),
+            ShadowCaps::default(),
+            [ShadowMethod::Bilinear].into_iter(),
+        );
         assert_eq!(atlas.shape, AtlasShape { page: 4096, pages: 4 });
         assert_eq!(atlas.bytes(), 256 << 20);
     }
@@ -250,7 +253,11 @@ mod tests {
     fn a_near_lamp_gets_more_texels_than_a_far_one_and_the_sun_its_own() {
         let mut world = World::new();
         world.insert_resource(Settings::default());
-        world.insert_resource(ShadowAtlas::for_settings(&Settings::default(), ShadowCaps::default(), std::iter::empty()));
+        world.insert_resource(ShadowAtlas::for_settings(
+            &Settings::default(),
+            ShadowCaps::default(),
+            std::iter::empty(),
+        ));
         world.spawn((Camera::default(), Transform::from_xyz(0.0, 2.0, 0.0).looking_to(Vec3::NEG_Z)));
         let lamp = |z: f32| (PointLight { range: 3.0, ..Default::default() }, Transform::from_xyz(0.0, 2.0, z));
         let near = world.spawn((lamp(-6.0), ShadowMap::default())).id();

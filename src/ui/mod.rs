@@ -3,7 +3,7 @@
 //! decides game state: it edits what a command-line option could have set.
 //!
 //! [`Gui`] is the glue: window events into egui (egui-winit), egui's shapes onto the frame
-//! (egui-wgpu). [`panel`] is the panel itself; [`history`] keeps the numbers it graphs.
+//! (egui-wgpu). [`panel()`] is the panel itself; [`history`] keeps the numbers it graphs.
 
 pub mod history;
 pub mod panel;

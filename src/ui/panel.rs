@@ -7,10 +7,10 @@ use super::History;
 use crate::components::{ContactShadows, ShadowBias, ShadowMap, ShadowMethod};
 use crate::eval::live::LiveReport;
 use crate::eval::metrics::Tally;
-use crate::render::ShadowStats;
+use crate::light::{Kind, Light, light_list};
+use crate::render::{AtlasTile, ShadowStats};
 use crate::settings::{CasterCulling, MAX_BIAS_SCALE, MomentBits, MomentSource, Settings, ShadowDepth, ShadowFaces};
 use crate::shadow::FitMode;
-use crate::light::{Kind, Light, LightLabel, light_list};
 use bevy_ecs::prelude::*;
 use egui::{CollapsingHeader, Color32, ComboBox, Slider, Ui};
 
@@ -375,7 +375,7 @@ fn light_size(ui: &mut Ui, world: &mut World, light: &Light) {
 
 /// The shadow-map viewer: the atlas as the last frame used it, page by page, each tile outlined
 /// and named by its light where there is room (and under the pointer wherever it is).
-pub fn map_viewer(ui: &mut Ui, lab: &mut Lab, atlas: egui::TextureId, (pages, tiles): (u32, &[(LightLabel, [f32; 3], u32)])) {
+pub fn map_viewer(ui: &mut Ui, lab: &mut Lab, atlas: egui::TextureId, pages: u32, tiles: &[AtlasTile]) {
     use crate::render::map_view::atlas_size;
     let mut open = lab.map_viewer;
     let right = ui.ctx().content_rect().right();
@@ -390,10 +390,18 @@ pub fn map_viewer(ui: &mut Ui, lab: &mut Lab, atlas: egui::TextureId, (pages, ti
         let orange = Color32::from_rgb(255, 120, 40);
         let mut count = std::collections::HashMap::new();
         let mut hovered = None;
-        for (light, [x, y, side], texels) in tiles {
-            let n = *count.entry(*light).and_modify(|n| *n += 1).or_insert(1);
-            let rect = egui::Rect::from_min_size(response.rect.min + egui::vec2(*x, *y) * scale, egui::Vec2::splat(side * scale));
-            ui.painter().rect_stroke(rect, 0.0, egui::Stroke::new(1.0, orange.gamma_multiply(0.6)), egui::StrokeKind::Inside);
+        for &AtlasTile { light, rect: [x, y, side], texels } in tiles {
+            let n = *count.entry(light).and_modify(|n| *n += 1).or_insert(1);
+            let rect = egui::Rect::from_min_size(
+                response.rect.min + egui::vec2(x, y) * scale,
+                egui::Vec2::splat(side * scale),
+            );
+            ui.painter().rect_stroke(
+                rect,
+                0.0,
+                egui::Stroke::new(1.0, orange.gamma_multiply(0.6)),
+                egui::StrokeKind::Inside,
+            );
             let text = format!("{light} · {n} ({texels}²)");
             // The whole name where it fits in the tile, the light and layer where they do, else
             // nothing (the pointer names it).

@@ -33,7 +33,8 @@ fn spot_over_posts(app: &mut App, at: Vec3, outer_degrees: f32) {
         add_box(app, home, Vec3::new(0.1, 0.6, 0.1));
     }
     let outer = outer_degrees.to_radians();
-    let spot = SpotLight { range: 6.0, intensity: 4.0, inner_angle: outer - 0.1, outer_angle: outer, ..Default::default() };
+    let spot =
+        SpotLight { range: 6.0, intensity: 4.0, inner_angle: outer - 0.1, outer_angle: outer, ..Default::default() };
     app.world.spawn((spot, Transform::from_translation(at).looking_to(Vec3::NEG_Y), ShadowMap::default()));
 }
 
@@ -63,7 +64,8 @@ pub fn tile_shrink(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, M
     let mut worst = Score::default();
     for height in SHRINK_HEIGHTS {
         let (eye, target) = over(TILE_SPOT.0, height);
-        let measured = measure_at(m, TILE_SHRINK, &format!("{height}"), |app| place_camera(&mut app.world, eye, target))?;
+        let measured =
+            measure_at(m, TILE_SHRINK, &format!("{height}"), |app| place_camera(&mut app.world, eye, target))?;
         let s = misclassified(&measured, 0, on_ground(&measured));
         if s.value() >= worst.value() {
             worst = s;
@@ -82,7 +84,11 @@ pub struct ShrinkPoint {
 
 /// The tile-shrink scene measured from the middle height with the spot's tile held at each of
 /// `sides`, beside what [`predicted_share`] expects.
-pub fn tile_shrink_sweep(m: &mut Measurer<'_>, settings: &Settings, sides: &[u32]) -> Result<Vec<ShrinkPoint>, MeasureError> {
+pub fn tile_shrink_sweep(
+    m: &mut Measurer<'_>,
+    settings: &Settings,
+    sides: &[u32],
+) -> Result<Vec<ShrinkPoint>, MeasureError> {
     let mut out = Vec::new();
     for &side in sides {
         let fixed = Settings { tile_sizes: TileSizes::Fixed, shadow_map_size: side, ..settings.clone() };
@@ -200,7 +206,8 @@ pub fn starved_scene(settings: &Settings) -> Result<App, crate::AppError> {
 /// they were made, which is their homes' order).
 fn slide_posts(app: &mut App, steps: u32) {
     let homes: Vec<Vec3> = (0..STARVED_SPOTS).flat_map(|k| post_homes(spot_at(k))).collect();
-    let mut posts = app.world.query_filtered::<(bevy_ecs::entity::Entity, &mut Transform), bevy_ecs::query::With<ShadowCaster>>();
+    let mut posts =
+        app.world.query_filtered::<(bevy_ecs::entity::Entity, &mut Transform), bevy_ecs::query::With<ShadowCaster>>();
     let mut all: Vec<_> = posts.iter_mut(&mut app.world).collect();
     all.sort_by_key(|(e, _)| *e);
     for ((_, mut t), home) in all.into_iter().zip(homes) {
@@ -224,7 +231,8 @@ pub fn starved_budget(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score
     measure_at(m, STARVED, "start", |_| {})?;
     let (app, _) = m.parts(STARVED)?;
     let side = app.world.query::<&ShadowMap>().iter(&app.world).map(|s| s.resolution).max().unwrap_or(1);
-    let starved = Settings { shadow_updates: (side * side).max(crate::settings::MIN_SHADOW_UPDATES), ..settings.clone() };
+    let starved =
+        Settings { shadow_updates: (side * side).max(crate::settings::MIN_SHADOW_UPDATES), ..settings.clone() };
     m.subject(STARVED, &starved, starved_scene)?;
     let mut score = Score::default();
     for frame in 1..=STARVED_FRAMES {

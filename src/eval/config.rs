@@ -1,0 +1,444 @@
+//! What a sweep is made of: the shadow configurations `umbra bench` compares (each a set of
+//! shadow settings, with its label and its memory), which of them a sweep takes, the views of
+//! the measured scene and the sweep's options. Timing ([`super::cost`]) and the sweep itself
+//! ([`super::sweep`]) both read these.
+
+use super::measure::TruthSettings;
+use crate::App;
+use crate::components::ShadowMethod;
+use crate::settings::{MomentBits, MomentSource, Settings, ShadowDepth, ShadowFaces};
+use crate::shadow::FitMode;
+use bevy_ecs::prelude::With;
+use glam::Vec3;
+
+/// One shadow configuration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Config {
+    /// Texels per side of each map.
+    pub map_size: u32,
+    /// Sun cascades.
+    pub cascades: u32,
+    /// Cascade fitting.
+    pub fit: FitMode,
+    /// How every light's shadow map is sampled.
+    pub method: ShadowMethod,
+    /// Constant, slope and normal bias, all the same, in texels.
+    pub bias: f32,
+    /// Faces drawn into the maps.
+    pub faces: ShadowFaces,
+    /// Filters compare with the receiver's plane.
+    pub receiver_plane: bool,
+    /// Blur radius of moment maps, in texels.
+    pub blur: u32,
+    /// Bits per moment of moment maps.
+    pub moment_bits: MomentBits,
+    /// How moment maps are made.
+    pub moments_from: MomentSource,
+    /// Format of the depth maps.
+    pub depth: ShadowDepth,
+    /// Multiplicative depth offset (share of the distance to the light).
+    pub bias_scale: f32,
+    /// Every light adds contact shadows (at the settings' steps, length and thickness).
+    pub contact: bool,
+    /// Instead of the above: the Bevy-like baseline ([`bevy_like`]).
+    pub bevy_like: bool,
+}
+
+/// The family the Bevy-like baseline is charted as.
+pub const BEVY_FAMILY: &str = "Bevy-like";
+
+/// What a user would otherwise get from Bevy, as its documented defaults read: 4 cascades
+/// split geometrically from 10 m to 150 m, each blending 20 % into the next; a depth bias of
+/// 0.02 m along the light and a normal bias of 1.8 texels; its 9-tap Gaussian PCF (Castaño's,
+/// `gauss5`); 2048² maps; no receiver plane. Umbra's stable fit stands in for Bevy's own.
+#[must_use]
+pub fn bevy_like(base: &Settings) -> Settings {
+    Settings {
+        shadow_map_size: 2048,
+        cascades: 4,
+        first_cascade_far: Some(10.0),
+        shadow_distance: 150.0,
+        cascade_blend: 0.2,
+        fit_mode: FitMode::Stable,
+        method: ShadowMethod::Gauss5,
+        depth_bias: 0.0,
+        slope_bias: 0.0,
+        normal_bias: 1.8,
+        depth_bias_metres: 0.02,
+        receiver_plane: false,
+        shadow_faces: ShadowFaces::Both,
+        ..base.clone()
+    }
+}
+
+impl Config {
+    /// The default settings' configuration.
+    pub fn default_settings() -> Config {
+        let d = Settings::default();
+        Config {
+            map_size: d.shadow_map_size,
+            cascades: d.cascades,
+            fit: d.fit_mode,
+            method: d.method,
+            bias: d.depth_bias,
+            faces: d.shadow_faces,
+            receiver_plane: d.receiver_plane,
+            blur: d.moment_blur,
+            moment_bits: d.moment_bits,
+            moments_from: d.moments_from,
+            depth: d.shadow_depth,
+            bias_scale: d.bias_scale,
+            contact: d.contact_shadows,
+            bevy_like: false,
+        }
+    }
+
+    /// `base` with this configuration's shadow settings.
+    pub fn settings(&self, base: &Settings) -> Settings {
+        if self.bevy_like {
+            return Settings { contact_shadows: self.contact, ..bevy_like(base) };
+        }
+        Settings {
+            shadow_map_size: self.map_size,
+            cascades: self.cascades,
+            fit_mode: self.fit,
+            method: self.method,
+            depth_bias: self.bias,
+            slope_bias: self.bias,
+            normal_bias: self.bias,
+            shadow_faces: self.faces,
+            receiver_plane: self.receiver_plane,
+            moment_blur: self.blur,
+            moment_bits: self.moment_bits,
+            moments_from: self.moments_from,
+            shadow_depth: self.depth,
+            bias_scale: self.bias_scale,
+            shadow_memory: self.memory_mib(),
+            contact_shadows: self.contact,
+            ..base.clone()
+        }
+    }
+
+    /// Shadow memory in MiB that holds sixteen layers at this configuration's map size with
+    /// their static copies (at least the default): a sweep's map size is then what the sun's
+    /// cascades get, and no light's tile is halved for want of room.
+    pub fn memory_mib(&self) -> u32 {
+        let size = u64::from(self.map_size);
+        let bytes = 16 * size * size * u64::from(self.texel_bytes() + 4);
+        (bytes.div_ceil(1 << 20) as u32).clamp(Settings::default().shadow_memory, crate::settings::MAX_SHADOW_MEMORY)
+    }
+
+    /// Bytes a texel of one layer takes: the depth map's, and the colour map's where its method
+    /// reads one (moments at the bits they get where full floats exist, shared among the depth
+    /// texels a moment texel covers, at least a byte).
+    pub fn texel_bytes(&self) -> u32 {
+        let depth = match self.depth {
+            ShadowDepth::Float32 => 4,
+            ShadowDepth::Unorm16 => 2,
+        };
+        let channels = self.method.moment_count();
+        let colour_bits = match (self.method.moments(), self.moment_bits) {
+            (false, _) => self.method.colour_depth_bits(),
+            (true, MomentBits::Auto) => channels * self.method.moment_bits(),
+            (true, MomentBits::Half) => channels * 16,
+            (true, MomentBits::Full) => channels * 32,
+        };
+        let scale = self.moments_from.colour_scale(self.method.colour_depth_bits() > 0);
+        depth + (colour_bits / 8).div_ceil(scale * scale)
+    }
+
+    /// What it changes of the depth comparison: the depth format, the multiplicative offset.
+    fn depth_label(&self) -> String {
+        let d = Config::default_settings();
+        let mut out = String::new();
+        if self.depth != d.depth {
+            out += &format!(" {}", self.depth.name());
+        }
+        if self.bias_scale != d.bias_scale {
+            out += &format!(" s{}", self.bias_scale);
+        }
+        out
+    }
+
+    /// The device can draw it: R32F and explicit 32-bit moments need full floats.
+    pub fn supported(&self, full_floats: bool) -> bool {
+        full_floats
+            || !(self.method.colour_depth_bits() > 16 || self.method.moments() && self.moment_bits == MomentBits::Full)
+    }
+
+    /// How its moment maps are made (blur radius, bits, source when not the default), for
+    /// moment methods only.
+    fn moment_label(&self) -> String {
+        if !self.method.moments() {
+            return String::new();
+        }
+        let bits = if self.moment_bits == MomentBits::Auto {
+            String::new()
+        } else {
+            format!(" {}-bit", self.moment_bits.name())
+        };
+        let d = Config::default_settings();
+        let from =
+            if self.moments_from == d.moments_from { String::new() } else { format!(" {}", self.moments_from.name()) };
+        format!(" blur{}{bits}{from}", self.blur)
+    }
+
+    /// Its family for the charts and the summary: the method's, or the baseline's own.
+    pub fn family(&self) -> &'static str {
+        if self.bevy_like { BEVY_FAMILY } else { self.method.family() }
+    }
+
+    /// Its name for charts: map size and cascades, then only what differs from the defaults.
+    pub fn short_label(&self) -> String {
+        let contact = if self.contact { " contact" } else { "" };
+        if self.bevy_like {
+            return format!("bevy-like{contact}");
+        }
+        let d = Config::default_settings();
+        let mut out = format!("{} x{}", self.map_size, self.cascades);
+        if self.fit != d.fit {
+            out += &format!(" {}", self.fit.name());
+        }
+        if self.method != d.method {
+            out += &format!(" {}", self.method.name());
+        }
+        if self.bias != d.bias {
+            out += &format!(" b{}", self.bias);
+        }
+        if self.faces != d.faces {
+            out += &format!(" {}", self.faces.name());
+        }
+        if !self.receiver_plane {
+            out += " flat";
+        }
+        out + &self.depth_label() + &self.moment_label() + contact
+    }
+
+    /// A short name: `2048 x4 stable bilinear b1`, with `back` when only back faces are drawn and
+    /// `flat` when filters compare with the centre's depth, not the receiver's plane.
+    pub fn label(&self) -> String {
+        let contact = if self.contact { " contact" } else { "" };
+        if self.bevy_like {
+            return format!("bevy-like (2048 x4 gauss5, 0.02 m + 1.8 texels normal){contact}");
+        }
+        let faces = if self.faces == ShadowFaces::Back { " back" } else { "" };
+        let flat = if self.receiver_plane { "" } else { " flat" };
+        format!(
+            "{} x{} {} {} b{}{faces}{flat}{}{}{contact}",
+            self.map_size,
+            self.cascades,
+            self.fit.name(),
+            self.method.name(),
+            self.bias,
+            self.depth_label(),
+            self.moment_label()
+        )
+    }
+}
+
+/// The configurations swept: map size against cascades at the defaults, then each other
+/// choice varied on its own around the defaults. `quick` takes a few of them.
+pub fn configs(quick: bool) -> Vec<Config> {
+    let d = Config::default_settings();
+    let mut out = Vec::new();
+    let mut push = |c: Config| {
+        if !out.contains(&c) {
+            out.push(c);
+        }
+    };
+    let (sizes, cascades): (&[u32], &[u32]) =
+        if quick { (&[1024, 2048], &[1, 4]) } else { (&[512, 1024, 2048, 4096], &[1, 2, 3, 4]) };
+    for &map_size in sizes {
+        for &c in cascades {
+            push(Config { map_size, cascades: c, ..d });
+        }
+    }
+    let around: &[u32] = if quick { &[2048] } else { &[1024, 2048, 4096] };
+    for &map_size in around {
+        for fit in [FitMode::Unsnapped, FitMode::Tight, FitMode::Sdsm] {
+            push(Config { map_size, fit, ..d });
+        }
+        // Moment maps only at the default size (on the software rasterizer one frame takes
+        // seconds); the quick sweep takes one of them.
+        let moments_here = |m: &ShadowMethod| map_size == d.map_size && (!quick || *m == ShadowMethod::Vsm);
+        // Planar shadows have no map: one row.
+        let here = |m: &ShadowMethod| match m {
+            m if m.moments() => moments_here(m),
+            ShadowMethod::Planar => map_size == d.map_size,
+            _ => true,
+        };
+        for &method in ShadowMethod::ALL.iter().filter(|m| here(m)) {
+            push(Config { map_size, method, ..d });
+        }
+    }
+    // Moment maps resolved from the depth map, at its side, a half and a quarter of it (the full
+    // sweep only: on lavapipe the quick sweep took 32 minutes with them).
+    if !quick {
+        for &method in ShadowMethod::ALL.iter().filter(|m| m.moments()) {
+            for moments_from in [MomentSource::Depth, MomentSource::Half, MomentSource::Quarter] {
+                push(Config { method, moments_from, ..d });
+            }
+        }
+    }
+    // Moment maps: half floats against full, and a narrower and a wider blur.
+    if !quick {
+        for &method in ShadowMethod::ALL.iter().filter(|m| m.moments()) {
+            push(Config { method, moment_bits: MomentBits::Half, ..d });
+        }
+        for blur in [1, 4] {
+            push(Config { method: ShadowMethod::Msm, blur, ..d });
+        }
+    }
+    // Depth formats: 16-bit fixed point, and the source articles' multiplicative offset on its
+    // own (seed 001's `depth × 0.95`, with R32F as it kept depth, and with the depth map).
+    push(Config { depth: ShadowDepth::Unorm16, ..d });
+    if !quick {
+        push(Config { method: ShadowMethod::DepthR32f, bias: 0.0, bias_scale: 0.05, ..d });
+        for bias_scale in [0.01, 0.05] {
+            push(Config { bias: 0.0, bias_scale, ..d });
+        }
+    }
+    // What the receiver plane does for the grid filters: the same without it.
+    for method in [ShadowMethod::Pcf3, ShadowMethod::Pcf5] {
+        push(Config { method, receiver_plane: false, ..d });
+    }
+    let biases: &[f32] = if quick { &[0.0] } else { &[0.0, 0.25, 1.0, 2.0, 4.0] };
+    for &bias in biases {
+        push(Config { bias, ..d });
+    }
+    push(Config { faces: ShadowFaces::Back, bias: 0.0, ..d });
+    push(Config { bevy_like: true, ..d });
+    // Contact shadows over the default, a member of each family and Bevy-like (full sweep only).
+    if !quick {
+        push(Config { contact: true, ..d });
+        for method in [ShadowMethod::Pcf5, ShadowMethod::Pcss, ShadowMethod::Evsm, ShadowMethod::Msm] {
+            push(Config { method, contact: true, ..d });
+        }
+        push(Config { bevy_like: true, contact: true, ..d });
+    }
+    if !quick {
+        push(Config { faces: ShadowFaces::Back, ..d });
+    }
+    out
+}
+
+/// A view of a measured scene: a camera and a time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// Its name.
+    pub name: &'static str,
+    /// Where the camera is.
+    pub eye: Vec3,
+    /// What it looks at.
+    pub target: Vec3,
+    /// Scene time in seconds.
+    pub time: f64,
+}
+
+/// The fixed views of the sample scene that every configuration is measured from.
+pub const VIEWS: [View; 4] = [
+    View { name: "overview", eye: Vec3::new(2.0, 5.5, 12.5), target: Vec3::new(-0.5, 1.0, 0.0), time: 6.0 },
+    View { name: "character", eye: Vec3::new(3.0, 2.5, 7.5), target: Vec3::new(0.0, 0.8, 3.0), time: 3.0 },
+    View { name: "far", eye: Vec3::new(-12.0, 1.8, 14.0), target: Vec3::new(4.0, 0.5, -6.0), time: 2.0 },
+    View { name: "above", eye: Vec3::new(0.5, 18.0, 6.0), target: Vec3::ZERO, time: 9.0 },
+];
+
+/// The views `app`'s scene is measured from: the sample scene's four, or a scene file's own
+/// camera (or the one that frames it) at 2 s.
+pub fn views(app: &mut App) -> Vec<View> {
+    if app.world.resource::<Settings>().scene.is_none() {
+        return VIEWS.to_vec();
+    }
+    let mut cameras = app.world.query_filtered::<&crate::components::Transform, With<crate::components::Camera>>();
+    cameras
+        .iter(&app.world)
+        .map(|t| View { name: "scene camera", eye: t.translation, target: t.translation + t.forward(), time: 2.0 })
+        .collect()
+}
+
+/// What the sweep measures, how big and how long.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepOptions {
+    /// The settings every configuration starts from (which scene, its exposure).
+    pub base: Settings,
+    /// The views of the scene measured.
+    pub views: Vec<View>,
+    /// Fewer configurations, smaller frames, fewer timed frames.
+    pub quick: bool,
+    /// Size of the sample-scene frames.
+    pub size: (u32, u32),
+    /// Size of the failure cases' frames.
+    pub case_size: (u32, u32),
+    /// Timed frames per view after two untimed ones.
+    pub frames: u32,
+    /// How the truth is taken.
+    pub truth: TruthSettings,
+}
+
+impl SweepOptions {
+    /// The full sweep, or the quick one.
+    pub fn new(quick: bool) -> SweepOptions {
+        if quick {
+            SweepOptions {
+                base: Settings::default(),
+                views: VIEWS.to_vec(),
+                quick,
+                size: (320, 180),
+                case_size: (192, 192),
+                frames: 4,
+                truth: TruthSettings { soft_rays: 8, ..Default::default() },
+            }
+        } else {
+            SweepOptions {
+                base: Settings::default(),
+                views: VIEWS.to_vec(),
+                quick,
+                size: (640, 360),
+                case_size: (256, 256),
+                frames: 10,
+                truth: TruthSettings::default(),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn configurations_are_distinct_and_include_the_defaults() {
+        for quick in [true, false] {
+            let c = configs(quick);
+            assert!(c.contains(&Config::default_settings()));
+            for (i, a) in c.iter().enumerate() {
+                assert!(c[i + 1..].iter().all(|b| b != a), "{} twice", a.label());
+                a.settings(&Settings::default()).validate().unwrap();
+            }
+        }
+        assert!(configs(true).len() < configs(false).len());
+        assert_eq!(Config::default_settings().label(), "2048 x4 stable bilinear b0.5");
+        let c = Config { method: ShadowMethod::Pcf3, bias: 2.0, ..Config::default_settings() };
+        assert_eq!(c.short_label(), "2048 x4 pcf3 b2");
+        let c = Config { depth: ShadowDepth::Unorm16, bias_scale: 0.05, ..Config::default_settings() };
+        assert_eq!(c.label(), "2048 x4 stable bilinear b0.5 d16 s0.05");
+    }
+
+    #[test]
+    fn a_texel_costs_its_depth_and_its_colour_map() {
+        let d = Config::default_settings();
+        assert_eq!(d.texel_bytes(), 4);
+        assert_eq!(Config { depth: ShadowDepth::Unorm16, ..d }.texel_bytes(), 2);
+        assert_eq!(Config { method: ShadowMethod::RadialR16f, ..d }.texel_bytes(), 6);
+        assert_eq!(Config { method: ShadowMethod::DepthR32f, ..d }.texel_bytes(), 8);
+        assert_eq!(Config { method: ShadowMethod::Vsm, ..d }.texel_bytes(), 12);
+        assert_eq!(Config { method: ShadowMethod::Evsm, ..d }.texel_bytes(), 12);
+        assert_eq!(Config { method: ShadowMethod::Evsm2, ..d }.texel_bytes(), 8);
+        assert_eq!(Config { method: ShadowMethod::Msm, ..d }.texel_bytes(), 20);
+        // Resolved at half the side, four depth texels share a moment texel.
+        let half = Config { method: ShadowMethod::Msm, moments_from: MomentSource::Half, ..d };
+        assert_eq!(half.texel_bytes(), 4 + 4);
+        assert!(!Config { method: ShadowMethod::DepthR32f, ..d }.supported(false));
+        assert!(Config { method: ShadowMethod::Vsm, ..d }.supported(false));
+    }
+}

@@ -1,0 +1,133 @@
+//! The front door and the book hold together: every relative link in `README.md` and in
+//! `docs/**/*.md` names a file that exists, and every `#anchor` a heading of the page it points
+//! at; the README stays short enough to read in five minutes.
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+/// The longest the README may grow (issue 25: a front door, the rest in the book).
+const README_MAX_LINES: usize = 250;
+
+fn markdown_files() -> Vec<PathBuf> {
+    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+        for entry in std::fs::read_dir(dir).unwrap().flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                walk(&path, out);
+            } else if path.extension().is_some_and(|e| e == "md") {
+                out.push(path);
+            }
+        }
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = vec![root.join("README.md")];
+    walk(&root.join("docs"), &mut files);
+    files
+}
+
+/// The targets of the inline links and images in `text`: `[label](target)`, outside code.
+fn links(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut fenced = false;
+    for line in text.lines() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        if fenced {
+            continue;
+        }
+        // Inline code spans may hold brackets that are not links.
+        let plain: String = line.split('`').step_by(2).collect::<Vec<_>>().join(" ");
+        let mut rest = plain.as_str();
+        while let Some(at) = rest.find("](") {
+            let after = &rest[at + 2..];
+            let Some(end) = after.find(')') else { break };
+            out.push(after[..end].trim().to_string());
+            rest = &after[end..];
+        }
+    }
+    out
+}
+
+/// A heading's anchor as GitHub makes it: lower case, punctuation dropped but for hyphens and
+/// underscores, spaces turned into hyphens.
+fn slug(heading: &str) -> String {
+    heading
+        .trim()
+        .to_lowercase()
+        .chars()
+        .filter(|c| c.is_alphanumeric() || matches!(c, ' ' | '-' | '_'))
+        .map(|c| if c == ' ' { '-' } else { c })
+        .collect()
+}
+
+fn anchors(text: &str) -> HashSet<String> {
+    text.lines().filter_map(|l| l.strip_prefix('#')).map(|l| slug(l.trim_start_matches('#'))).collect()
+}
+
+#[test]
+fn every_relative_link_in_the_readme_and_the_book_reaches_a_file_and_a_heading() {
+    let mut broken = Vec::new();
+    for file in markdown_files() {
+        let text = std::fs::read_to_string(&file).unwrap();
+        for target in links(&text) {
+            if target.contains("://") || target.starts_with("mailto:") || target.is_empty() {
+                continue;
+            }
+            let (path, anchor) = target.split_once('#').unwrap_or((&target, ""));
+            let resolved = if path.is_empty() { file.clone() } else { file.parent().unwrap().join(path) };
+            if !resolved.exists() {
+                broken.push(format!("{}: {target} (no such file)", file.display()));
+            } else if !anchor.is_empty()
+                && resolved.extension().is_some_and(|e| e == "md")
+                && !anchors(&std::fs::read_to_string(&resolved).unwrap()).contains(anchor)
+            {
+                broken.push(format!("{}: {target} (no such heading)", file.display()));
+            }
+        }
+    }
+    assert!(broken.is_empty(), "broken links:\n{}", broken.join("\n"));
+}
+
+#[test]
+fn the_readme_is_a_front_door() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let lines = readme.lines().count();
+    assert!(lines <= README_MAX_LINES, "README.md has {lines} lines, more than {README_MAX_LINES}");
+    // Every chapter of the book is reachable from it, through the book's contents.
+    let contents = root.join("docs/book/README.md");
+    assert!(links(&readme).iter().any(|l| l.starts_with("docs/book/")), "the README links no chapter");
+    let listed: HashSet<String> = links(&std::fs::read_to_string(contents).unwrap()).into_iter().collect();
+    for chapter in std::fs::read_dir(root.join("docs/book")).unwrap().flatten() {
+        let name = chapter.file_name().to_string_lossy().into_owned();
+        if name.ends_with(".md") && name != "README.md" {
+            assert!(listed.contains(&name), "docs/book/README.md does not list {name}");
+        }
+    }
+}
+
+#[test]
+fn the_readmes_gallery_is_the_grid_umbra_gallery_wrote() {
+    // Not retyped: the README shows docs/gallery/gallery.md's grid, its pictures seen from the root.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let grid = |text: &str| -> Vec<String> {
+        text.lines().filter(|l| l.starts_with("| ") && l.contains("](")).map(String::from).collect()
+    };
+    let written = std::fs::read_to_string(root.join("docs/gallery/gallery.md")).unwrap();
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let expected: Vec<String> = grid(&written).iter().map(|l| l.replace("](", "](docs/gallery/")).collect();
+    let shown: Vec<String> = grid(&readme).into_iter().filter(|l| l.contains("](docs/gallery/")).collect();
+    assert!(!expected.is_empty());
+    assert_eq!(shown, expected, "run `umbra gallery` and paste docs/gallery/gallery.md's grid into the README");
+}
+
+#[test]
+fn links_are_found_outside_code_and_headings_make_githubs_anchors() {
+    let text = "see [a](x.md#b-c) and `[no](code)`\n```\n[no](fence)\n```\n![pic](p.png)";
+    assert_eq!(links(text), ["x.md#b-c", "p.png"]);
+    assert_eq!(slug(" Where shadow maps fail"), "where-shadow-maps-fail");
+    assert_eq!(slug("The lab: where the shadows are wrong, live"), "the-lab-where-the-shadows-are-wrong-live");
+    assert_eq!(slug("At scale: ten thousand casters"), "at-scale-ten-thousand-casters");
+}
