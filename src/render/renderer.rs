@@ -311,11 +311,19 @@ impl Renderer {
         let (device, queue) = (&gpu.device, &gpu.queue);
         self.tell_caps(world);
         self.take_samples(gpu, world, false);
-        let settings = world.resource::<Settings>().clone();
+        // What this frame takes from the settings, read once (extraction borrows the world).
+        let settings = world.resource::<Settings>();
         let max = device.limits().max_texture_dimension_2d;
         if settings.shadow_map_size > max {
             return Err(RenderError::ShadowMapTooLarge { size: settings.shadow_map_size, max });
         }
+        let how = DrawOptions::from(settings);
+        let (moment_bits, shadow_depth, shadows) = (settings.moment_bits, settings.shadow_depth, settings.shadows);
+        let (sdsm, light_volumes) = (settings.fit_mode == FitMode::Sdsm, settings.light_volumes);
+        let shape = match world.get_resource::<ShadowAtlas>() {
+            Some(atlas) => atlas.shape,
+            None => ShadowAtlas::for_settings(settings, self.caps, std::iter::empty()).shape,
+        };
         self.upload_new_meshes(device, world.resource::<MeshLibrary>());
         if let Some(library) = world.get_resource::<TextureLibrary>() {
             self.textures.upload_new(device, queue, library);
@@ -324,22 +332,18 @@ impl Renderer {
         // A frame of shadow maps alone leaves out what only the main pass reads.
         let lit = !matches!(output, Output::ShadowsOnly);
         let mut data = if lit { extract(world) } else { extract_shadow_maps(world) };
-        let format = moments::colour_format(data.methods, settings.moment_bits, gpu.full_float_moments())
+        let format = moments::colour_format(data.methods, moment_bits, gpu.full_float_moments())
             .map_err(RenderError::Unsupported)?;
         if let Some(format) = format {
             moments::set_terms(&mut data.layers, format);
         }
-        let atlas = world.get_resource::<ShadowAtlas>().copied();
-        let shape = atlas.unwrap_or_else(|| ShadowAtlas::for_settings(&settings, self.caps, std::iter::empty())).shape;
         if shape.page > max {
             return Err(RenderError::ShadowMapTooLarge { size: shape.page, max });
         }
-        let colour =
-            moments::ColourLayout { format, scale: moments::colour_scale(data.methods, settings.moments_from) };
-        if self.shadow.ensure_maps(device, shape, colour, settings.shadow_depth) {
+        let colour = moments::ColourLayout { format, scale: moments::colour_scale(data.methods, how.moments_from) };
+        if self.shadow.ensure_maps(device, shape, colour, shadow_depth) {
             self.main.rebind(device, &self.shadow.maps);
         }
-        let how = DrawOptions::from(&settings);
         let update = world.get_resource::<crate::components::Time>().map(|t| t.updates);
         self.shadow.plan(&mut data, how, update);
         if lit {
@@ -356,7 +360,7 @@ impl Renderer {
         if let Some(timer) = &mut self.timer {
             timer.begin();
         }
-        let stats = if settings.shadows {
+        let stats = if shadows {
             self.shadow.encode((device, queue), &mut encoder, &data, drawables, how, self.timer.as_mut())
         } else {
             ShadowStats::default()
@@ -372,7 +376,7 @@ impl Renderer {
             }
         }
         let timer = self.timer.as_ref();
-        let reduces = settings.fit_mode == FitMode::Sdsm && matches!(output, Output::Picture(_) | Output::Measure(..));
+        let reduces = sdsm && matches!(output, Output::Picture(_) | Output::Measure(..));
         self.main.keep_depth = reduces;
         match output {
             Output::Picture(target) => {
@@ -381,7 +385,7 @@ impl Renderer {
                     (self.last_layers, self.atlas_stale) = (layers, true);
                 }
                 self.main.encode(queue, &mut encoder, (target, &depth), &data, drawables, timer);
-                if settings.light_volumes {
+                if light_volumes {
                     let lines = self.lines.get_or_insert_with(|| LinePass::new(device, self.format));
                     let vertices = volume_lines(&data);
                     lines.encode(device, queue, &mut encoder, target, &data.clip_from_world, &vertices);
