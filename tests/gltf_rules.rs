@@ -273,6 +273,30 @@ fn instanced_meshes_are_built_once_and_shared() {
 }
 
 #[test]
+fn a_required_texture_transform_moves_the_texture_coordinates_it_names() {
+    let png = png_rgba(4, 4, &checker(4, [255, 0, 0, 255], [0, 0, 255, 0]));
+    let transformed = |transform: serde_json::Value| {
+        let mut m = TestModel::new().with_texture(&png, None);
+        m.json["extensionsUsed"] = json!(["KHR_texture_transform"]);
+        m.json["extensionsRequired"] = json!(["KHR_texture_transform"]);
+        m.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] =
+            json!({ "KHR_texture_transform": transform });
+        load(&m)
+    };
+    // Vertex 5 reads (0.25, 0.5): scaled (0.5, 1), turned a quarter (u to v) to (-1, 0.5), offset.
+    let model =
+        transformed(json!({ "offset": [0.5, 0.0], "rotation": std::f32::consts::FRAC_PI_2, "scale": [2.0, 2.0] }));
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+    let uv = model.parts[0].mesh.vertices[5].uv;
+    assert!((uv[0] + 0.5).abs() < 1e-6 && (uv[1] - 0.5).abs() < 1e-6, "{uv:?}");
+    assert!(model.parts[0].texture.is_some());
+    // Its own texCoord overrides the texture's: TEXCOORD_1, which the column lacks.
+    let model = transformed(json!({ "texCoord": 1 }));
+    assert!(model.parts[0].texture.is_none());
+    assert!(model.warnings.iter().any(|w| w.contains("TEXCOORD_1")), "{:?}", model.warnings);
+}
+
+#[test]
 fn textures_are_read_with_their_sampler_and_shared() {
     let red_blue = checker(4, [255, 0, 0, 255], [0, 0, 255, 0]);
     let sampler = json!({ "magFilter": 9728, "minFilter": 9984, "wrapS": 33071, "wrapT": 33648 });

@@ -61,6 +61,37 @@ impl Default for Sampling {
     }
 }
 
+/// Where a texture sits on its surface (glTF's KHR_texture_transform): the texture coordinates
+/// scaled, then turned by `rotation` radians, then offset, as the extension's own matrix
+/// (translation × rotation × scale, the rotation's columns (cos, sin) and (−sin, cos)) does. Applied
+/// to a primitive's coordinates once, when it is loaded, so the picture and the casters' alpha
+/// read the same place.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvTransform {
+    /// Added last.
+    pub offset: Vec2,
+    /// Radians, turning u towards v.
+    pub rotation: f32,
+    /// Applied first.
+    pub scale: Vec2,
+}
+
+impl UvTransform {
+    /// `uv` where the texture is read once transformed.
+    #[must_use]
+    pub fn apply(&self, uv: Vec2) -> Vec2 {
+        let (sin, cos) = self.rotation.sin_cos();
+        let s = uv * self.scale;
+        Vec2::new(cos * s.x - sin * s.y, sin * s.x + cos * s.y) + self.offset
+    }
+
+    /// Every number is finite.
+    #[must_use]
+    pub fn is_finite(&self) -> bool {
+        self.offset.is_finite() && self.rotation.is_finite() && self.scale.is_finite()
+    }
+}
+
 /// A base-colour texture: an image (shared by every texture that uses it) and its sampler.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TextureData {
@@ -305,5 +336,26 @@ mod tests {
         let refused = decode_image("big", &png, |n| Err(format!("{n} bytes")));
         assert_eq!(refused, Err(DecodeError::TooLarge(format!("{} bytes", mipmapped_bytes(2, 2)))));
         assert!(matches!(decode_image("cut", &png[..png.len() / 2], |_| Ok(())), Err(DecodeError::Broken(_))));
+    }
+
+    #[test]
+    fn a_texture_transform_scales_then_turns_then_offsets() {
+        let t = |offset: [f32; 2], rotation: f32, scale: [f32; 2]| UvTransform {
+            offset: Vec2::from(offset),
+            rotation,
+            scale: Vec2::from(scale),
+        };
+        let uv = Vec2::new(0.25, 0.5);
+        assert_eq!(t([0.0, 0.0], 0.0, [1.0, 1.0]).apply(uv), uv);
+        assert_eq!(t([0.5, -1.0], 0.0, [2.0, 4.0]).apply(uv), Vec2::new(1.0, 1.0));
+        // A quarter turn takes u to v.
+        let turned = t([0.0, 0.0], std::f32::consts::FRAC_PI_2, [1.0, 1.0]).apply(Vec2::X);
+        assert!((turned - Vec2::Y).length() < 1e-6, "{turned}");
+        // Scale comes before the turn, the offset after it.
+        let all = t([0.1, 0.2], std::f32::consts::FRAC_PI_2, [2.0, 1.0]).apply(Vec2::X);
+        assert!((all - Vec2::new(0.1, 2.2)).length() < 1e-6, "{all}");
+        assert!(!t([f32::NAN, 0.0], 0.0, [1.0, 1.0]).is_finite());
+        assert!(!t([0.0, 0.0], f32::INFINITY, [1.0, 1.0]).is_finite());
+        assert!(t([1e30, 0.0], 0.0, [0.0, 0.0]).is_finite());
     }
 }

@@ -20,8 +20,10 @@ pub(super) struct Source<'a> {
 }
 
 /// Extensions a file may require: quantized attributes are read like any other accessor, unlit
-/// materials only change shading, and punctual lights become umbra's lights (with `--scene`).
-const TOLERATED_EXTENSIONS: [&str; 3] = ["KHR_mesh_quantization", "KHR_materials_unlit", "KHR_lights_punctual"];
+/// materials only change shading, punctual lights become umbra's lights (with `--scene`), and
+/// texture transforms move the base-colour texture's coordinates.
+const TOLERATED_EXTENSIONS: [&str; 4] =
+    ["KHR_mesh_quantization", "KHR_materials_unlit", "KHR_lights_punctual", "KHR_texture_transform"];
 
 /// Parses `bytes` (a .glb or .gltf) and loads its buffers, paid from `input`; external files are
 /// looked up in `dir`.

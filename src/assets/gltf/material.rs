@@ -5,13 +5,36 @@
 use super::accessor::Data;
 use super::budget::Budget;
 use super::container::{Source, read_uri};
-use crate::assets::texture::{DecodeError, Filter, ImageData, Sampling, TextureData, Wrap, decode_image};
+use crate::assets::texture::{DecodeError, Filter, ImageData, Sampling, TextureData, UvTransform, Wrap, decode_image};
 use crate::components::{AlphaMode, Material};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
+
+/// The texture coordinates a texture reads: a set, moved by the texture's transform if it has one.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct TexCoords {
+    /// `TEXCOORD_n`'s n (the transform's own `texCoord` where it gives one).
+    pub(super) set: u32,
+    /// KHR_texture_transform's offset, rotation and scale.
+    pub(super) transform: Option<UvTransform>,
+}
+
+/// What `info` reads, with its KHR_texture_transform; a transform that is not finite is refused.
+fn tex_coords(info: &gltf::texture::Info<'_>) -> Result<TexCoords, String> {
+    let Some(t) = info.texture_transform() else { return Ok(TexCoords { set: info.tex_coord(), transform: None }) };
+    let transform =
+        UvTransform { offset: Vec2::from(t.offset()), rotation: t.rotation(), scale: Vec2::from(t.scale()) };
+    if !transform.is_finite() {
+        return Err(format!(
+            "texture {}: its KHR_texture_transform holds a number that is not finite",
+            info.texture().index()
+        ));
+    }
+    Ok(TexCoords { set: t.tex_coord().unwrap_or(info.tex_coord()), transform: Some(transform) })
+}
 
 /// The materials of one file, with the textures and images read so far.
 pub(super) struct Materials<'s, 'd> {
@@ -29,9 +52,6 @@ impl<'s, 'd> Materials<'s, 'd> {
     /// The materials of `src`; warns once of what umbra does not draw.
     pub(super) fn new(src: &'s Source<'_>, input: &'s Budget, data: &'s Data<'d>, warnings: &mut Vec<String>) -> Self {
         let doc = &src.doc;
-        if doc.extensions_used().any(|e| e == "KHR_texture_transform") {
-            warnings.push("it uses KHR_texture_transform, which umbra ignores: textures may sit wrongly".into());
-        }
         let ignored = doc.materials().any(|m| {
             m.normal_texture().is_some()
                 || m.occlusion_texture().is_some()
@@ -48,13 +68,14 @@ impl<'s, 'd> Materials<'s, 'd> {
         Materials { doc, dir: src.dir, input, data, textures: HashMap::new(), images: HashMap::new(), failed: None }
     }
 
-    /// Material `m` as umbra draws it, its base-colour texture, and the texture-coordinate set
-    /// that texture reads. Fails only when an image would exceed the model's budget.
+    /// Material `m` as umbra draws it, its base-colour texture, and the texture coordinates that
+    /// texture reads. Fails when an image would exceed the model's budget or the texture's
+    /// transform is not finite.
     pub(super) fn get(
         &mut self,
         m: &gltf::Material<'_>,
         warnings: &mut Vec<String>,
-    ) -> Result<(Material, Option<Arc<TextureData>>, u32), String> {
+    ) -> Result<(Material, Option<Arc<TextureData>>, TexCoords), String> {
         let pbr = m.pbr_metallic_roughness();
         let c = pbr.base_color_factor();
         let alpha_mode = match m.alpha_mode() {
@@ -69,13 +90,13 @@ impl<'s, 'd> Materials<'s, 'd> {
             double_sided: m.double_sided(),
             ..Material::color(1.0, 1.0, 1.0)
         };
-        let (texture, set) = match pbr.base_color_texture() {
-            Some(info) => (self.texture(&info.texture(), warnings), info.tex_coord()),
-            None => (None, 0),
+        let (texture, coords) = match pbr.base_color_texture() {
+            Some(info) => (self.texture(&info.texture(), warnings), tex_coords(&info)?),
+            None => (None, TexCoords::default()),
         };
         match self.failed.take() {
             Some(e) => Err(e),
-            None => Ok((material, texture, set)),
+            None => Ok((material, texture, coords)),
         }
     }
 

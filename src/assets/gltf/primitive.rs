@@ -103,10 +103,11 @@ pub(super) fn shape(
     if let Some(i) = normals.as_ref().and_then(|v| v.iter().position(|x| !x.is_finite())) {
         return Err(format!("NORMAL {} is not finite", i / 3));
     }
-    let (material, mut texture, set) = materials.get(&p.material(), warnings)?;
+    let (material, mut texture, coords) = materials.get(&p.material(), warnings)?;
+    let set = coords.set;
     let uvs = match texture {
         Some(_) => match attribute(p, &Semantic::TexCoords(set), &TEXCOORD, Some(n), data)? {
-            Some((_, uv)) => Some(uv),
+            Some((_, uv)) => Some(moved(uv, coords.transform, data)?),
             None => {
                 warnings.push(format!("its material's texture reads TEXCOORD_{set}, which it lacks: drawn untextured"));
                 texture = None;
@@ -270,4 +271,12 @@ fn flat_shaded(vertices: &[Vertex], indices: &[u32], skin: Option<&[SkinVertex]>
     }
     let indices = (0..out.len() as u32).collect();
     mesh_data(out, indices, skin.map(|_| out_skin))
+}
+
+/// Texture coordinates `uv` (pairs) where `transform` moves them, the copy paid from `data`'s budget.
+fn moved(uv: Rc<Vec<f32>>, transform: Option<crate::assets::UvTransform>, data: &Data) -> Result<Rc<Vec<f32>>, String> {
+    let Some(t) = transform else { return Ok(uv) };
+    data.spend(uv.len() * size_of::<f32>())?;
+    let pairs = uv.chunks_exact(2).map(|p| t.apply(glam::Vec2::new(p[0], p[1])));
+    Ok(Rc::new(pairs.flat_map(|p| [p.x, p.y]).collect()))
 }
