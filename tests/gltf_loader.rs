@@ -399,4 +399,31 @@ fn sparse_accessors_replace_the_elements_they_list() {
     bad.json["accessors"][0]["sparse"]["indices"]["bufferView"] = view(&bad, past);
     let err = parse_model(&bad.glb(), None, "sparse.glb").unwrap_err().to_string();
     assert!(err.contains("sparse index 12 is past its 12 elements"), "{err}");
+    // Indices out of order (or repeated) break glTF's rule, and a repeat would be ambiguous.
+    for order in [[7u16, 3], [3, 3]] {
+        let mut unsorted = model.clone();
+        let listed = unsorted.add_shorts(&order, "SCALAR");
+        unsorted.json["accessors"][0]["sparse"]["indices"]["bufferView"] = view(&unsorted, listed);
+        let err = parse_model(&unsorted.glb(), None, "sparse.glb").unwrap_err().to_string();
+        assert!(err.contains("glTF asks for strictly increasing indices"), "{err}");
+    }
+}
+
+#[test]
+fn a_node_with_a_matrix_and_a_translation_and_a_skin_listing_a_joint_twice_are_warned_of() {
+    let mut m = TestModel::new();
+    m.json["nodes"][1]["matrix"] = json!([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 2, 0, 1]);
+    let model = load(&m);
+    assert!(
+        model.warnings.iter().any(|w| w.contains("node 1 has both a matrix and a translation")),
+        "{:?}",
+        model.warnings
+    );
+    // The matrix is what places it: 2 m up, not the translation's 1 m.
+    assert_eq!(model.nodes[1].rest.translation, glam::Vec3::new(0.0, 2.0, 0.0));
+    let mut m = TestModel::new();
+    m.json["skins"][0]["joints"] = json!([1, 1]);
+    let model = load(&m);
+    assert!(model.warnings.iter().any(|w| w.contains("skin 0 lists node 1 twice")), "{:?}", model.warnings);
+    assert!(load(&TestModel::new()).warnings.is_empty());
 }

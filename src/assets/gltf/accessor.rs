@@ -264,6 +264,7 @@ fn apply_sparse<T>(
     if !fits(index_bytes, indices.offset(), index_size) || !fits(value_bytes, values.offset(), comps * size) {
         return Err(format!("accessor {i}: its sparse indices or values run past their buffer views"));
     }
+    let mut last = None;
     for k in 0..n {
         let at = indices.offset() + k * index_size;
         let mut target = 0usize;
@@ -273,6 +274,13 @@ fn apply_sparse<T>(
         if target >= count {
             return Err(format!("accessor {i}: sparse index {target} is past its {count} elements"));
         }
+        // A repeated index would make the element depend on the order the values are read in.
+        if let Some(before) = last.filter(|&before| before >= target) {
+            return Err(format!(
+                "accessor {i}: sparse index {target} comes after {before}; glTF asks for strictly increasing indices"
+            ));
+        }
+        last = Some(target);
         for c in 0..comps {
             let at = values.offset() + (k * comps + c) * size;
             out[target * comps + c] = f(&value_bytes[at..at + size]);

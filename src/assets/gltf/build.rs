@@ -33,6 +33,7 @@ pub(super) fn build(src: &Source, name: &str, input: &Budget, warnings: &mut Vec
     let (parents, order) = hierarchy(&children)?;
     let nodes = nodes(&all_nodes, &parents, &data)?;
     let skins = doc.skins().map(|s| skin(&s, &data)).collect::<Result<Vec<_>, _>>()?;
+    warn_of_broken_rules(doc, warnings);
     let scene = scene_nodes(doc, &children);
     count_parts(&all_nodes, &scene)?;
     let mut model = Model {
@@ -182,6 +183,29 @@ fn nodes(all: &[gltf::Node<'_>], parents: &[Option<usize>], data: &Data<'_>) -> 
             Ok(Node { name, parent, rest })
         })
         .collect()
+}
+
+/// Warns of what glTF forbids but umbra can still draw one way: a node with both a matrix and a
+/// translation, rotation or scale (the matrix is used), and a skin listing a joint twice (both
+/// entries are posed alike).
+fn warn_of_broken_rules(doc: &gltf::Document, warnings: &mut Vec<String>) {
+    for (i, node) in doc.as_json().nodes.iter().enumerate() {
+        if node.matrix.is_some() && (node.translation.is_some() || node.rotation.is_some() || node.scale.is_some()) {
+            warnings.push(format!(
+                "node {i} has both a matrix and a translation, rotation or scale; glTF allows one or the \
+                 other (the matrix is used)"
+            ));
+        }
+    }
+    for s in doc.skins() {
+        let mut seen = std::collections::HashSet::new();
+        if let Some(twice) = s.joints().map(|j| j.index()).find(|&j| !seen.insert(j)) {
+            warnings.push(format!(
+                "skin {} lists node {twice} twice among its joints; glTF asks for each joint once",
+                s.index()
+            ));
+        }
+    }
 }
 
 /// The nodes of the default scene (or the first, or every node when there is no scene).
