@@ -406,6 +406,7 @@ fn sparse_accessors_replace_the_elements_they_list() {
         unsorted.json["accessors"][0]["sparse"]["indices"]["bufferView"] = view(&unsorted, listed);
         let err = parse_model(&unsorted.glb(), None, "sparse.glb").unwrap_err().to_string();
         assert!(err.contains("glTF asks for strictly increasing indices"), "{err}");
+        assert!(err.contains("sparse.glb") && err.contains("accessor 0"), "the file and the accessor: {err}");
     }
 }
 

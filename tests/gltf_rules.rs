@@ -294,6 +294,45 @@ fn a_required_texture_transform_moves_the_texture_coordinates_it_names() {
     let model = transformed(json!({ "texCoord": 1 }));
     assert!(model.parts[0].texture.is_none());
     assert!(model.warnings.iter().any(|w| w.contains("TEXCOORD_1")), "{:?}", model.warnings);
+    // A scale past f32's range is not finite: refused, naming the texture and the rule.
+    let mut m = TestModel::new().with_texture(&png, None);
+    m.json["extensionsUsed"] = json!(["KHR_texture_transform"]);
+    m.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] =
+        json!({ "KHR_texture_transform": { "scale": [1e39, 1.0] } });
+    let err = match umbra::assets::parse_model(&m.glb(), None, "far.glb") {
+        Ok(_) => panic!("a transform that is not finite loaded"),
+        Err(e) => e.to_string(),
+    };
+    assert!(err.contains("far.glb") && err.contains("texture") && err.contains("not finite"), "{err}");
+}
+
+#[test]
+fn a_texture_coordinate_accessor_of_the_wrong_type_is_refused_where_read_and_warned_of_elsewhere() {
+    let png = png_rgba(4, 4, &checker(4, [255, 0, 0, 255], [0, 0, 255, 0]));
+    let retyped = |set: &str, kind: &str, component: u32| {
+        let mut m = TestModel::new().with_texture(&png, None);
+        let values = m.add_floats(&[0.5; 36], "VEC3");
+        m.json["accessors"][values]["type"] = json!(kind);
+        m.json["accessors"][values]["componentType"] = json!(component);
+        m.json["meshes"][0]["primitives"][0]["attributes"][set] = json!(values);
+        m
+    };
+    let refusal = |m: &TestModel| match umbra::assets::parse_model(&m.glb(), None, "uv.glb") {
+        Ok(_) => panic!("a texture read through a broken accessor loaded"),
+        Err(e) => e.to_string(),
+    };
+    // The set the texture reads: three floats per element, or 32-bit integers, are refused.
+    let err = refusal(&retyped("TEXCOORD_0", "VEC3", 5126));
+    assert!(err.contains("TEXCOORD_0 has 3 components per element, not 2"), "{err}");
+    let err = refusal(&retyped("TEXCOORD_0", "VEC2", 5125));
+    assert!(err.contains("TEXCOORD_0") && err.contains("uv.glb"), "{err}");
+    // A set nothing reads is warned of by name and left out.
+    let model = load(&retyped("TEXCOORD_1", "VEC3", 5126));
+    assert!(model.parts[0].texture.is_some());
+    let warned =
+        model.warnings.iter().find(|w| w.contains("TEXCOORD_1")).unwrap_or_else(|| panic!("{:?}", model.warnings));
+    assert!(warned.contains("3 components per element, not 2") && warned.contains("ignored"), "{warned}");
+    assert_eq!(model.warnings.len(), 1, "{:?}", model.warnings);
 }
 
 #[test]

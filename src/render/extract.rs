@@ -4,18 +4,25 @@
 //! [`light_list`] becomes one [`GpuLight`], and its layers take the next slots of the shadow-map
 //! array: slots are the renderer's business, not the world's.
 
-use super::frame::{DrawItem, FrameData, FrameLight, LayerDraw, MAX_PLANAR, SHADOW_FADE, Shadowless, contact_steps};
+use super::frame::{DrawItem, FrameData, FrameLight, LayerDraw, MAX_PLANAR, SHADOW_FADE, Shadowless};
 use super::gpu_types::{Frame, GpuLayer, Object};
 use super::planar::{ground, planar_draws};
 use crate::components::*;
 use crate::light::clusters::{ClusterView, LightGrid, Reach};
-use crate::light::{Kind, LightLabel, ShadowShape, light_list};
+use crate::light::{Kind, Light, LightLabel, ShadowShape, light_list};
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{Aabb, CasterIndex, intersects_clip_volume};
 use crate::systems::CastersAtRest;
 use bevy_ecs::prelude::*;
 use bytemuck::Zeroable;
 use glam::{Mat4, Vec3};
+
+/// Steps of this frame's contact-shadow march: the settings' when shadows are on and a
+/// shadowed light asks for contact shadows, else none (and no camera depth is drawn for it).
+#[must_use]
+fn contact_steps<'a>(settings: &Settings, mut lights: impl Iterator<Item = &'a Light>) -> u32 {
+    if settings.shadows && lights.any(|l| l.shadowed && l.contact) { settings.contact_steps } else { 0 }
+}
 
 /// The shadow-map layers of one light, each with the casters inside its volume (and inside the
 /// camera's view too, when `camera` is given: the camera-view culling shortcut).
@@ -361,5 +368,18 @@ mod tests {
         assert!(!full.draw_order.is_empty() && !full.planar.is_empty());
         assert!(shadows.draw_order.is_empty() && shadows.planar.is_empty());
         assert!(shadows.items.iter().all(|i| i.object.normal_from_local == Mat4::ZERO && i.object.ground_grid == 0));
+    }
+
+    #[test]
+    fn the_march_runs_only_when_shadows_are_on_and_a_shadowed_light_asks_for_it() {
+        let steps = |settings: Settings| {
+            let mut app = crate::App::new(settings).unwrap();
+            app.set_time(0.0);
+            extract(&mut app.world).frame.contact_steps
+        };
+        let on = Settings { contact_shadows: true, ..Settings::default() };
+        assert_eq!(steps(Settings::default()), 0);
+        assert_eq!(steps(on.clone()), on.contact_steps);
+        assert_eq!(steps(Settings { shadows: false, ..on }), 0);
     }
 }

@@ -6,7 +6,6 @@ use super::gpu_types::{Frame, GpuLayer, GpuLight, GpuPlanar, Object};
 use crate::components::*;
 use crate::light::clusters::LightGrid;
 use crate::light::{Kind, Light, LightLabel};
-use crate::settings::Settings;
 use crate::shadow::Tile;
 use bytemuck::Zeroable;
 use glam::Mat4;
@@ -138,13 +137,6 @@ impl FrameLight {
         light.kind.pack(&mut g);
         g
     }
-}
-
-/// Steps of this frame's contact-shadow march: the settings' when shadows are on and a
-/// shadowed light asks for contact shadows, else none (and no camera depth is drawn for it).
-#[must_use]
-pub fn contact_steps<'a>(settings: &Settings, mut lights: impl Iterator<Item = &'a Light>) -> u32 {
-    if settings.shadows && lights.any(|l| l.shadowed && l.contact) { settings.contact_steps } else { 0 }
 }
 
 /// One light's planar shadow: its uniform and the casters flattened onto the ground.

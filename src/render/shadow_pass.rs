@@ -269,6 +269,11 @@ impl ShadowPass {
         self.maps.moments.format.filter(|_| layer.method.colour_map())
     }
 
+    /// Layer `layer` keeps a moment map (made, and blurred, once it is drawn).
+    fn has_moment_map(&self, layer: &LayerDraw) -> bool {
+        layer.method.moments() && self.colour_format(layer).is_some()
+    }
+
     /// The colour target layer `layer` is drawn with, if any: its colour map's, unless that holds
     /// moments resolved from the depth map afterwards (with `from_depth`).
     fn colour_target(&self, layer: &LayerDraw, from_depth: bool) -> Option<ColourFormat> {
@@ -332,11 +337,8 @@ impl ShadowPass {
             MomentInput::Drawn
         };
         let per_page = passes_per_page(&input, blur);
-        let made: Vec<MomentTile> = jobs
-            .iter()
-            .filter(|j| per_page > 0 && j.layer.method.moments() && self.colour_format(j.layer).is_some())
-            .map(|j| self.moment_tile(j))
-            .collect();
+        let made: Vec<MomentTile> =
+            jobs.iter().filter(|j| per_page > 0 && self.has_moment_map(j.layer)).map(|j| self.moment_tile(j)).collect();
         let moment_passes = per_page * distinct_pages(made.iter().map(|t| t.tile.page)).len();
         let mut stamps = Stamps { timer, next: 0, total: self.passes(&jobs) + moment_passes };
         self.encode_jobs((device, encoder), data, &jobs, with, &mut stamps);
@@ -354,8 +356,7 @@ impl ShadowPass {
                 statics.mark_drawn(job.layer.key, job.tile, job.layer.static_version);
             }
         }
-        for job in jobs.iter().filter(|j| blur > 0 && j.layer.method.moments() && self.colour_format(j.layer).is_some())
-        {
+        for job in jobs.iter().filter(|j| blur > 0 && self.has_moment_map(j.layer)) {
             stats.count_blur(job.layer.light);
         }
         stats

@@ -116,6 +116,7 @@ pub(super) fn shape(
         },
         None => None,
     };
+    warn_of_unread_tex_coords(p, uvs.is_some().then_some(set), n, data, warnings);
     let colors = attribute(p, &Semantic::Colors(0), &COLOR, Some(n), data)?;
     let indices = match p.indices() {
         Some(acc) => {
@@ -161,6 +162,25 @@ pub(super) fn shape(
         }
     };
     Ok(Some(Shape { mesh: Arc::new(mesh), material, texture }))
+}
+
+/// Texture coordinate sets of `p` that nothing reads (all but `read`) but that break glTF's rules
+/// for one: warned of by name, as they are left out of the mesh.
+fn warn_of_unread_tex_coords(
+    p: &gltf::Primitive<'_>,
+    read: Option<u32>,
+    n: usize,
+    data: &Data<'_>,
+    warnings: &mut Vec<String>,
+) {
+    for (semantic, acc) in p.attributes() {
+        if let Semantic::TexCoords(set) = semantic
+            && Some(set) != read
+            && let Err(e) = check(&acc, &semantic.to_string(), &TEXCOORD, Some(n), data)
+        {
+            warnings.push(format!("{e}: ignored, as no texture reads it"));
+        }
+    }
 }
 
 fn mesh_data(vertices: Vec<Vertex>, indices: Vec<u32>, skin: Option<Vec<SkinVertex>>) -> MeshData {
