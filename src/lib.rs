@@ -239,6 +239,28 @@ impl App {
         self.world.get_resource_mut::<components::Notices>().map(|mut n| std::mem::take(&mut n.0)).unwrap_or_default()
     }
 
+    /// Takes in what the renderer learned ([`render::Renderer::news`]): what this device keeps
+    /// of shadows (a world that updated before it heard has its tiles sized again, and its lights
+    /// fitted again, for this device), the last frame's [`render::ShadowStats`], what the camera
+    /// saw for the SDSM fit, and messages for the user. The renderer reads the world only; this
+    /// is the one way what it learns gets in.
+    pub fn hear(&mut self, news: render::RenderNews) {
+        let before = self.world.get_resource::<systems::ShadowCaps>().copied().unwrap_or_default();
+        self.world.insert_resource(news.caps);
+        if before != news.caps && self.world.resource::<Time>().updates > 0 {
+            use bevy_ecs::system::RunSystemOnce;
+            let _ = self.world.run_system_once(systems::size_shadow_maps);
+            let _ = self.world.run_system_once(systems::update_light_matrices);
+        }
+        if let Some(stats) = news.stats {
+            self.world.insert_resource(stats);
+        }
+        if let Some(seen) = news.seen {
+            self.world.insert_resource(components::SeenByCamera(seen));
+        }
+        self.world.get_resource_or_init::<components::Notices>().0.extend(news.notices);
+    }
+
     /// The settings in force.
     pub fn settings(&self) -> &Settings {
         self.world.resource::<Settings>()

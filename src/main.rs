@@ -243,6 +243,7 @@ fn gallery(args: &GalleryArgs) -> Result<()> {
         // time and camera, drawn its way.
         let mut renderer = umbra::render::Renderer::new(&gpu, umbra::render::HEADLESS_FORMAT)?;
         let mut app = App::new(e.settings(&Settings::default()))?;
+        app.hear(renderer.news());
         app.resize(args.width, args.height);
         let (eye, target, time) = umbra::eval::gallery::VIEW;
         umbra::eval::measure::place_camera(&mut app.world, eye, target);
@@ -395,7 +396,7 @@ fn app(scene: &SceneArgs) -> Result<App> {
     }
     if let Some((model, _)) = models.iter(&app.world).find(|_| scene.scene.is_some()) {
         let (lights, camera) = (model.0.lights.len(), model.0.camera.is_some());
-        let names: Vec<String> = umbra::light::light_list(&mut app.world).iter().map(|l| l.label.to_string()).collect();
+        let names: Vec<String> = umbra::light::light_list(&app.world).iter().map(|l| l.label.to_string()).collect();
         println!(
             "lights: {}{}; {}",
             names.join(", "),

@@ -151,7 +151,7 @@ pub fn command_line(world: &mut World) -> Vec<String> {
     let base = Settings { light_settings: Vec::new(), biases: None, ..settings.clone() };
     let mut fresh = App::new(base).ok();
     let lights = light_list(world);
-    let before = fresh.as_mut().map(|f| light_list(&mut f.world)).unwrap_or_default();
+    let before = fresh.as_mut().map(|f| light_list(&f.world)).unwrap_or_default();
     let mut push = |flag: &str, value: String| out.extend([flag.to_string(), value]);
     for light in &lights {
         let was = before.iter().find(|b| b.label == light.label);
@@ -310,7 +310,7 @@ mod tests {
     #[test]
     fn changed_lights_and_settings_are_written() {
         let mut app = App::new(Settings { cascades: 2, method: ShadowMethod::Pcf5, ..Settings::default() }).unwrap();
-        let lights = light_list(&mut app.world);
+        let lights = light_list(&app.world);
         let own = [
             ("spot 1".to_string(), LightSetting::Method(ShadowMethod::Vsm)),
             ("sun".to_string(), LightSetting::Bias(ShadowBias { constant: 2.0, ..Default::default() })),

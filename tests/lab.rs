@@ -160,7 +160,7 @@ fn a_bias_or_size_dragged_on_the_panel_changes_only_its_light_and_redraws_nothin
     app.set_time(2.0);
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
     render_headless(&gpu, &mut renderer, &mut app, 256, 256).unwrap();
-    let lights = light_list(&mut app.world);
+    let lights = light_list(&app.world);
     let spot = lights.iter().find(|l| l.label.to_string() == "spot 1").unwrap().entity;
 
     let ctx = egui::Context::default();
@@ -197,7 +197,7 @@ fn a_bias_or_size_dragged_on_the_panel_changes_only_its_light_and_redraws_nothin
     render_headless(&gpu, &mut renderer, &mut app, 256, 256).unwrap();
     let stats = app.world.resource::<ShadowStats>().clone();
     assert_eq!(stats.drawn(), 0, "a size is applied when maps are read, so nothing is redrawn: {stats}");
-    let data = umbra::render::extract(&mut app.world);
+    let data = umbra::render::extract(&app.world);
     let sizes: Vec<(String, f32)> = data.lights.iter().map(|l| (l.light.label.to_string(), l.gpu().size)).collect();
     assert!(sizes.iter().any(|(name, size)| name == "spot 1" && *size == 1.0), "{sizes:?}");
 }

@@ -41,7 +41,7 @@ fn lamp_field(n: usize, shadowed: bool) -> App {
 fn a_thousand_lights_each_reach_just_where_the_truth_says() {
     let mut app = lamp_field(32, false);
     app.set_time(0.0);
-    let data = extract(&mut app.world);
+    let data = extract(&app.world);
     assert_eq!(data.lights.len(), 1024, "every light is lit");
     // The lists are short: a cluster holds the few lights round it, not the scene's thousand.
     let listed = data.grid.indices.len() as f32 / CLUSTERS as f32;
@@ -82,7 +82,7 @@ fn shadowed_lamps_share_the_atlas_and_those_it_cannot_hold_are_lit_and_named() {
     app.set_time(0.0);
     render_headless(&gpu, &mut renderer, &mut app, SIZE, SIZE).unwrap();
     assert!(app.take_notices().iter().all(|n| !n.contains("lit without")));
-    let data = extract(&mut app.world);
+    let data = extract(&app.world);
     assert!(data.lights.iter().all(|l| l.layer_count == 6), "every lamp keeps its cube");
 
     // 900 in the least memory: 5,400 faces of 32² at the least, and the atlas holds 4,096 of

@@ -193,7 +193,7 @@ fn no_planar_shadow_from_a_lamp_below_the_ground_or_a_caster_behind_a_spot() {
     let lamp = PointLight { range: 10.0, ..Default::default() };
     below.world.spawn((lamp, Transform::from_xyz(0.0, -1.0, 0.0), ShadowMap::default()));
     below.set_time(0.0);
-    assert!(extract(&mut below.world).planar.is_empty());
+    assert!(extract(&below.world).planar.is_empty());
     // A spot 1 m up aimed along +X and down: a box in front of it shadows the ground, a box
     // behind it (a planar projection would throw its shadow back across the ground) does not.
     let boxes = [(Vec3::new(2.0, 0.3, 0.0), Vec3::splat(0.3)), (Vec3::new(-1.0, 0.3, 0.0), Vec3::splat(0.3))];

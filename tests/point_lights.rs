@@ -56,7 +56,7 @@ fn a_point_light_shadows_every_way_as_the_truth_does() {
     let lamp = PointLight { range: 12.0, intensity: 3.0, ..Default::default() };
     app.world.spawn((lamp, Transform::from_xyz(0.0, 1.6, 0.0), ShadowMap::default()));
     app.set_time(0.0);
-    let lights = light_list(&mut app.world);
+    let lights = light_list(&app.world);
     assert_eq!(lights[0].label.to_string(), "point 1");
     let map = app.world.query::<&ShadowMap>().single(&app.world).unwrap().layers.len();
     assert_eq!(map, 6, "a cube");
@@ -109,7 +109,7 @@ fn a_sun_four_spots_and_two_point_lights_are_each_measured_against_the_truth() {
     app.set_time(0.0);
     let frame = render_debug_frame(&gpu, &mut renderer, &mut app, SIZE, SIZE).unwrap();
     drop(gpu);
-    let names: Vec<String> = light_list(&mut app.world).iter().map(|l| l.label.to_string()).collect();
+    let names: Vec<String> = light_list(&app.world).iter().map(|l| l.label.to_string()).collect();
     assert_eq!(names, ["sun", "spot 1", "spot 2", "spot 3", "spot 4", "point 1", "point 2"]);
     assert_eq!(frame.visibility.len(), 7, "a column per light");
     let truth = truth::truth_of(&mut app.world, &frame, truth::SizeOverride::default(), 0);

@@ -186,3 +186,30 @@ fn oversized_shadow_maps_and_frames_are_clear_errors() {
     }
     gpu.check_errors().unwrap();
 }
+
+#[test]
+fn the_renderer_only_reads_the_world_and_what_it_learns_comes_back_as_news() {
+    let gpu = gpu();
+    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
+    let mut app = cube_over_plane(settings());
+    add_sun(&mut app, Vec3::new(0.3, -1.0, 0.2));
+    app.resize(SIZE, SIZE);
+    app.set_time(0.0);
+    let texture = gpu.target("news", (SIZE, SIZE), HEADLESS_FORMAT).unwrap();
+    let view = texture.create_view(&Default::default());
+    // A world that has not heard what this device keeps of shadows is refused, by name.
+    let err = renderer.render(&gpu, &app.world, &view, SIZE, SIZE).unwrap_err();
+    assert!(matches!(err, RenderError::NotTold) && err.to_string().contains("app.hear(renderer.news())"), "{err}");
+    app.hear(renderer.news());
+    renderer.render(&gpu, &app.world, &view, SIZE, SIZE).unwrap();
+    assert!(app.world.get_resource::<umbra::render::ShadowStats>().is_none(), "drawing wrote into the world");
+    let news = renderer.news();
+    let drawn = news.stats.as_ref().map_or(0, |s| s.drawn());
+    assert!(drawn > 0, "the first frame draws the sun's cascades: {news:?}");
+    app.hear(news);
+    assert_eq!(app.world.resource::<umbra::render::ShadowStats>().drawn(), drawn);
+    // News is handed over once: what is left is the device's capabilities alone.
+    let left = renderer.news();
+    assert!(left.stats.is_none() && left.seen.is_none() && left.notices.is_empty(), "{left:?}");
+    gpu.check_errors().unwrap();
+}

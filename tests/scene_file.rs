@@ -42,7 +42,7 @@ fn a_files_lights_shadow_the_scene_where_the_truth_says() {
     let mut app = scene_app(&lit_scene(), "lit.gltf");
     app.resize(SIZE, SIZE);
     app.set_time(0.0);
-    let lights = light_list(&mut app.world);
+    let lights = light_list(&app.world);
     let names: Vec<String> = lights.iter().map(|l| l.label.to_string()).collect();
     assert_eq!(names, ["sun", "spot 1", "point 1"], "the file's three lights and no added sun");
 
@@ -92,7 +92,7 @@ fn a_files_lights_shadow_the_scene_where_the_truth_says() {
 #[test]
 fn a_file_without_lights_gets_a_sun_and_one_without_a_camera_is_framed() {
     let mut app = scene_app(&SceneFile::new(), "bare.gltf");
-    let names: Vec<String> = light_list(&mut app.world).iter().map(|l| l.label.to_string()).collect();
+    let names: Vec<String> = light_list(&app.world).iter().map(|l| l.label.to_string()).collect();
     assert_eq!(names, ["sun"]);
     let sun = app.world.query::<(&DirectionalLight, &ShadowMap)>().single(&app.world).map(|(s, _)| *s).unwrap();
     assert!(sun.direction.abs_diff_eq(umbra::scene::SUN_DIRECTION.normalize(), 1e-6));

@@ -142,8 +142,8 @@ impl Run {
         if scenario.motion == Motion::OneCube {
             freeze_all_but_one_cube(&mut app.world);
         }
-        let renderer = Renderer::new(gpu, HEADLESS_FORMAT)?;
-        renderer.tell(&mut app.world);
+        let mut renderer = Renderer::new(gpu, HEADLESS_FORMAT)?;
+        app.hear(renderer.news());
         app.resize(width, height);
         app.set_time(2.0);
         let panel = (scenario.lab == Lab::Panel).then(|| {
@@ -225,7 +225,8 @@ impl Run {
         self.advance();
         self.start_measuring(gpu, size)?;
         let start = Instant::now();
-        self.renderer.render(gpu, &mut self.app.world, target, size.0, size.1)?;
+        self.renderer.render(gpu, &self.app.world, target, size.0, size.1)?;
+        self.app.hear(self.renderer.news());
         self.paint_panel(gpu, target, size);
         gpu.wait()?;
         let elapsed = start.elapsed();

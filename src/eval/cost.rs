@@ -44,7 +44,8 @@ fn frame(
     apply_settings(app, settings);
     app.set_time(t);
     let start = Instant::now();
-    renderer.render(gpu, &mut app.world, target.0, target.1, target.2)?;
+    renderer.render(gpu, &app.world, target.0, target.1, target.2)?;
+    app.hear(renderer.news());
     gpu.wait()?;
     let wall = start.elapsed().as_secs_f64() * 1e3;
     Ok(match renderer.pass_times(gpu) {

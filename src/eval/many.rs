@@ -178,7 +178,7 @@ pub fn run_one(
     let mut app = App::new(settings.clone())?;
     app.resize(o.size.0, o.size.1);
     let mut renderer = Renderer::new(gpu, HEADLESS_FORMAT)?;
-    renderer.tell(&mut app.world);
+    app.hear(renderer.news());
     let stamps = renderer.enable_timing(gpu);
     let target = gpu.target("lights bench", o.size, HEADLESS_FORMAT)?;
     let view = target.create_view(&Default::default());
@@ -187,7 +187,8 @@ pub fn run_one(
     for round in 0..warm_up + o.frames {
         app.step();
         let start = Instant::now();
-        renderer.render(gpu, &mut app.world, &view, o.size.0, o.size.1)?;
+        renderer.render(gpu, &app.world, &view, o.size.0, o.size.1)?;
+        app.hear(renderer.news());
         gpu.wait()?;
         if round < warm_up {
             continue;
@@ -222,7 +223,7 @@ fn measure(
     app.step_held();
     let frame = render_debug_frame(gpu, renderer, app, w, h)?;
     let truth = truth_of(&mut app.world, &frame, SizeOverride::default(), o.soft_rays);
-    let lights = light_list(&mut app.world);
+    let lights = light_list(&app.world);
     let mut all = Tally::default();
     let mut wrong: Vec<f64> = Vec::new();
     for (l, light) in lights.iter().enumerate().take(truth.len()) {

@@ -179,8 +179,8 @@ impl<'g> Measurer<'g> {
             std::collections::hash_map::Entry::Vacant(e) => {
                 let mut app = build(settings)?;
                 app.resize(self.size.0, self.size.1);
-                let renderer = Renderer::new(self.gpu, HEADLESS_FORMAT)?;
-                renderer.tell(&mut app.world);
+                let mut renderer = Renderer::new(self.gpu, HEADLESS_FORMAT)?;
+                app.hear(renderer.news());
                 e.insert(Subject { app, renderer })
             }
         };

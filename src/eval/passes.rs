@@ -59,18 +59,19 @@ pub fn run(
         let settings = Settings { cubes, reuse_shadow_maps: false, ..settings.clone() };
         let mut app = App::new(settings.clone())?;
         let mut renderer = Renderer::new(gpu, HEADLESS_FORMAT)?;
-        renderer.tell(&mut app.world);
+        app.hear(renderer.news());
         let (mut umbra, mut bare) = (Vec::new(), Vec::new());
         let mut row = PassRow { cubes, casters: 0, inside: 0, layers: 0, calls: 0, umbra_ms: 0.0, bare_ms: 0.0 };
         for round in 0..frames + 3 {
             app.step();
             let time_umbra = |app: &mut App, renderer: &mut Renderer| -> Result<f64, BenchError> {
                 let start = Instant::now();
-                renderer.render_shadow_maps(gpu, &mut app.world)?;
+                renderer.render_shadow_maps(gpu, &app.world)?;
+                app.hear(renderer.news());
                 gpu.wait()?;
                 Ok(start.elapsed().as_secs_f64() * 1e3)
             };
-            let data = extract(&mut app.world);
+            let data = extract(&app.world);
             let time_bare = |renderer: &mut Renderer| -> Result<f64, BenchError> {
                 let start = Instant::now();
                 renderer.render_bare_depth(gpu, &data, settings.shadow_depth)?;

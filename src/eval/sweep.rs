@@ -43,7 +43,7 @@ pub fn scene_accuracy(
     views: &[View],
 ) -> Result<(Vec<LightReport>, Vec<String>), MeasureError> {
     let app = &mut m.subject(SubjectId::Accuracy, settings, |s| App::new(s.clone()))?.app;
-    let names = crate::light::light_list(&mut app.world).iter().map(|l| l.label.to_string()).collect();
+    let names = crate::light::light_list(&app.world).iter().map(|l| l.label.to_string()).collect();
     let mut total: Vec<LightReport> = Vec::new();
     for v in views {
         let (app, _) = m.parts(SubjectId::Accuracy)?;

@@ -26,7 +26,7 @@ use crate::render::gpu_types::{GpuLight, SHAPE_CASCADES, SHAPE_CUBE, SHAPE_SINGL
 use crate::settings::Settings;
 use crate::shadow::{Aabb, LightProjection, VisibleSamples, cube_projections};
 use bevy_ecs::prelude::*;
-use bevy_ecs::system::{SystemParam, SystemState};
+use bevy_ecs::system::SystemParam;
 use clusters::Reach;
 use glam::{Vec3, Vec4};
 
@@ -317,23 +317,47 @@ impl LightSources<'_, '_> {
     /// Every light, in light order.
     #[must_use]
     pub fn all(&self) -> Vec<Source> {
-        let mut out = Vec::new();
-        let mut add = |mut found: Vec<Source>| {
-            found.sort_by_key(|s| s.entity.index());
-            out.extend(found);
-        };
-        add(self.suns.iter().map(|(e, l)| Sun::source(e, l)).collect());
-        add(self.spots.iter().map(|(e, l, t)| Spot::source(e, l, t)).collect());
-        add(self.points.iter().map(|(e, l, t)| Point::source(e, l, t)).collect());
-        out
+        in_light_order([
+            self.suns.iter().map(|(e, l)| Sun::source(e, l)).collect(),
+            self.spots.iter().map(|(e, l, t)| Spot::source(e, l, t)).collect(),
+            self.points.iter().map(|(e, l, t)| Point::source(e, l, t)).collect(),
+        ])
     }
 }
 
-/// The lights of `world` in light order, every one of them.
-pub fn light_list(world: &mut World) -> Vec<Light> {
-    let settings = world.get_resource::<Settings>().cloned().unwrap_or_default();
-    // Three plain queries: nothing for the parameter's validation to refuse.
-    let sources = SystemState::<LightSources>::new(world).get(world).map(|s| s.all()).unwrap_or_default();
+/// Light order: suns, then spots, then points, each kind in the order its entities were made.
+fn in_light_order(kinds: [Vec<Source>; 3]) -> Vec<Source> {
+    kinds
+        .into_iter()
+        .flat_map(|mut found| {
+            found.sort_by_key(|s| s.entity.index());
+            found
+        })
+        .collect()
+}
+
+/// The lights of `world` in light order, every one of them (read only: a kind never spawned
+/// has none).
+pub fn light_list(world: &World) -> Vec<Light> {
+    let fallback;
+    let settings = match world.get_resource::<Settings>() {
+        Some(s) => s,
+        None => {
+            fallback = Settings::default();
+            &fallback
+        }
+    };
+    let sources = in_light_order([
+        world
+            .try_query::<(Entity, &DirectionalLight)>()
+            .map_or_else(Vec::new, |mut q| q.iter(world).map(|(e, l)| Sun::source(e, l)).collect()),
+        world
+            .try_query::<(Entity, &SpotLight, &Transform)>()
+            .map_or_else(Vec::new, |mut q| q.iter(world).map(|(e, l, t)| Spot::source(e, l, t)).collect()),
+        world
+            .try_query::<(Entity, &PointLight, &Transform)>()
+            .map_or_else(Vec::new, |mut q| q.iter(world).map(|(e, l, t)| Point::source(e, l, t)).collect()),
+    ]);
     let mut counts = std::collections::HashMap::new();
     sources
         .into_iter()
@@ -344,7 +368,7 @@ pub fn light_list(world: &mut World) -> Vec<Light> {
                 entity,
                 label: LightLabel { word: kind.word(), number, bare: number == 1 && kind.first_unnumbered() },
                 kind,
-                shape: kind.shape(&settings),
+                shape: kind.shape(settings),
                 color,
                 shadowed: map.is_some(),
                 bias: world.get::<ShadowBias>(entity).copied().unwrap_or_else(|| settings.shadow_bias()),
@@ -373,7 +397,7 @@ mod tests {
         let bias = ShadowBias { constant: 2.0, slope: 0.0, normal: 1.0, scale: 0.0, receiver_plane: true };
         let second = world.spawn((wide, Transform::default(), ShadowMap::default(), bias)).id();
         world.spawn(DirectionalLight::default());
-        let lights = light_list(&mut world);
+        let lights = light_list(&world);
         let order: Vec<Entity> = lights.iter().map(|l| l.entity).collect();
         assert_eq!(order[..4], [sun, order[1], spot, second]);
         assert_eq!(order[4], point);
@@ -394,7 +418,7 @@ mod tests {
         for _ in 0..1100 {
             world.spawn((PointLight::default(), Transform::default()));
         }
-        let lights = light_list(&mut world);
+        let lights = light_list(&world);
         assert_eq!(lights.len(), 1100);
         assert_eq!(lights[1099].label.to_string(), "point 1100");
     }
@@ -406,13 +430,13 @@ mod tests {
         let sun = world.spawn(DirectionalLight::default()).id();
         let spot = world.spawn((SpotLight::default(), Transform::default())).id();
         let point = world.spawn((PointLight::default(), Transform::default())).id();
-        for light in light_list(&mut world) {
+        for light in light_list(&world) {
             light.kind.set_size(&mut world, light.entity, 0.75);
         }
         assert!((world.get::<DirectionalLight>(sun).unwrap().angular_radius - 0.75f32.to_radians()).abs() < 1e-7);
         assert_eq!(world.get::<SpotLight>(spot).unwrap().radius, 0.75);
         assert_eq!(world.get::<PointLight>(point).unwrap().radius, 0.75);
-        let sizes: Vec<f32> = light_list(&mut world).iter().map(|l| l.kind.size_control().value).collect();
+        let sizes: Vec<f32> = light_list(&world).iter().map(|l| l.kind.size_control().value).collect();
         assert!(sizes.iter().all(|s| (s - 0.75).abs() < 1e-5), "{sizes:?}");
     }
 }

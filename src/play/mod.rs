@@ -148,7 +148,7 @@ impl Player {
         }
         surface.configure(&gpu.device, &config);
         let mut renderer = Renderer::new(&gpu, format)?;
-        renderer.tell(&mut self.app.world);
+        self.app.hear(renderer.news());
         renderer.enable_timing(&gpu);
         let gui = Gui::new(&window, &gpu, format);
         self.app.resize(config.width, config.height);
@@ -243,8 +243,9 @@ impl Player {
         let mut targets = vec![&view];
         targets.extend(copy_view.as_ref());
         for target in &targets {
-            shown.renderer.render(&shown.gpu, &mut self.app.world, target, w, h)?;
+            shown.renderer.render(&shown.gpu, &self.app.world, target, w, h)?;
         }
+        self.app.hear(shown.renderer.news());
         if gui_shown {
             self.desk.paint(shown, &mut self.app.world, &mut self.lab, (&targets, (w, h)));
         }
@@ -287,7 +288,7 @@ impl Player {
         } else if down && !repeat && change_lab(code, &mut self.lab) {
         } else if down && !repeat && code == KeyCode::KeyB {
             let names: Vec<String> =
-                crate::light::light_list(&mut self.app.world).iter().map(|l| l.label.to_string()).collect();
+                crate::light::light_list(&self.app.world).iter().map(|l| l.label.to_string()).collect();
             let mut settings = self.app.world.resource_mut::<Settings>();
             settings.texel_density = keys::next_texel_view(&settings.texel_density, &names);
             println!("texel density: {}", settings.texel_density.as_deref().unwrap_or("off"));

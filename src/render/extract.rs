@@ -65,14 +65,15 @@ fn layer_draws(
 
 /// The culling hierarchy of the last frame's objects, kept to be refitted rather than built
 /// afresh (see [`CasterIndex::refitted`]).
-#[derive(Resource)]
-struct KeptIndex(CasterIndex);
+#[derive(Default)]
+pub(super) struct KeptIndex(Option<CasterIndex>);
 
 /// The objects of the world to draw, with their bounds, and the joint matrices they read; their
 /// normal matrices only if they are to be lit (`lit`), not when only their shadows are drawn.
-fn draw_items(world: &mut World, lit: bool) -> (Vec<(DrawItem, Aabb)>, Vec<Mat4>) {
+fn draw_items(world: &World, lit: bool) -> (Vec<(DrawItem, Aabb)>, Vec<Mat4>) {
     let mut joints = Vec::new();
-    let mut query = world.query::<(
+    // None until a mesh has been spawned: nothing to draw.
+    let Some(mut query) = world.try_query::<(
         Entity,
         &Mesh,
         &Transform,
@@ -81,7 +82,9 @@ fn draw_items(world: &mut World, lit: bool) -> (Vec<(DrawItem, Aabb)>, Vec<Mat4>
         Option<&Joints>,
         Has<ShadowCaster>,
         Has<ShadowReceiver>,
-    )>();
+    )>() else {
+        return (Vec::new(), joints);
+    };
     let library = world.resource::<crate::assets::MeshLibrary>();
     let at_rest = world.get_resource::<CastersAtRest>();
     let items = query
@@ -119,35 +122,38 @@ fn draw_items(world: &mut World, lit: bool) -> (Vec<(DrawItem, Aabb)>, Vec<Mat4>
 }
 
 /// Reads the world into the data one frame needs. Without a camera nothing is drawn.
-pub fn extract(world: &mut World) -> FrameData {
-    read_world(world, true)
+#[must_use]
+pub fn extract(world: &World) -> FrameData {
+    read_world(world, true, &mut KeptIndex::default())
 }
 
 /// [`extract`] for a frame that draws the shadow maps and nothing else: what only the main pass
 /// reads (normal matrices, the draw order, planar shadows, the ground's flags) is left out, so
 /// that with tens of thousands of objects the shadow pass does not pay for a picture it never
 /// draws.
-pub fn extract_shadow_maps(world: &mut World) -> FrameData {
-    read_world(world, false)
+#[must_use]
+pub fn extract_shadow_maps(world: &World) -> FrameData {
+    read_world(world, false, &mut KeptIndex::default())
 }
 
-fn read_world(world: &mut World, main_pass: bool) -> FrameData {
-    let settings = world.resource::<Settings>().clone();
+/// [`extract`] (with `main_pass`) or [`extract_shadow_maps`], refitting the culling hierarchy
+/// `kept` from the last frame and keeping this frame's there.
+pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -> FrameData {
+    let settings = world.resource::<Settings>();
     let aspect = world.resource::<Viewport>().aspect();
     let (clip_from_world, eye, forward, depths) = world
-        .query::<(&Camera, &Transform)>()
-        .iter(world)
-        .next()
+        .try_query::<(&Camera, &Transform)>()
+        .and_then(|mut q| q.iter(world).next().map(|(c, t)| (*c, *t)))
         .map_or((Mat4::ZERO, Vec3::ZERO, Vec3::NEG_Z, (0.1, 1.0)), |(c, t)| {
-            (c.view_proj(t, aspect), t.translation, t.forward(), (c.near, c.far))
+            (c.view_proj(&t, aspect), t.translation, t.forward(), (c.near, c.far))
         });
     let (mut items, joints) = draw_items(world, main_pass);
     let draw_order = if main_pass { draw_order(&items, eye) } else { Vec::new() };
 
     let cull_to = (settings.caster_culling == CasterCulling::CameraView).then_some(&clip_from_world);
     let bounds: Vec<Aabb> = items.iter().map(|(_, b)| *b).collect();
-    let index = match world.remove_resource::<KeptIndex>() {
-        Some(KeptIndex(kept)) => kept.refitted(&bounds),
+    let index = match kept.0.take() {
+        Some(last) => last.refitted(&bounds),
         None => CasterIndex::new(&bounds),
     };
     let (mut lights, mut layers, mut draws, mut methods) = (Vec::new(), Vec::new(), Vec::new(), 0);
@@ -214,7 +220,7 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
             .as_ref()
             .and_then(|name| lights.iter().position(|l| l.light.label.to_string() == *name))
             .map_or(0, |i| i as u32 + 1),
-        contact_steps: contact_steps(&settings, lights.iter().map(|l| &l.light)),
+        contact_steps: contact_steps(settings, lights.iter().map(|l| &l.light)),
         contact_length: settings.contact_length,
         contact_thickness: settings.contact_thickness,
         camera_near: depths.0,
@@ -243,7 +249,7 @@ fn read_world(world: &mut World, main_pass: bool) -> FrameData {
             items[g].0.object.planar_receiver = 1;
         }
     }
-    world.insert_resource(KeptIndex(index));
+    kept.0 = Some(index);
     let items = items.into_iter().map(|(item, _)| item).collect();
     FrameData {
         frame,
@@ -289,7 +295,7 @@ mod tests {
     fn lights_and_their_layers_are_carried_over_in_slot_order() {
         let mut app = crate::App::new(Settings::default()).unwrap();
         app.set_time(0.0);
-        let data = extract(&mut app.world);
+        let data = extract(&app.world);
         let ground = data.items.iter().filter(|i| !i.caster).count();
         assert_eq!(ground, 1, "only the ground is not a caster");
         assert!(data.items.iter().all(|i| i.object.receives_shadows == 1), "all sample surfaces receive");
@@ -340,7 +346,7 @@ mod tests {
         let mut app = crate::App::new(Settings::default()).unwrap();
         app.set_time(0.0);
         let bounds: Vec<Aabb> = app.world.query::<(&Mesh, &WorldBounds)>().iter(&app.world).map(|(_, b)| b.0).collect();
-        let data = extract(&mut app.world);
+        let data = extract(&app.world);
         for layer in &data.draws {
             for (i, item) in data.items.iter().enumerate() {
                 let inside = item.caster && intersects_clip_volume(&layer.clip_from_world, &bounds[i]);
@@ -358,8 +364,8 @@ mod tests {
         let settings = Settings { planar_ground: true, ground_grid: true, ..Settings::default() };
         let mut app = crate::App::new(settings).unwrap();
         app.set_time(0.5);
-        let full = extract(&mut app.world);
-        let shadows = extract_shadow_maps(&mut app.world);
+        let full = extract(&app.world);
+        let shadows = extract_shadow_maps(&app.world);
         assert_eq!(shadows.draws, full.draws);
         assert_eq!(shadows.layers, full.layers);
         assert_eq!(shadows.joints, full.joints);
@@ -375,7 +381,7 @@ mod tests {
         let steps = |settings: Settings| {
             let mut app = crate::App::new(settings).unwrap();
             app.set_time(0.0);
-            extract(&mut app.world).frame.contact_steps
+            extract(&app.world).frame.contact_steps
         };
         let on = Settings { contact_shadows: true, ..Settings::default() };
         assert_eq!(steps(Settings::default()), 0);

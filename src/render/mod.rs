@@ -3,7 +3,8 @@
 //! Sections follow the data flow: `gpu.rs` opens a device, [`extract`] turns the world into the
 //! frame's structs ([`FrameData`]) and culls casters per layer, `shadow_pass.rs` draws the layers
 //! of dirty lights (one per spot, one per sun cascade), `main_pass.rs` lights the scene, and
-//! `readback.rs` brings a frame back to the CPU for headless use.
+//! `readback.rs` brings a frame back to the CPU for headless use. The renderer only reads the
+//! world: what it learns that the game needs comes back as [`RenderNews`], which the app takes in.
 
 mod bare_depth;
 mod camera_depth;
@@ -19,6 +20,7 @@ mod main_pass;
 pub mod map_view;
 mod mesh;
 mod moments;
+mod news;
 mod planar;
 mod readback;
 mod renderer;
@@ -36,6 +38,7 @@ mod uniform_array;
 pub use extract::{extract, extract_shadow_maps};
 pub use frame::{DrawItem, FrameData, FrameLight, LayerDraw, SHADOW_FADE, Shadowless};
 pub use gpu::{Gpu, colour_pass, instance};
+pub use news::RenderNews;
 pub use readback::{
     DebugFrame, HEADLESS_FORMAT, Image, probe_visibility, read_picture, render_debug_frame, render_headless, render_png,
 };
@@ -105,6 +108,13 @@ pub enum RenderError {
         /// Device limit.
         max: u32,
     },
+    /// The world was drawn before it heard what this device keeps of shadows, so its tiles are
+    /// sized for another device.
+    #[error(
+        "the world has not heard this renderer's news: call `app.hear(renderer.news())` after making the \
+         renderer and before drawing, so that its shadow tiles are sized for this device"
+    )]
+    NotTold,
     /// The adapter lacks something umbra needs.
     #[error("this GPU adapter cannot do {0}; try another backend (WGPU_BACKEND=vulkan|gl) or adapter")]
     Unsupported(&'static str),

@@ -71,7 +71,7 @@ pub fn render_png(
 ) -> Result<(Gpu, Renderer, Image), RenderError> {
     let gpu = Gpu::headless()?;
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT)?;
-    renderer.tell(&mut app.world);
+    app.hear(renderer.news());
     app.resize(width, height);
     app.set_time(t);
     let image = render_headless(&gpu, &mut renderer, app, width, height)?;
@@ -79,7 +79,8 @@ pub fn render_png(
     Ok((gpu, renderer, image))
 }
 
-/// Renders one frame of `app` as it is now, `width` x `height`, and reads it back.
+/// Renders one frame of `app` as it is now, `width` x `height`, and reads it back (the app hears
+/// the renderer's news before and after).
 pub fn render_headless(
     gpu: &Gpu,
     renderer: &mut Renderer,
@@ -87,9 +88,11 @@ pub fn render_headless(
     width: u32,
     height: u32,
 ) -> Result<Image, RenderError> {
+    app.hear(renderer.news());
     prime_sdsm(gpu, renderer, app, (width, height))?;
     let texture = gpu.target("headless frame", (width, height), HEADLESS_FORMAT)?;
-    renderer.render(gpu, &mut app.world, &texture.create_view(&Default::default()), width, height)?;
+    renderer.render(gpu, &app.world, &texture.create_view(&Default::default()), width, height)?;
+    app.hear(renderer.news());
     let pixels = read_texture(gpu, &texture, width, height, 4)?;
     Ok(Image { width, height, pixels })
 }
@@ -102,8 +105,9 @@ fn prime_sdsm(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u
         return Ok(());
     }
     let texture = gpu.target("sdsm priming", (w, h), HEADLESS_FORMAT)?;
-    renderer.render(gpu, &mut app.world, &texture.create_view(&Default::default()), w, h)?;
-    renderer.take_samples(gpu, &mut app.world, true);
+    renderer.render(gpu, &app.world, &texture.create_view(&Default::default()), w, h)?;
+    renderer.wait_for_samples(gpu);
+    app.hear(renderer.news());
     app.step_held();
     Ok(())
 }
@@ -174,13 +178,15 @@ pub fn render_debug_frame(
         gpu.target("measured normals", (width, height), DEBUG_FORMAT)?,
         gpu.target("measured visibility", (width, height), DEBUG_FORMAT)?,
     ];
+    app.hear(renderer.news());
     prime_sdsm(gpu, renderer, app, (width, height))?;
     let views = textures.each_ref().map(|t| t.create_view(&Default::default()));
-    let lights = crate::light::light_list(&mut app.world).len();
+    let lights = crate::light::light_list(&app.world).len();
     let mut visibility = Vec::with_capacity(lights);
     let mut first = 0;
     loop {
-        renderer.render_debug(gpu, &mut app.world, &views, (width, height), first)?;
+        renderer.render_debug(gpu, &app.world, &views, (width, height), first)?;
+        app.hear(renderer.news());
         visibility.extend(columns(&read_vectors(gpu, &textures[2], (width, height))?, lights - first));
         first += MEASURED_PER_PASS;
         if first >= lights {
@@ -204,12 +210,13 @@ pub fn probe_visibility(
     app: &mut App,
     points: &[crate::assets::Vertex],
 ) -> Result<Vec<Vec<f32>>, RenderError> {
-    let lights = crate::light::light_list(&mut app.world).len();
+    let lights = crate::light::light_list(&app.world).len();
     if points.is_empty() {
         return Ok(vec![Vec::new(); lights]);
     }
     // The probes see the maps of the camera's view, so SDSM fits them to that view first.
     let viewport = *app.world.resource::<crate::components::Viewport>();
+    app.hear(renderer.news());
     prime_sdsm(gpu, renderer, app, (viewport.width.max(1), viewport.height.max(1)))?;
     let width = (points.len() as u32).min(256);
     let height = (points.len() as u32).div_ceil(width);
@@ -224,7 +231,8 @@ pub fn probe_visibility(
     let mut out = Vec::with_capacity(lights);
     for first in (0..lights).step_by(MEASURED_PER_PASS) {
         let target = (&view, (width, height));
-        renderer.render_probes(gpu, &mut app.world, target, (&buffer, points.len() as u32), first)?;
+        renderer.render_probes(gpu, &app.world, target, (&buffer, points.len() as u32), first)?;
+        app.hear(renderer.news());
         let mut vectors = read_vectors(gpu, &texture, (width, height))?;
         vectors.truncate(points.len());
         out.extend(columns(&vectors, lights - first));

@@ -3,7 +3,7 @@
 use super::bare_depth::BareDepth;
 use super::camera_depth::CameraDepth;
 use super::depth_reduction::{Binning, DepthReduction};
-use super::extract::{extract, extract_shadow_maps};
+use super::extract::{KeptIndex, read_world};
 use super::frame::{FrameData, Shadowless};
 use super::gpu_types::{GpuLayer, Object, Reduce};
 use super::lines::{LinePass, volume_lines};
@@ -11,6 +11,7 @@ use super::main_pass::MainPass;
 use super::map_view::{self, MapView};
 use super::mesh::{Drawables, GpuMesh, JointPalette};
 use super::moments;
+use super::news::RenderNews;
 use super::shadow_pass::{DrawOptions, ShadowPass};
 use super::shadow_stats::ShadowStats;
 use super::texture::MaterialTextures;
@@ -18,7 +19,7 @@ use super::timing::{PassTimer, PassTimes};
 use super::uniform_array::UniformArray;
 use super::{Gpu, RenderError};
 use crate::assets::{MeshLibrary, TextureLibrary};
-use crate::components::{Camera, DirectionalLight, Notices, SeenByCamera};
+use crate::components::{Camera, DirectionalLight};
 use crate::light::LightLabel;
 use crate::settings::Settings;
 use crate::shadow::FitMode;
@@ -105,6 +106,10 @@ pub struct Renderer {
     shadowless: Vec<(LightLabel, Shadowless)>,
     /// What this device keeps of shadows per texel.
     caps: ShadowCaps,
+    /// The culling hierarchy of the last frame's objects, to refit rather than build afresh.
+    kept: KeptIndex,
+    /// What the app has not heard yet.
+    news: RenderNews,
 }
 
 impl Renderer {
@@ -134,6 +139,10 @@ impl Renderer {
         let shadow = ShadowPass::new((device, reads_depth), &objects.layout, &joints, &textures);
         let main = MainPass::new(device, &objects.layout, &joints, &textures, format, &shadow.maps);
         gpu.check_errors()?;
+        let caps = ShadowCaps {
+            full_float_moments: super::moments::full_supported(&gpu.adapter, gpu.device.features()),
+            static_maps: reads_depth,
+        };
         Ok(Renderer {
             objects,
             joints,
@@ -154,10 +163,9 @@ impl Renderer {
             last_layers: Vec::new(),
             atlas_stale: true,
             shadowless: Vec::new(),
-            caps: ShadowCaps {
-                full_float_moments: super::moments::full_supported(&gpu.adapter, gpu.device.features()),
-                static_maps: reads_depth,
-            },
+            caps,
+            kept: KeptIndex::default(),
+            news: RenderNews { caps, ..RenderNews::default() },
         })
     }
 
@@ -166,7 +174,7 @@ impl Renderer {
     pub fn render(
         &mut self,
         gpu: &Gpu,
-        world: &mut World,
+        world: &World,
         target: &wgpu::TextureView,
         width: u32,
         height: u32,
@@ -180,7 +188,7 @@ impl Renderer {
     pub fn render_debug(
         &mut self,
         gpu: &Gpu,
-        world: &mut World,
+        world: &World,
         targets: &[wgpu::TextureView; 3],
         (width, height): (u32, u32),
         first_light: usize,
@@ -196,7 +204,7 @@ impl Renderer {
     pub fn render_probes(
         &mut self,
         gpu: &Gpu,
-        world: &mut World,
+        world: &World,
         (target, grid): (&wgpu::TextureView, (u32, u32)),
         (points, count): (&wgpu::Buffer, u32),
         first_light: usize,
@@ -206,7 +214,7 @@ impl Renderer {
 
     /// Draws the shadow maps the world needs now and nothing else (what `umbra bench
     /// --shadow-pass` times: the extract, culling and bookkeeping they take included).
-    pub fn render_shadow_maps(&mut self, gpu: &Gpu, world: &mut World) -> Result<(), RenderError> {
+    pub fn render_shadow_maps(&mut self, gpu: &Gpu, world: &World) -> Result<(), RenderError> {
         self.draw(gpu, world, (1, 1), Output::ShadowsOnly)
     }
 
@@ -280,37 +288,31 @@ impl Renderer {
         }
     }
 
-    /// Tells `world` what this device keeps of shadows, so that its next update sizes the
-    /// shadow tiles for it. Call it when the world is made, before it first updates.
-    pub fn tell(&self, world: &mut World) {
-        world.insert_resource(self.caps);
+    /// What the renderer learned since the app last heard from it (what this device keeps of
+    /// shadows, the last frame's shadow pass, what the camera saw, messages for the user), for
+    /// [`crate::App::hear`]. Hear it once the renderer is made, before the first frame, and after
+    /// each frame.
+    pub fn news(&mut self) -> RenderNews {
+        std::mem::replace(&mut self.news, RenderNews { caps: self.caps, ..RenderNews::default() })
     }
 
-    /// [`Renderer::tell`] for a world that was not told before it updated: its tiles were sized
-    /// for the most any device keeps, so they are sized again, and the layers fitted again, for
-    /// this one before the frame is drawn.
-    fn tell_caps(&self, world: &mut World) {
-        if world.get_resource::<ShadowCaps>() == Some(&self.caps) {
-            return;
-        }
-        self.tell(world);
-        if world.contains_resource::<crate::systems::CasterChanges>() {
-            use bevy_ecs::system::RunSystemOnce;
-            let _ = world.run_system_once(crate::systems::size_shadow_maps);
-            let _ = world.run_system_once(crate::systems::update_light_matrices);
-        }
+    /// Waits for the depth reduction under way, if any, and adds what it read back to the news.
+    pub fn wait_for_samples(&mut self, gpu: &Gpu) {
+        self.take_samples(gpu, true);
     }
 
     fn draw(
         &mut self,
         gpu: &Gpu,
-        world: &mut World,
+        world: &World,
         (width, height): (u32, u32),
         output: Output<'_>,
     ) -> Result<(), RenderError> {
         let (device, queue) = (&gpu.device, &gpu.queue);
-        self.tell_caps(world);
-        self.take_samples(gpu, world, false);
+        if world.get_resource::<ShadowCaps>() != Some(&self.caps) {
+            return Err(RenderError::NotTold);
+        }
+        self.take_samples(gpu, false);
         // What this frame takes from the settings, read once (extraction borrows the world).
         let settings = world.resource::<Settings>();
         let max = device.limits().max_texture_dimension_2d;
@@ -331,7 +333,7 @@ impl Renderer {
         let depth = self.ensure_depth(device, width, height);
         // A frame of shadow maps alone leaves out what only the main pass reads.
         let lit = !matches!(output, Output::ShadowsOnly);
-        let mut data = if lit { extract(world) } else { extract_shadow_maps(world) };
+        let mut data = read_world(world, lit, &mut self.kept);
         let format = moments::colour_format(data.methods, moment_bits, gpu.full_float_moments())
             .map_err(RenderError::Unsupported)?;
         if let Some(format) = format {
@@ -348,7 +350,7 @@ impl Renderer {
         self.shadow.plan(&mut data, how, update);
         if lit {
             self.main.prepare((device, queue), &data, &self.shadow.maps)?;
-            self.tell_shadowless(world, &data);
+            self.tell_shadowless(&data);
         }
         let objects: Vec<Object> = data.items.iter().map(|i| i.object).collect();
         self.objects.write(device, queue, &objects);
@@ -410,12 +412,12 @@ impl Renderer {
             timer.resolve(&mut encoder);
         }
         queue.submit([encoder.finish()]);
-        world.insert_resource(stats);
+        self.news.stats = Some(stats);
         gpu.check_errors()
     }
 
     /// Says which shadowed lights are lit without their shadow and why, whenever that changes.
-    fn tell_shadowless(&mut self, world: &mut World, data: &FrameData) {
+    fn tell_shadowless(&mut self, data: &FrameData) {
         if data.shadowless == self.shadowless {
             return;
         }
@@ -432,7 +434,7 @@ impl Renderer {
             let shown = names.iter().take(5).cloned().collect::<Vec<_>>().join(", ");
             let more = if names.len() > 5 { format!(" and {} more", names.len() - 5) } else { String::new() };
             let line = format!("{} lights are lit without their shadow ({shown}{more}): {reason}", names.len());
-            world.get_resource_or_init::<Notices>().0.push(line);
+            self.news.notices.push(line);
         }
     }
 
@@ -468,28 +470,28 @@ impl Renderer {
         view
     }
 
-    /// Takes what the last depth reduction read back (if it has arrived; with `wait`, waits for
-    /// the one under way) into the world, for the SDSM fit's next update.
-    pub fn take_samples(&mut self, gpu: &Gpu, world: &mut World, wait: bool) {
+    /// Adds what the last depth reduction read back (if it has arrived; with `wait`, waits for
+    /// the one under way) to the news, for the SDSM fit's next update.
+    fn take_samples(&mut self, gpu: &Gpu, wait: bool) {
         if let Some(samples) = self.reduction.as_mut().and_then(|r| r.poll(&gpu.device, wait)) {
-            world.insert_resource(SeenByCamera(samples));
+            self.news.seen = Some(samples);
         }
     }
 
     /// Reduces the camera's depth buffer for the SDSM fit, binned along the view and in the
     /// first sun's light space; says once where the device cannot run it.
-    fn reduce_depth(&mut self, gpu: &Gpu, world: &mut World, encoder: &mut wgpu::CommandEncoder, data: &FrameData) {
+    fn reduce_depth(&mut self, gpu: &Gpu, world: &World, encoder: &mut wgpu::CommandEncoder, data: &FrameData) {
         if !self.computes {
             if !std::mem::replace(&mut self.sdsm_told, true) {
                 let why = "the sdsm fit needs compute shaders, which this device lacks: cascades are fitted stable";
-                world.get_resource_or_init::<Notices>().0.push(why.to_string());
+                self.news.notices.push(why.to_string());
             }
             return;
         }
         let settings = world.resource::<Settings>();
         let shadow_distance = settings.shadow_distance;
-        let camera = world.query::<&Camera>().iter(world).next().copied();
-        let sun = world.query::<&DirectionalLight>().iter(world).next().map(|s| s.direction);
+        let camera = world.try_query::<&Camera>().and_then(|mut q| q.iter(world).next().copied());
+        let sun = world.try_query::<&DirectionalLight>().and_then(|mut q| q.iter(world).next().map(|s| s.direction));
         let (Some(camera), Some(sun), Some(depth)) = (camera, sun, &self.depth) else {
             return;
         };

@@ -1,6 +1,7 @@
 //! What the shadow pass did in a frame, per light: layers drawn, kept, left stale by the update
-//! budget, blurred, and the calls and static copies they took. The renderer leaves it in the world ([`ShadowStats`]) for the
-//! title bar, the panel and the bench.
+//! budget, blurred, and the calls and static copies they took. The renderer hands it back with its
+//! news ([`super::RenderNews`]) and the app keeps it in the world ([`ShadowStats`]) for the title
+//! bar, the panel and the bench.
 
 use crate::light::LightLabel;
 use bevy_ecs::prelude::*;

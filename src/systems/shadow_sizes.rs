@@ -11,8 +11,9 @@ use crate::shadow::{AtlasShape, MAX_PAGE, MIN_TILE, TileNeed, fit_budget, size_c
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
-/// What the device the shadows are drawn on can keep per texel: the renderer tells the world
-/// (until one has, the most any device keeps is assumed, so the budget holds everywhere).
+/// What the device the shadows are drawn on can keep per texel: the renderer's news carries it and
+/// the app keeps it in the world (until it has, the most any device keeps is assumed, so the
+/// budget holds everywhere).
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ShadowCaps {
     /// Moment maps can be 32-bit floats (GL cannot render into or filter them).

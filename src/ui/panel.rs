@@ -503,7 +503,7 @@ mod tests {
         let mut app = crate::App::new(Settings::default()).unwrap();
         // Values beyond the sliders' ranges, as the command line may set them.
         app.world.resource_mut::<Settings>().shadow_distance = 400.0;
-        let spot = light_list(&mut app.world)[1].entity;
+        let spot = light_list(&app.world)[1].entity;
         app.world.entity_mut(spot).insert(ShadowBias { constant: 20.0, ..Default::default() });
         app.world.get_mut::<SpotLight>(spot).unwrap().radius = 3.0;
         app.set_time(1.0);
@@ -517,7 +517,7 @@ mod tests {
         // The sections the panel opens only on a click, drawn open.
         let ctx = egui::Context::default();
         let settings = app.world.resource::<Settings>().clone();
-        for light in light_list(&mut app.world) {
+        for light in light_list(&app.world) {
             ctx.run_ui(egui::RawInput::default(), |ui| one_light(ui, &mut app.world, &light, &settings))
                 .drop_without_applying_deltas();
         }

@@ -145,7 +145,7 @@ const RESIZE_SWING: f32 = 0.2;
 /// The camera's height over the tile spot at which it wants a tile of `side` texels, out of
 /// `largest` (by bisection over the coverage the atlas sizes tiles by).
 fn height_wanting(app: &mut App, side: f32, largest: u32) -> f32 {
-    let Some(light) = light_list(&mut app.world).into_iter().next() else { return SHRINK_HEIGHTS[0] };
+    let Some(light) = light_list(&app.world).into_iter().next() else { return SHRINK_HEIGHTS[0] };
     let tan = (Camera::default().fov_y * 0.5).tan();
     let want = side / largest as f32;
     let (mut low, mut high) = (TILE_SPOT.0.y + 0.5, 1000.0f32);
