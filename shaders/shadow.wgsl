@@ -22,18 +22,16 @@ fn vs_shadow(v: VertexIn) -> ShadowOut {
     return shadow_out(object.world_from_local * vec4<f32>(v.position, 1.0), v);
 }
 
-// The same for a rigid mesh drawn as one of many instances: its placement comes with the
-// instance (the columns of its world_from_local), not from the object's uniform.
-struct Placement {
-    @location(6) x: vec4<f32>,
-    @location(7) y: vec4<f32>,
-    @location(8) z: vec4<f32>,
-    @location(9) w: vec4<f32>,
+// The same for a rigid mesh drawn as one of many instances: the instance is the number of its
+// object, and an instanced draw, being rigid, has every object's world_from_local bound where a
+// skinned draw has its joints (render/instances.rs).
+struct Instance {
+    @location(6) object: u32,
 };
 
 @vertex
-fn vs_shadow_instanced(v: VertexIn, p: Placement) -> ShadowOut {
-    return shadow_out(mat4x4<f32>(p.x, p.y, p.z, p.w) * vec4<f32>(v.position, 1.0), v);
+fn vs_shadow_instanced(v: VertexIn, i: Instance) -> ShadowOut {
+    return shadow_out(joints[i.object] * vec4<f32>(v.position, 1.0), v);
 }
 
 // The same for a skinned mesh: the shadow follows the pose.

@@ -5,7 +5,6 @@
 mod common;
 
 use common::gltf::TestModel;
-use serde_json::json;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use umbra::assets::{MAX_DECODED_BYTES, MAX_OBJECTS, parse_model};
@@ -56,12 +55,7 @@ fn peak_of<T>(f: impl FnOnce() -> T) -> (T, usize) {
 
 /// The test column drawn rigid by `n` more nodes, each placed apart, as .gltf text.
 fn instances(n: usize) -> Vec<u8> {
-    let mut model = TestModel::new();
-    model.json["nodes"][2].as_object_mut().unwrap().remove("skin");
-    let nodes = model.json["nodes"].as_array_mut().unwrap();
-    nodes.extend((0..n).map(|i| json!({ "mesh": 0, "translation": [(i % 300) as f32, 0.0, (i / 300) as f32] })));
-    model.json["scenes"][0]["nodes"] = json!((0..3 + n).filter(|&k| k != 1).collect::<Vec<_>>());
-    model.gltf_embedded()
+    TestModel::instanced(n).gltf_embedded()
 }
 
 // One test, so that no other test's allocations land in the counts.

@@ -6,9 +6,9 @@
 //! into tiles of the same size, place and format.
 
 use super::frame::FrameData;
-use super::instances::InstanceBuffer;
+use super::growing::GrowingBuffer;
 use super::instances::{LayerCalls, layer_calls};
-use super::mesh::{AlphaClass, GpuMesh, PLACEMENT, Variant};
+use super::mesh::{AlphaClass, GpuMesh, Variant};
 use super::shaders::{BARE_DEPTH, Composed};
 use super::shadow_atlas::array_layers;
 use super::texture::LayeredTarget;
@@ -21,7 +21,8 @@ use glam::Mat4;
 pub struct BareDepth {
     pipeline: wgpu::RenderPipeline,
     layers: UniformArray,
-    instances: InstanceBuffer,
+    /// Each instance's world_from_local, in batch order.
+    placements: GrowingBuffer,
     /// The maps drawn into, with their size, layer count and format.
     maps: Option<(LayeredTarget, (u32, u32, wgpu::TextureFormat))>,
     format: wgpu::TextureFormat,
@@ -38,6 +39,9 @@ impl BareDepth {
             immediate_size: 0,
         });
         const POSITION: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![0 => Float32x3];
+        // Each instance's world_from_local, by columns.
+        const PLACEMENT: [wgpu::VertexAttribute; 4] =
+            wgpu::vertex_attr_array![6 => Float32x4, 7 => Float32x4, 8 => Float32x4, 9 => Float32x4];
         let buffers = [
             Some(wgpu::VertexBufferLayout {
                 array_stride: size_of::<Vertex>() as u64,
@@ -72,7 +76,8 @@ impl BareDepth {
             multiview_mask: None,
             cache: None,
         });
-        BareDepth { pipeline, layers, instances: InstanceBuffer::new(device), maps: None, format }
+        let placements = GrowingBuffer::new(device, "bare placements", wgpu::BufferUsages::VERTEX);
+        BareDepth { pipeline, layers, placements, maps: None, format }
     }
 
     /// The depth format it draws.
@@ -105,10 +110,11 @@ impl BareDepth {
             methods: 0,
             instanced: false,
         };
-        let mut placements = Vec::new();
+        let mut instances = Vec::new();
         let calls: Vec<LayerCalls> =
-            data.draws.iter().map(|l| layer_calls(&data.items, &l.casters, bare, true, &mut placements)).collect();
-        self.instances.write(device, queue, &placements);
+            data.draws.iter().map(|l| layer_calls(&data.items, &l.casters, bare, true, &mut instances)).collect();
+        let placements: Vec<Mat4> = instances.iter().map(|&i| data.items[i as usize].object.world_from_local).collect();
+        self.placements.write(device, queue, bytemuck::cast_slice(&placements));
         let (maps, _) = self.maps.as_ref().expect("made above");
         let mut pages: Vec<u32> = data.draws.iter().filter_map(|d| d.tile.map(|t| t.page)).collect();
         pages.sort_unstable();
@@ -128,7 +134,7 @@ impl BareDepth {
                 multiview_mask: None,
             });
             pass.set_pipeline(&self.pipeline);
-            pass.set_vertex_buffer(1, self.instances.buffer().slice(..));
+            pass.set_vertex_buffer(1, self.placements.buffer.slice(..));
             for (k, (draw, layer_calls)) in data.draws.iter().zip(&calls).enumerate() {
                 let Some(tile) = draw.tile.filter(|t| t.page == page) else { continue };
                 let side = draw.resolution as f32;

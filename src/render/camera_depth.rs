@@ -89,7 +89,7 @@ impl CameraDepth {
             samples_shadows: false,
         };
         let pipelines = Pipelines::new(device, recipe, [&camera.layout, object_layout], palette, textures);
-        CameraDepth { pipelines, camera, instances: InstanceBuffer::new(device), target: None }
+        CameraDepth { pipelines, camera, instances: InstanceBuffer::new(device, &palette.layout), target: None }
     }
 
     /// Draws `data`'s surfaces as its camera sees them into a texture of `size`; returns the
@@ -113,9 +113,9 @@ impl CameraDepth {
         let camera = GpuLayer { clip_from_world: data.clip_from_world, ..GpuLayer::zeroed() };
         self.camera.write(device, queue, &[camera]);
         let drawn: Vec<usize> = (0..data.items.len()).filter(|&i| hides(&data.items[i])).collect();
-        let mut placements = Vec::new();
-        let calls = layer_calls(&data.items, &drawn, camera_variant, true, &mut placements);
-        self.instances.write(device, queue, &placements);
+        let mut instances = Vec::new();
+        let calls = layer_calls(&data.items, &drawn, camera_variant, true, &mut instances);
+        self.instances.write((device, queue), &instances, &data.items);
         self.pipelines
             .prepare(device, calls.singles.iter().map(|s| s.1).chain(calls.batches.iter().map(|b| b.variant)));
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -132,7 +132,7 @@ impl CameraDepth {
         });
         pass.set_bind_group(0, &self.camera.bind_group, &[self.camera.offset(0)]);
         self.pipelines.draw(&mut pass, with, &data.items, calls.singles.iter().copied());
-        self.pipelines.draw_batches(&mut pass, with, &calls.batches, self.instances.buffer());
+        self.pipelines.draw_batches(&mut pass, with, &calls.batches, self.instances.bindings());
         made
     }
 }

@@ -148,14 +148,14 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
             (c.view_proj(&t, aspect), t.translation, t.forward(), (c.near, c.far))
         });
     let (mut items, joints) = draw_items(world, main_pass);
-    let draw_order = if main_pass { draw_order(&items, eye) } else { Vec::new() };
-
     let cull_to = (settings.caster_culling == CasterCulling::CameraView).then_some(&clip_from_world);
     let bounds: Vec<Aabb> = items.iter().map(|(_, b)| *b).collect();
     let index = match kept.0.take() {
         Some(last) => last.refitted(&bounds),
         None => CasterIndex::new(&bounds),
     };
+    let draw_order =
+        if main_pass { draw_order(&items, eye, &in_view(&index, &bounds, &clip_from_world)) } else { Vec::new() };
     let (mut lights, mut layers, mut draws, mut methods) = (Vec::new(), Vec::new(), Vec::new(), 0);
     let mut shadowless = Vec::new();
     for light in light_list(world) {
@@ -267,22 +267,34 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
     }
 }
 
-/// The main pass's order: opaque and masked objects front to back, then blended ones back to
-/// front, so each blends over what is behind it.
+/// Which objects the camera may see: those whose box meets its view volume, and those whose box
+/// is not usable (where they are is unknown, so they are drawn).
+fn in_view(index: &CasterIndex, bounds: &[Aabb], clip_from_world: &Mat4) -> Vec<bool> {
+    let mut seen: Vec<bool> = bounds.iter().map(|b| !b.is_usable()).collect();
+    for i in index.inside(clip_from_world) {
+        seen[i] = true;
+    }
+    seen
+}
+
+/// The main pass's order of the objects the camera may see (`seen`, by object): opaque and masked
+/// objects front to back, then blended ones back to front, so each blends over what is behind it.
+/// The rest are not drawn: with 100,000 objects mostly out of view, a software rasterizer kept
+/// hundreds of megabytes for draws that made no pixel.
 ///
 /// Front to back lets the depth test reject hidden fragments before they are shaded. Objects are
 /// ranked by the distance from `eye` to the farthest corner of their bounds, which puts near,
 /// small objects first and the ground, which reaches farthest, last: on the sample scene this
 /// shades about a fifth fewer fragments than drawing the ground first (measured: the main pass
 /// at 1280x720 on the software rasterizer took 20% longer when the ground came first).
-fn draw_order(items: &[(DrawItem, Aabb)], eye: Vec3) -> Vec<usize> {
+fn draw_order(items: &[(DrawItem, Aabb)], eye: Vec3, seen: &[bool]) -> Vec<usize> {
     let farthest = |b: &Aabb| b.corners().iter().map(|c| c.distance_squared(eye)).fold(0.0f32, f32::max);
     let centre = |b: &Aabb| b.center().distance_squared(eye);
     let blended = |i: &usize| items[*i].0.alpha == AlphaMode::Blend;
-    let mut solid: Vec<(f32, usize)> =
-        (0..items.len()).filter(|i| !blended(i)).map(|i| (farthest(&items[i].1), i)).collect();
+    let shown = || (0..items.len()).filter(|&i| seen[i]);
+    let mut solid: Vec<(f32, usize)> = shown().filter(|i| !blended(i)).map(|i| (farthest(&items[i].1), i)).collect();
     solid.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut back: Vec<(f32, usize)> = (0..items.len()).filter(blended).map(|i| (centre(&items[i].1), i)).collect();
+    let mut back: Vec<(f32, usize)> = shown().filter(blended).map(|i| (centre(&items[i].1), i)).collect();
     back.sort_by(|a, b| b.0.total_cmp(&a.0));
     solid.into_iter().chain(back).map(|(_, i)| i).collect()
 }
@@ -338,7 +350,22 @@ mod tests {
             (item(AlphaMode::Blend), at(-5.0)),
         ];
         // The ground reaches farthest: it comes after the boxes, though its centre is nearest.
-        assert_eq!(draw_order(&items, Vec3::new(0.0, 2.0, 0.0)), vec![4, 2, 1, 3, 5, 0]);
+        let all = [true; 6];
+        assert_eq!(draw_order(&items, Vec3::new(0.0, 2.0, 0.0), &all), vec![4, 2, 1, 3, 5, 0]);
+        let unseen = [true, true, false, true, false, true];
+        assert_eq!(draw_order(&items, Vec3::new(0.0, 2.0, 0.0), &unseen), vec![1, 3, 5, 0]);
+    }
+
+    #[test]
+    fn the_main_pass_leaves_out_what_the_camera_cannot_see_and_keeps_what_it_cannot_place() {
+        // A camera at the origin looking down -Z: a box ahead, one behind, one far to the side,
+        // one past the far plane, and one whose box is not finite.
+        let camera = Camera { near: 0.1, far: 50.0, ..Camera::default() };
+        let clip_from_world = camera.view_proj(&Transform::default(), 1.0);
+        let at = |x: f32, z: f32| Aabb::new(Vec3::new(x, 0.0, z), Vec3::new(x + 1.0, 1.0, z + 1.0));
+        let bounds = [at(0.0, -5.0), at(0.0, 5.0), at(40.0, -5.0), at(0.0, -80.0), Aabb::new(Vec3::NAN, Vec3::NAN)];
+        let seen = in_view(&CasterIndex::new(&bounds), &bounds, &clip_from_world);
+        assert_eq!(seen, vec![true, false, false, false, true]);
     }
 
     #[test]

@@ -53,12 +53,12 @@ impl GpuMesh {
     }
 }
 
-/// An instance's placement as the instanced shaders read it: its world_from_local by columns.
-pub const PLACEMENT: [wgpu::VertexAttribute; 4] =
-    wgpu::vertex_attr_array![6 => Float32x4, 7 => Float32x4, 8 => Float32x4, 9 => Float32x4];
+/// An instance as the instanced shaders read it: the number of its object, whose placement is in
+/// the storage buffer of bind group 3.
+const INSTANCE: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![6 => Uint32];
 
 /// How the shaders read a [`Vertex`] (locations 0, 1, 4, 5), a [`SkinVertex`] (locations 2, 3)
-/// and an instance's placement (a matrix by columns, locations 6 to 9), in buffer slot 1.
+/// and an instance's object number (location 6), in buffer slot 1.
 fn vertex_layouts(v: Variant) -> Vec<Option<wgpu::VertexBufferLayout<'static>>> {
     const VERTEX: [wgpu::VertexAttribute; 4] =
         wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 4 => Float32x2, 5 => Float32x4];
@@ -69,7 +69,7 @@ fn vertex_layouts(v: Variant) -> Vec<Option<wgpu::VertexBufferLayout<'static>>> 
     if v.skinned {
         layouts.push(layout(size_of::<SkinVertex>() as u64, wgpu::VertexStepMode::Vertex, &SKIN[..]));
     } else if v.instanced {
-        layouts.push(layout(size_of::<Mat4>() as u64, wgpu::VertexStepMode::Instance, &PLACEMENT[..]));
+        layouts.push(layout(size_of::<u32>() as u64, wgpu::VertexStepMode::Instance, &INSTANCE[..]));
     }
     layouts
 }
@@ -100,8 +100,19 @@ impl JointPalette {
                 count: None,
             }],
         });
+        Self::with_layout(device, layout)
+    }
+
+    /// An empty palette bound with `layout` (another palette's: the instanced draws' placements
+    /// are bound where a skinned draw's joints are).
+    pub fn with_layout(device: &wgpu::Device, layout: wgpu::BindGroupLayout) -> Self {
         let (buffer, bind_group) = Self::allocate(device, &layout, 64);
         JointPalette { layout, buffer, bind_group, capacity: 64 }
+    }
+
+    /// The bind group over its matrices.
+    pub fn bind_group(&self) -> &wgpu::BindGroup {
+        &self.bind_group
     }
 
     fn allocate(
@@ -289,7 +300,7 @@ impl Pipelines {
         let buffers = vertex_layouts(v);
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(r.label),
-            layout: Some(&self.layouts[v.skinned as usize]),
+            layout: Some(&self.layouts[(v.skinned || v.instanced) as usize]),
             vertex: wgpu::VertexState {
                 module: &r.module,
                 entry_point: Some(&entry),
@@ -354,13 +365,14 @@ impl Pipelines {
     }
 
     /// Draws `batches` (built by [`Pipelines::prepare`]), each one call for all its instances,
-    /// their placements read from `instances`; bind group 0 must already be set.
+    /// their object numbers read from `instances` and their placements from `placements`; bind
+    /// group 0 must already be set.
     pub fn draw_batches(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         with: Drawables<'_>,
         batches: &[Batch],
-        instances: &wgpu::Buffer,
+        (instances, placements): (&wgpu::Buffer, &wgpu::BindGroup),
     ) {
         if batches.is_empty() {
             return;
@@ -368,6 +380,7 @@ impl Pipelines {
         // The layout holds the per-object and texture groups; an instanced caster reads neither.
         pass.set_bind_group(1, &with.objects.bind_group, &[with.objects.offset(0)]);
         pass.set_bind_group(2, with.textures.bind_group(None), &[]);
+        pass.set_bind_group(3, placements, &[]);
         pass.set_vertex_buffer(1, instances.slice(..));
         for b in batches {
             let (Some(pipeline), Some(Some(mesh))) = (self.built.get(&b.variant), with.meshes.get(b.mesh)) else {

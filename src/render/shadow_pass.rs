@@ -57,7 +57,7 @@ pub struct ShadowPass {
     sets: [PipelineSet; 2],
     blur: Option<MomentBlur>,
     layer_uniforms: UniformArray,
-    /// The placements of this frame's instanced casters.
+    /// This frame's instanced casters: their object numbers and every object's placement.
     instances: InstanceBuffer,
     fill: TileFill,
     /// The current atlas.
@@ -141,7 +141,7 @@ impl ShadowPass {
             sets,
             blur: None,
             layer_uniforms,
-            instances: InstanceBuffer::new(device),
+            instances: InstanceBuffer::new(device, &palette.layout),
             fill: TileFill::new(device),
             maps,
             placement: Placement::new(shape),
@@ -387,9 +387,9 @@ impl ShadowPass {
         todo: &[(&'a LayerDraw, Tile)],
         (split, instancing, faces, from_depth): (bool, bool, ShadowFaces, bool),
     ) -> Vec<Job<'a>> {
-        let mut placements = Vec::new();
+        let mut instances = Vec::new();
         let mut calls_of = |casters: &[usize], batch: bool| {
-            layer_calls(&data.items, casters, |item| shadow_variant(item, faces), batch, &mut placements)
+            layer_calls(&data.items, casters, |item| shadow_variant(item, faces), batch, &mut instances)
         };
         let jobs = todo
             .iter()
@@ -410,7 +410,7 @@ impl ShadowPass {
                 job(statics, true, calls_of(&moving, batch))
             })
             .collect();
-        self.instances.write(device, queue, &placements);
+        self.instances.write((device, queue), &instances, &data.items);
         jobs
     }
 
@@ -467,7 +467,7 @@ impl ShadowPass {
             })
             .collect();
         let drawing =
-            Drawing { with, items: &data.items, layers: &self.layer_uniforms, instances: self.instances.buffer() };
+            Drawing { with, items: &data.items, layers: &self.layer_uniforms, instances: self.instances.bindings() };
         let statics = self.statics.as_ref();
         for page in distinct_pages(jobs.iter().filter(|j| j.statics.is_some()).map(|j| j.tile.page)) {
             let Some(target) = statics.and_then(|s| s.pages.layer_views.get(page as usize)) else { continue };

@@ -140,7 +140,7 @@ pub(super) struct Drawing<'a> {
     pub(super) with: Drawables<'a>,
     pub(super) items: &'a [DrawItem],
     pub(super) layers: &'a UniformArray,
-    pub(super) instances: &'a wgpu::Buffer,
+    pub(super) instances: (&'a wgpu::Buffer, &'a wgpu::BindGroup),
 }
 
 /// A fill: the pipelines, which one (depth format and kind), its uniform's index and the static

@@ -245,6 +245,16 @@ impl TestModel {
         serde_json::to_vec_pretty(&json).unwrap()
     }
 
+    /// The test column drawn rigid by `n` more nodes, each placed apart on a grid 300 wide.
+    pub fn instanced(n: usize) -> TestModel {
+        let mut model = TestModel::new();
+        model.json["nodes"][2].as_object_mut().unwrap().remove("skin");
+        let nodes = model.json["nodes"].as_array_mut().unwrap();
+        nodes.extend((0..n).map(|i| json!({ "mesh": 0, "translation": [(i % 300) as f32, 0.0, (i / 300) as f32] })));
+        model.json["scenes"][0]["nodes"] = json!((0..3 + n).filter(|&k| k != 1).collect::<Vec<_>>());
+        model
+    }
+
     /// The model as .gltf text naming `bin_name`, whose bytes are returned beside it.
     pub fn gltf_external(&self, bin_name: &str) -> (Vec<u8>, Vec<u8>) {
         let mut json = self.json.clone();
