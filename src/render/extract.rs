@@ -9,7 +9,7 @@ use super::gpu_types::{Frame, GpuLayer, Object};
 use super::planar::{ground, planar_draws};
 use crate::components::*;
 use crate::light::clusters::{ClusterView, LightGrid, Reach};
-use crate::light::{Kind, Light, LightLabel, ShadowShape, light_list};
+use crate::light::{Kind, Light, ShadowShape, light_list};
 use crate::settings::{CasterCulling, Settings};
 use crate::shadow::{Aabb, CasterIndex, intersects_clip_volume};
 use crate::systems::CastersAtRest;
@@ -33,21 +33,22 @@ fn contact_steps<'a>(settings: &Settings, mut lights: impl Iterator<Item = &'a L
 /// the shadow shrinks (on the plates test, VSM drew no soft edge at all). So in a moment method
 /// a receiver shadows what lies behind it from the light; in the sample nothing does.
 fn layer_draws(
-    (entity, light, method, shows): (Entity, LightLabel, ShadowMethod, f32),
-    layers: &[ShadowLayer],
+    light: &Light,
     first_slot: usize,
     (items, index): (&[(DrawItem, Aabb)], &CasterIndex),
     camera: Option<&Mat4>,
 ) -> Vec<LayerDraw> {
+    let Light { entity, label, method, shows, .. } = *light;
     let keep = |(item, bounds): &(DrawItem, Aabb)| {
         (item.caster || (method.moments() && item.object.receives_shadows == 1))
             && camera.is_none_or(|vp| intersects_clip_volume(vp, bounds))
     };
-    layers
+    light
+        .layers
         .iter()
         .enumerate()
         .map(|(k, l)| LayerDraw {
-            light,
+            light: label,
             key: (entity.to_bits(), k as u32),
             slot: (first_slot + k) as u32,
             resolution: l.resolution,
@@ -167,8 +168,7 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
             if settings.shadows {
                 methods |= 1 << light.method as u32;
             }
-            let of = (light.entity, light.label, light.method, light.shows);
-            draws.extend(layer_draws(of, &light.layers, layers.len(), (&items, &index), cull_to));
+            draws.extend(layer_draws(&light, layers.len(), (&items, &index), cull_to));
             // Where a light at a point is; nothing for one infinitely far away (w = 0).
             let at = light.kind.homogeneous();
             let origin = (at.truncate() * at.w).to_array();

@@ -26,7 +26,7 @@ use super::tile_fill::{FillKind, TileFill};
 use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
 use crate::components::ShadowMethod;
-use crate::settings::{ShadowDepth, ShadowFaces};
+use crate::settings::ShadowDepth;
 use crate::shadow::{AtlasShape, MIN_TILE, Tile, TileState, Update, plan_updates};
 use std::collections::{HashMap, HashSet};
 
@@ -302,7 +302,7 @@ impl ShadowPass {
         how: DrawOptions,
         timer: Option<&mut PassTimer>,
     ) -> ShadowStats {
-        let DrawOptions { reuse, faces, blur, instancing, static_cache, moments_from, .. } = how;
+        let DrawOptions { reuse, blur, static_cache, moments_from, .. } = how;
         let from_depth = moments_from.from_depth();
         if let Some(statics) = &mut self.statics {
             statics.forget_others(&data.draws.iter().map(|d| d.key).collect());
@@ -329,7 +329,7 @@ impl ShadowPass {
         if split && todo.iter().any(|(l, _)| self.colour_target(l, from_depth).is_none()) {
             self.ensure_statics(device);
         }
-        let jobs = self.jobs((device, queue), data, &todo, (split, instancing, faces, from_depth));
+        let jobs = self.jobs((device, queue), data, &todo, how, split);
         self.prepare((device, queue), data, &jobs, &mut stats);
         let input = if from_depth {
             MomentInput::Depth { pages: &self.maps.pages.array_view, layers: &self.layer_uniforms }
@@ -378,15 +378,19 @@ impl ShadowPass {
         statics + groups(jobs).len()
     }
 
-    /// How each layer of `todo` (with its tile) is drawn: the calls that draw it, and, with the
-    /// static cache (`split`), those that draw its static map first when that must be redrawn.
+    /// How each layer of `todo` (with its tile) is drawn as `how` says: the calls that draw it,
+    /// and, with the static cache (`split`), those that draw its static map first when that must
+    /// be redrawn.
     fn jobs<'a>(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         data: &'a FrameData,
         todo: &[(&'a LayerDraw, Tile)],
-        (split, instancing, faces, from_depth): (bool, bool, ShadowFaces, bool),
+        how: DrawOptions,
+        split: bool,
     ) -> Vec<Job<'a>> {
+        let DrawOptions { faces, instancing, moments_from, .. } = how;
+        let from_depth = moments_from.from_depth();
         let mut instances = Vec::new();
         let mut calls_of = |casters: &[usize], batch: bool| {
             layer_calls(&data.items, casters, |item| shadow_variant(item, faces), batch, &mut instances)
