@@ -323,7 +323,10 @@ fn a_texture_coordinate_accessor_of_the_wrong_type_is_refused_where_read_and_war
     };
     // The set the texture reads: three floats per element, or 32-bit integers, are refused.
     let err = refusal(&retyped("TEXCOORD_0", "VEC3", 5126));
-    assert!(err.contains("TEXCOORD_0 has 3 components per element, not 2"), "{err}");
+    assert!(
+        err.contains("mesh 0 primitive 0") && err.contains("TEXCOORD_0 has 3 components per element, not 2"),
+        "{err}"
+    );
     let err = refusal(&retyped("TEXCOORD_0", "VEC2", 5125));
     assert!(err.contains("TEXCOORD_0") && err.contains("uv.glb"), "{err}");
     // A set nothing reads is warned of by name and left out.
@@ -331,7 +334,10 @@ fn a_texture_coordinate_accessor_of_the_wrong_type_is_refused_where_read_and_war
     assert!(model.parts[0].texture.is_some());
     let warned =
         model.warnings.iter().find(|w| w.contains("TEXCOORD_1")).unwrap_or_else(|| panic!("{:?}", model.warnings));
-    assert!(warned.contains("3 components per element, not 2") && warned.contains("ignored"), "{warned}");
+    assert!(
+        warned.contains("primitive 0: TEXCOORD_1 has 3 components per element, not 2") && warned.contains("ignored"),
+        "{warned}"
+    );
     assert_eq!(model.warnings.len(), 1, "{:?}", model.warnings);
 }
 

@@ -109,7 +109,10 @@ pub(super) fn shape(
         Some(_) => match attribute(p, &Semantic::TexCoords(set), &TEXCOORD, Some(n), data)? {
             Some((_, uv)) => Some(moved(uv, coords.transform, data)?),
             None => {
-                warnings.push(format!("its material's texture reads TEXCOORD_{set}, which it lacks: drawn untextured"));
+                warnings.push(format!(
+                    "primitive {}: its material's texture reads TEXCOORD_{set}, which it lacks: drawn untextured",
+                    p.index()
+                ));
                 texture = None;
                 None
             }
@@ -178,7 +181,7 @@ fn warn_of_unread_tex_coords(
             && Some(set) != read
             && let Err(e) = check(&acc, &semantic.to_string(), &TEXCOORD, Some(n), data)
         {
-            warnings.push(format!("{e}: ignored, as no texture reads it"));
+            warnings.push(format!("primitive {}: {e}: ignored, as no texture reads it", p.index()));
         }
     }
 }
