@@ -12,7 +12,7 @@ use umbra::{App, Settings};
 const STRESS_CUBES: u32 = 10_000;
 
 fn stress_app() -> App {
-    let mut app = App::new(Settings { cubes: STRESS_CUBES, ..Settings::default() }).expect("the stress scene");
+    let mut app = App::new(Settings::default().with(|s| s.scene.cubes = STRESS_CUBES)).expect("the stress scene");
     app.set_time(1.0);
     app
 }

@@ -20,7 +20,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let gpu = Gpu::headless()?;
     let mut halves = Vec::new();
     for method in [ShadowMethod::Bilinear, ShadowMethod::Pcss] {
-        let mut app = pole_scene(&Settings { method, ..Settings::default() })?;
+        let mut app = pole_scene(&Settings::default().with(|s| s.shadow.method = method))?;
         app.resize(HALF.0, HALF.1);
         place_camera(&mut app.world, Vec3::new(0.6, 1.6, 2.4), Vec3::new(1.2, 0.0, 0.0));
         app.set_time(0.0);

@@ -41,7 +41,10 @@
 //! - [`systems`]: the update schedule's systems (animation, bounds, cascades, every light's layers).
 //! - [`shadow`]: the CPU math of shadow maps (cascade fits, the atlas, the update budget), apart
 //!   from any GPU code; [`render`]: the wgpu passes and their WGSL in `shaders/`.
-//! - [`settings`]: every setting, validated where it is defined; [`scene`], [`scene_file`] and
+//! - [`settings`]: every setting, by concern (the scene's, used once when the app is made, then
+//!   the shadows', the maps', the cascades' and the view's, each group a resource of its own that
+//!   a system reads as `Res<ShadowSettings>` and the like), validated where each group is
+//!   defined; [`scene`], [`scene_file`] and
 //!   [`assets`]: the sample scene, scene files and glTF models.
 //! - [`eval`]: the ray-traced truth, the bench, the failure cases; [`play`] and [`ui`]: the window,
 //!   its keys and the panel.
@@ -150,20 +153,21 @@ impl App {
     /// An app holding the sample scene (and the user's model, if the settings name one), or the
     /// scene of the glTF file the settings name.
     pub fn new(settings: Settings) -> Result<App, AppError> {
+        let texel_density = settings.view.texel_density.clone();
+        let scene = settings.scene.clone();
         let mut app = App::empty(settings)?;
-        let settings = app.world.resource::<Settings>().clone();
-        match settings.scene {
-            Some(_) => scene_file::spawn_file_scene(&mut app.world, &settings)?,
-            None => scene::spawn_sample_scene(&mut app.world, &settings)?,
+        match scene.file {
+            Some(_) => scene_file::spawn_file_scene(&mut app.world, &scene)?,
+            None => scene::spawn_sample_scene(&mut app.world, &scene)?,
         }
-        if let Some(biases) = &settings.biases {
+        if let Some(biases) = &scene.biases {
             biases.apply(&mut app.world);
         }
-        reproduce::apply(&mut app.world, &settings.light_settings)?;
-        if let Some(name) = &settings.texel_density {
+        reproduce::apply(&mut app.world, &scene.light_settings)?;
+        if let Some(name) = &texel_density {
             reproduce::light_named(&mut app.world, name)?;
         }
-        if let Some((eye, target)) = settings.camera {
+        if let Some((eye, target)) = scene.camera {
             scene::place_camera(&mut app.world, eye, target);
         }
         Ok(app)
@@ -173,10 +177,11 @@ impl App {
     pub fn empty(settings: Settings) -> Result<App, SettingsError> {
         settings.validate()?;
         let mut world = World::new();
-        world.insert_resource(Time { dt: settings.dt, ..Default::default() });
+        world.insert_resource(Time { dt: settings.scene.dt, ..Default::default() });
         let caps = systems::ShadowCaps::default();
-        world.insert_resource(systems::ShadowAtlas::for_settings(&settings, caps, [settings.method].into_iter()));
-        world.insert_resource(settings);
+        let atlas = systems::ShadowAtlas::for_settings(&settings.maps, caps, [settings.shadow.method].into_iter());
+        world.insert_resource(atlas);
+        settings.put(&mut world)?;
         world.insert_resource(Input::default());
         world.insert_resource(Viewport { width: 1280, height: 720 });
         world.insert_resource(MeshLibrary::default());
@@ -261,9 +266,17 @@ impl App {
         self.world.get_resource_or_init::<components::Notices>().0.extend(news.notices);
     }
 
-    /// The settings in force.
-    pub fn settings(&self) -> &Settings {
-        self.world.resource::<Settings>()
+    /// A copy of the settings in force, every group of them (systems read the group they need
+    /// as a resource: [`settings::ShadowSettings`], [`settings::MapSettings`] and the others).
+    pub fn settings(&self) -> Settings {
+        Settings::from_world(&self.world)
+    }
+
+    /// Puts `settings` in force from the next update: each group that differs from the one in
+    /// force replaces it (the scene's are kept, for what they say about how the app was made,
+    /// but change nothing now). Refused, with nothing changed, if one is out of range.
+    pub fn set_settings(&mut self, settings: &Settings) -> Result<(), SettingsError> {
+        settings.put(&mut self.world)
     }
 
     fn run_update(&mut self) {

@@ -271,7 +271,10 @@ fn shadow_pass(args: &BenchArgs) -> Result<()> {
     let gpu = Gpu::headless()?;
     let adapter = gpu.describe();
     println!("adapter: {adapter}");
-    println!("{} frames per scene, {}² shadow maps, every layer drawn every frame", frames, settings.shadow_map_size);
+    println!(
+        "{} frames per scene, {}² shadow maps, every layer drawn every frame",
+        frames, settings.maps.shadow_map_size
+    );
     let rows = passes::run(&gpu, &settings, &passes::SCENE_SIZES, frames, |r| {
         eprintln!("{} cubes: umbra {:.2} ms, bare {:.2} ms", r.cubes, r.umbra_ms, r.bare_ms);
     })?;
@@ -306,9 +309,9 @@ fn bench(args: &BenchArgs) -> Result<()> {
         args.frames.unwrap_or(60),
         args.width,
         args.height,
-        settings.shadow_map_size,
-        settings.cascades,
-        settings.fit_mode.name()
+        settings.maps.shadow_map_size,
+        settings.cascade.cascades,
+        settings.cascade.fit_mode.name()
     );
     let frames = args.frames.unwrap_or(60);
     let rows = umbra::eval::bench::run(&gpu, &settings, scenarios, frames, args.width, args.height, |done, all| {
@@ -411,13 +414,17 @@ fn sweep(args: &BenchArgs) -> Result<()> {
     use umbra::eval::{config, cost, results, sweep};
     let settings = args.scene.settings()?;
     let d = Settings::default();
-    if (Settings { scene: None, exposure: d.exposure, ..settings.clone() }) != d {
+    if (settings.clone().with(|s| {
+        s.scene.file = None;
+        s.scene.exposure = d.scene.exposure;
+    })) != d
+    {
         anyhow::bail!(
             "the sweep sets the shadow settings itself; of the scene options it takes --scene and --exposure, the rest apply to `bench --cache` only"
         );
     }
     let mut options = config::SweepOptions::new(args.quick);
-    if settings.scene.is_some() {
+    if settings.scene.file.is_some() {
         options.views = config::views(&mut app(&args.scene)?);
         options.base = settings;
     }
@@ -432,7 +439,7 @@ fn sweep(args: &BenchArgs) -> Result<()> {
         options.truth.sizes.light_radius = Some(r);
     }
     let configs = config::configs(args.quick).len();
-    let scene = match &options.base.scene {
+    let scene = match &options.base.scene.file {
         Some(path) => format!("the scene {}", path.display()),
         None => "the sample scene".to_string(),
     };

@@ -146,9 +146,12 @@ fn quoted(s: &str) -> String {
 /// render` and `umbra play`; the per-light options need the same scene, so a scene that cannot
 /// be built again (a file gone since) gives them without comparing.
 pub fn command_line(world: &mut World) -> Vec<String> {
-    let settings = world.resource::<Settings>().clone();
+    let settings = Settings::from_world(world);
     let mut out = settings_options(&settings);
-    let base = Settings { light_settings: Vec::new(), biases: None, ..settings.clone() };
+    let base = settings.clone().with(|s| {
+        s.scene.light_settings = Vec::new();
+        s.scene.biases = None;
+    });
     let mut fresh = App::new(base).ok();
     let lights = light_list(world);
     let before = fresh.as_mut().map(|f| light_list(&f.world)).unwrap_or_default();
@@ -195,61 +198,73 @@ fn settings_options(s: &Settings) -> Vec<String> {
             out.push(format!("--{name}"));
         }
     };
-    flag(!s.shadows, "no-shadows");
-    flag(s.cascade_debug, "cascade-debug");
-    flag(s.planar_ground, "planar-ground");
-    flag(!s.receiver_plane, "no-receiver-plane");
-    flag(!s.reuse_shadow_maps, "redraw-shadows");
-    flag(!s.instancing, "no-instancing");
-    flag(s.static_cache, "static-cache");
-    flag(!s.atlas_guard, "no-atlas-guard");
-    flag(!s.character, "no-character");
-    flag(!s.ground_grid, "no-ground-grid");
-    flag(s.light_volumes, "light-volumes");
-    flag(s.contact_shadows, "contact-shadows");
+    flag(!s.shadow.enabled, "no-shadows");
+    flag(s.view.cascade_debug, "cascade-debug");
+    flag(s.shadow.planar_ground, "planar-ground");
+    flag(!s.shadow.receiver_plane, "no-receiver-plane");
+    flag(!s.maps.reuse_shadow_maps, "redraw-shadows");
+    flag(!s.maps.instancing, "no-instancing");
+    flag(s.maps.static_cache, "static-cache");
+    flag(!s.maps.atlas_guard, "no-atlas-guard");
+    flag(!s.scene.character, "no-character");
+    flag(!s.view.ground_grid, "no-ground-grid");
+    flag(s.view.light_volumes, "light-volumes");
+    flag(s.shadow.contact_shadows, "contact-shadows");
     let mut value = |differs: bool, name: &str, v: String| {
         if differs {
             out.extend([format!("--{name}"), v]);
         }
     };
-    value(s.shadow_map_size != d.shadow_map_size, "shadow-map-size", s.shadow_map_size.to_string());
-    value(s.shadow_memory != d.shadow_memory, "shadow-memory", s.shadow_memory.to_string());
-    value(s.shadow_updates != d.shadow_updates, "shadow-updates", s.shadow_updates.to_string());
-    value(s.max_stale != d.max_stale, "max-stale", s.max_stale.to_string());
-    value(s.tile_hysteresis != d.tile_hysteresis, "tile-hysteresis", s.tile_hysteresis.to_string());
-    value(s.shadow_strength != d.shadow_strength, "shadow-strength", s.shadow_strength.to_string());
-    value(s.depth_bias != d.depth_bias, "depth-bias", s.depth_bias.to_string());
-    value(s.slope_bias != d.slope_bias, "slope-bias", s.slope_bias.to_string());
-    value(s.normal_bias != d.normal_bias, "normal-bias", s.normal_bias.to_string());
-    value(s.bias_scale != d.bias_scale, "bias-scale", s.bias_scale.to_string());
-    value(s.cubes != d.cubes, "cubes", s.cubes.to_string());
-    value(s.lanterns != d.lanterns, "lanterns", s.lanterns.to_string());
-    value(s.cascades != d.cascades, "cascades", s.cascades.to_string());
-    value(s.split_lambda != d.split_lambda, "split-lambda", s.split_lambda.to_string());
-    value(s.cascade_blend != d.cascade_blend, "cascade-blend", s.cascade_blend.to_string());
-    value(s.shadow_distance != d.shadow_distance, "shadow-distance", s.shadow_distance.to_string());
-    value(s.fit_mode != d.fit_mode, "fit", s.fit_mode.name().into());
-    value(s.method != d.method, "method", s.method.name().into());
-    value(s.moment_blur != d.moment_blur, "moment-blur", s.moment_blur.to_string());
-    value(s.light_bleeding != d.light_bleeding, "light-bleeding", s.light_bleeding.to_string());
-    value(s.moment_bits != d.moment_bits, "moment-bits", s.moment_bits.name().into());
-    value(s.moments_from != d.moments_from, "moments-from", s.moments_from.name().into());
-    value(s.contact_steps != d.contact_steps, "contact-steps", s.contact_steps.to_string());
-    value(s.contact_length != d.contact_length, "contact-length", s.contact_length.to_string());
-    value(s.contact_thickness != d.contact_thickness, "contact-thickness", s.contact_thickness.to_string());
-    value(s.shadow_depth != d.shadow_depth, "shadow-depth", s.shadow_depth.name().into());
-    value(s.toon_bands != d.toon_bands, "toon", s.toon_bands.to_string());
-    value(s.caster_culling != d.caster_culling, "culling", s.caster_culling.name().into());
-    value(s.shadow_faces != d.shadow_faces, "shadow-faces", s.shadow_faces.name().into());
-    value(s.tile_sizes != d.tile_sizes, "tile-sizes", s.tile_sizes.name().into());
-    value(s.exposure != d.exposure, "exposure", s.exposure.to_string());
-    if let Some(light) = &s.texel_density {
+    value(s.maps.shadow_map_size != d.maps.shadow_map_size, "shadow-map-size", s.maps.shadow_map_size.to_string());
+    value(s.maps.shadow_memory != d.maps.shadow_memory, "shadow-memory", s.maps.shadow_memory.to_string());
+    value(s.maps.shadow_updates != d.maps.shadow_updates, "shadow-updates", s.maps.shadow_updates.to_string());
+    value(s.maps.max_stale != d.maps.max_stale, "max-stale", s.maps.max_stale.to_string());
+    value(s.maps.tile_hysteresis != d.maps.tile_hysteresis, "tile-hysteresis", s.maps.tile_hysteresis.to_string());
+    value(
+        s.shadow.shadow_strength != d.shadow.shadow_strength,
+        "shadow-strength",
+        s.shadow.shadow_strength.to_string(),
+    );
+    value(s.shadow.depth_bias != d.shadow.depth_bias, "depth-bias", s.shadow.depth_bias.to_string());
+    value(s.shadow.slope_bias != d.shadow.slope_bias, "slope-bias", s.shadow.slope_bias.to_string());
+    value(s.shadow.normal_bias != d.shadow.normal_bias, "normal-bias", s.shadow.normal_bias.to_string());
+    value(s.shadow.bias_scale != d.shadow.bias_scale, "bias-scale", s.shadow.bias_scale.to_string());
+    value(s.scene.cubes != d.scene.cubes, "cubes", s.scene.cubes.to_string());
+    value(s.scene.lanterns != d.scene.lanterns, "lanterns", s.scene.lanterns.to_string());
+    value(s.cascade.cascades != d.cascade.cascades, "cascades", s.cascade.cascades.to_string());
+    value(s.cascade.split_lambda != d.cascade.split_lambda, "split-lambda", s.cascade.split_lambda.to_string());
+    value(s.cascade.cascade_blend != d.cascade.cascade_blend, "cascade-blend", s.cascade.cascade_blend.to_string());
+    value(
+        s.cascade.shadow_distance != d.cascade.shadow_distance,
+        "shadow-distance",
+        s.cascade.shadow_distance.to_string(),
+    );
+    value(s.cascade.fit_mode != d.cascade.fit_mode, "fit", s.cascade.fit_mode.name().into());
+    value(s.shadow.method != d.shadow.method, "method", s.shadow.method.name().into());
+    value(s.maps.moment_blur != d.maps.moment_blur, "moment-blur", s.maps.moment_blur.to_string());
+    value(s.shadow.light_bleeding != d.shadow.light_bleeding, "light-bleeding", s.shadow.light_bleeding.to_string());
+    value(s.maps.moment_bits != d.maps.moment_bits, "moment-bits", s.maps.moment_bits.name().into());
+    value(s.maps.moments_from != d.maps.moments_from, "moments-from", s.maps.moments_from.name().into());
+    value(s.shadow.contact_steps != d.shadow.contact_steps, "contact-steps", s.shadow.contact_steps.to_string());
+    value(s.shadow.contact_length != d.shadow.contact_length, "contact-length", s.shadow.contact_length.to_string());
+    value(
+        s.shadow.contact_thickness != d.shadow.contact_thickness,
+        "contact-thickness",
+        s.shadow.contact_thickness.to_string(),
+    );
+    value(s.maps.shadow_depth != d.maps.shadow_depth, "shadow-depth", s.maps.shadow_depth.name().into());
+    value(s.view.toon_bands != d.view.toon_bands, "toon", s.view.toon_bands.to_string());
+    value(s.maps.caster_culling != d.maps.caster_culling, "culling", s.maps.caster_culling.name().into());
+    value(s.maps.shadow_faces != d.maps.shadow_faces, "shadow-faces", s.maps.shadow_faces.name().into());
+    value(s.maps.tile_sizes != d.maps.tile_sizes, "tile-sizes", s.maps.tile_sizes.name().into());
+    value(s.scene.exposure != d.scene.exposure, "exposure", s.scene.exposure.to_string());
+    if let Some(light) = &s.view.texel_density {
         value(true, "texel-density", light.clone());
     }
-    if let Some(p) = &s.model {
+    if let Some(p) = &s.scene.model {
         value(true, "model", p.display().to_string());
     }
-    if let Some(p) = &s.scene {
+    if let Some(p) = &s.scene.file {
         value(true, "scene", p.display().to_string());
     }
     out
@@ -309,7 +324,11 @@ mod tests {
 
     #[test]
     fn changed_lights_and_settings_are_written() {
-        let mut app = App::new(Settings { cascades: 2, method: ShadowMethod::Pcf5, ..Settings::default() }).unwrap();
+        let mut app = App::new(Settings::default().with(|s| {
+            s.cascade.cascades = 2;
+            s.shadow.method = ShadowMethod::Pcf5;
+        }))
+        .unwrap();
         let lights = light_list(&app.world);
         let own = [
             ("spot 1".to_string(), LightSetting::Method(ShadowMethod::Vsm)),

@@ -7,7 +7,7 @@ use crate::assets::character::WALK_SPEED;
 use crate::assets::model::MIN_MODEL_SIZE;
 use crate::assets::{MeshLibrary, Model, ModelError, TextureLibrary, cube, load_model, parse_model, plane, sphere};
 use crate::components::*;
-use crate::settings::Settings;
+use crate::settings::SceneSettings;
 use bevy_ecs::prelude::*;
 use glam::{Quat, Vec3};
 use std::sync::Arc;
@@ -30,7 +30,7 @@ pub const SUN_DIRECTION: Vec3 = Vec3::new(-0.45, -1.0, -0.35);
 
 /// Spawns the whole sample scene into `world` (which must hold a [`MeshLibrary`]); fails only
 /// when the user's model (`settings.model`) cannot be loaded.
-pub fn spawn_sample_scene(world: &mut World, settings: &Settings) -> Result<(), ModelError> {
+pub fn spawn_sample_scene(world: &mut World, settings: &SceneSettings) -> Result<(), ModelError> {
     let (ground, unit_cube) = {
         let mut meshes = world.resource_mut::<MeshLibrary>();
         (meshes.add(plane(80.0)), meshes.add(cube(Vec3::splat(0.5))))
@@ -268,7 +268,7 @@ mod tests {
     fn sample_scene_has_what_the_card_asks_for() {
         let mut world = World::new();
         world.insert_resource(MeshLibrary::default());
-        spawn_sample_scene(&mut world, &Settings::default()).unwrap();
+        spawn_sample_scene(&mut world, &SceneSettings::default()).unwrap();
         let animated = world.query_filtered::<(), (With<Spin>, With<Bob>)>().iter(&world).count();
         assert!(animated >= 8);
         assert_eq!(world.query::<&DirectionalLight>().iter(&world).count(), 1);
@@ -317,7 +317,7 @@ mod tests {
         let cubes = |n: u32| {
             let mut world = World::new();
             world.insert_resource(MeshLibrary::default());
-            let settings = Settings { cubes: n, character: false, ..Settings::default() };
+            let settings = SceneSettings { cubes: n, character: false, ..SceneSettings::default() };
             spawn_sample_scene(&mut world, &settings).unwrap();
             let mut spots: Vec<[f32; 3]> = world
                 .query_filtered::<&Transform, With<Spin>>()

@@ -8,7 +8,10 @@ use umbra::components::ShadowMethod;
 use umbra::reproduce::{
     LightSetting, parse_bias, parse_contact, parse_method, parse_size as parse_light_size, parse_texels,
 };
-use umbra::settings::{CasterCulling, MomentBits, MomentSource, ShadowDepth, ShadowFaces, TileSizes};
+use umbra::settings::{
+    CascadeSettings, CasterCulling, MapSettings, MomentBits, MomentSource, SceneSettings, ShadowDepth, ShadowFaces,
+    ShadowSettings, TileSizes, ViewSettings,
+};
 use umbra::shadow::FitMode;
 
 /// Settings shared by every command.
@@ -254,39 +257,14 @@ impl SceneArgs {
             }
             None => (None, Vec::new()),
         };
-        Ok(Settings {
-            shadows: !self.no_shadows,
-            shadow_map_size: self.shadow_map_size.unwrap_or(d.shadow_map_size),
-            shadow_memory: self.shadow_memory.unwrap_or(d.shadow_memory),
-            atlas_guard: !self.no_atlas_guard,
-            shadow_updates: self.shadow_updates.unwrap_or(d.shadow_updates),
-            max_stale: self.max_stale.unwrap_or(d.max_stale),
-            tile_hysteresis: self.tile_hysteresis.unwrap_or(d.tile_hysteresis),
-            shadow_strength: self.shadow_strength.unwrap_or(d.shadow_strength),
-            depth_bias: self.depth_bias.unwrap_or(d.depth_bias),
-            slope_bias: self.slope_bias.unwrap_or(d.slope_bias),
-            normal_bias: self.normal_bias.unwrap_or(d.normal_bias),
-            bias_scale: self.bias_scale.unwrap_or(d.bias_scale),
-            cubes: self.cubes.unwrap_or(d.cubes),
-            lanterns: self.lanterns.unwrap_or(d.lanterns),
-            cascades: self.cascades.unwrap_or(d.cascades),
-            split_lambda: self.split_lambda.unwrap_or(d.split_lambda),
-            cascade_blend: self.cascade_blend.unwrap_or(d.cascade_blend),
-            fit_mode: self.fit.unwrap_or(d.fit_mode),
-            cascade_debug: self.cascade_debug,
-            method: self.method.unwrap_or(d.method),
-            moment_blur: self.moment_blur.unwrap_or(d.moment_blur),
-            light_bleeding: self.light_bleeding.unwrap_or(d.light_bleeding),
-            moment_bits: self.moment_bits.unwrap_or(d.moment_bits),
-            moments_from: self.moments_from.unwrap_or(d.moments_from),
-            contact_shadows: self.contact_shadows,
-            contact_steps: self.contact_steps.unwrap_or(d.contact_steps),
-            contact_length: self.contact_length.unwrap_or(d.contact_length),
-            contact_thickness: self.contact_thickness.unwrap_or(d.contact_thickness),
-            shadow_depth: self.shadow_depth.unwrap_or(d.shadow_depth),
-            planar_ground: self.planar_ground,
-            receiver_plane: !self.no_receiver_plane,
-            toon_bands: self.toon.unwrap_or(d.toon_bands),
+        let scene = SceneSettings {
+            cubes: self.cubes.unwrap_or(d.scene.cubes),
+            lanterns: self.lanterns.unwrap_or(d.scene.lanterns),
+            character: !self.no_character,
+            model: self.model.clone(),
+            file: self.scene.clone(),
+            exposure: self.exposure.unwrap_or(d.scene.exposure),
+            camera: self.eye.zip(self.target),
             // The file's first, so the command line's win.
             light_settings: file_methods
                 .into_iter()
@@ -297,23 +275,61 @@ impl SceneArgs {
                 .chain(self.light_contact.iter().cloned())
                 .chain(self.no_light_shadow.iter().map(|l| (l.clone(), LightSetting::NoShadow)))
                 .collect(),
-            shadow_distance: self.shadow_distance.unwrap_or(d.shadow_distance),
-            ground_grid: !self.no_ground_grid,
-            texel_density: self.texel_density.clone(),
-            light_volumes: self.light_volumes,
-            camera: self.eye.zip(self.target),
-            caster_culling: self.culling.unwrap_or(d.caster_culling),
-            shadow_faces: self.shadow_faces.unwrap_or(d.shadow_faces),
-            tile_sizes: self.tile_sizes.unwrap_or(d.tile_sizes),
+            biases,
+            ..d.scene
+        };
+        let shadow = ShadowSettings {
+            enabled: !self.no_shadows,
+            shadow_strength: self.shadow_strength.unwrap_or(d.shadow.shadow_strength),
+            method: self.method.unwrap_or(d.shadow.method),
+            depth_bias: self.depth_bias.unwrap_or(d.shadow.depth_bias),
+            slope_bias: self.slope_bias.unwrap_or(d.shadow.slope_bias),
+            normal_bias: self.normal_bias.unwrap_or(d.shadow.normal_bias),
+            bias_scale: self.bias_scale.unwrap_or(d.shadow.bias_scale),
+            receiver_plane: !self.no_receiver_plane,
+            light_bleeding: self.light_bleeding.unwrap_or(d.shadow.light_bleeding),
+            contact_shadows: self.contact_shadows,
+            contact_steps: self.contact_steps.unwrap_or(d.shadow.contact_steps),
+            contact_length: self.contact_length.unwrap_or(d.shadow.contact_length),
+            contact_thickness: self.contact_thickness.unwrap_or(d.shadow.contact_thickness),
+            planar_ground: self.planar_ground,
+            ..d.shadow
+        };
+        let maps = MapSettings {
+            shadow_map_size: self.shadow_map_size.unwrap_or(d.maps.shadow_map_size),
+            shadow_memory: self.shadow_memory.unwrap_or(d.maps.shadow_memory),
+            tile_sizes: self.tile_sizes.unwrap_or(d.maps.tile_sizes),
+            tile_hysteresis: self.tile_hysteresis.unwrap_or(d.maps.tile_hysteresis),
+            atlas_guard: !self.no_atlas_guard,
+            shadow_updates: self.shadow_updates.unwrap_or(d.maps.shadow_updates),
+            max_stale: self.max_stale.unwrap_or(d.maps.max_stale),
             reuse_shadow_maps: !self.redraw_shadows,
             instancing: !self.no_instancing,
             static_cache: self.static_cache,
-            character: !self.no_character,
-            model: self.model.clone(),
-            scene: self.scene.clone(),
-            exposure: self.exposure.unwrap_or(d.exposure),
-            biases,
-            ..d
-        })
+            shadow_depth: self.shadow_depth.unwrap_or(d.maps.shadow_depth),
+            caster_culling: self.culling.unwrap_or(d.maps.caster_culling),
+            shadow_faces: self.shadow_faces.unwrap_or(d.maps.shadow_faces),
+            moments_from: self.moments_from.unwrap_or(d.maps.moments_from),
+            moment_bits: self.moment_bits.unwrap_or(d.maps.moment_bits),
+            moment_blur: self.moment_blur.unwrap_or(d.maps.moment_blur),
+            ..d.maps
+        };
+        let cascade = CascadeSettings {
+            shadow_distance: self.shadow_distance.unwrap_or(d.cascade.shadow_distance),
+            cascades: self.cascades.unwrap_or(d.cascade.cascades),
+            split_lambda: self.split_lambda.unwrap_or(d.cascade.split_lambda),
+            cascade_blend: self.cascade_blend.unwrap_or(d.cascade.cascade_blend),
+            fit_mode: self.fit.unwrap_or(d.cascade.fit_mode),
+            ..d.cascade
+        };
+        let view = ViewSettings {
+            toon_bands: self.toon.unwrap_or(d.view.toon_bands),
+            ground_grid: !self.no_ground_grid,
+            cascade_debug: self.cascade_debug,
+            texel_density: self.texel_density.clone(),
+            light_volumes: self.light_volumes,
+            ..d.view
+        };
+        Ok(Settings { scene, shadow, maps, cascade, view })
     }
 }

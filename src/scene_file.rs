@@ -5,8 +5,8 @@
 //! # Light units
 //! glTF gives a directional light's intensity in lux and a point or spot light's in candela. An
 //! umbra light's intensity is a plain factor: a sun of intensity 1 lights a surface facing it
-//! with its full colour. [`Settings::exposure`] (`--exposure`, default 1) says what one lux is
-//! worth, so a directional light becomes an umbra sun of intensity `lux × exposure`. A point or
+//! with its full colour. The scene's exposure ([`SceneSettings::exposure`], `--exposure`,
+//! default 1) says what one lux is worth, so a directional light becomes an umbra sun of intensity `lux × exposure`. A point or
 //! spot light of `I` candela gives `I / d²` lux at `d` metres, while umbra's falloff is
 //! `1 / (1 + LIGHT_FALLOFF·d²)`; an intensity of `I × exposure × LIGHT_FALLOFF` makes the two agree
 //! away from the light (and umbra's stays finite at it). With exposure 1 a file lit the way the
@@ -17,7 +17,7 @@ use crate::assets::model::{FileLightKind, ModelCamera, ModelLight};
 use crate::assets::{ModelError, load_model};
 use crate::components::*;
 use crate::scene::{SUN_DIRECTION, camera_looking, spawn_model};
-use crate::settings::Settings;
+use crate::settings::SceneSettings;
 use crate::shadow::Aabb;
 use bevy_ecs::prelude::*;
 use glam::{Mat4, Vec3};
@@ -99,11 +99,11 @@ pub fn framing_camera(bounds: Aabb, fov_y: f32) -> (Camera, Vec3, Vec3) {
     (Camera { fov_y, near, far }, eye, center)
 }
 
-/// Spawns the scene of the glTF file `settings.scene` into `world` (which must hold a
+/// Spawns the scene of the glTF file `settings.file` into `world` (which must hold a
 /// [`MeshLibrary`](crate::assets::MeshLibrary)); what had to be left out or mended is added to
 /// the model's warnings.
-pub fn spawn_file_scene(world: &mut World, settings: &Settings) -> Result<(), ModelError> {
-    let Some(path) = &settings.scene else { return Ok(()) };
+pub fn spawn_file_scene(world: &mut World, settings: &SceneSettings) -> Result<(), ModelError> {
+    let Some(path) = &settings.file else { return Ok(()) };
     let model = load_model(path)?;
     if model.parts.is_empty() {
         let problem = "its scene has no triangle meshes to draw".to_string();

@@ -16,7 +16,11 @@ use umbra::{App, Settings};
 
 /// The character alone (on a ground plane if `ground`), lit by a high sun, seen from `eye`.
 fn character_scene(ground: bool, eye: Vec3, target: Vec3) -> (App, Entity) {
-    let mut app = App::empty(Settings { shadow_map_size: 1024, cascades: 2, ..Settings::default() }).unwrap();
+    let mut app = App::empty(Settings::default().with(|s| {
+        s.maps.shadow_map_size = 1024;
+        s.cascade.cascades = 2;
+    }))
+    .unwrap();
     if ground {
         let mesh = app.world.resource_mut::<MeshLibrary>().add(plane(20.0));
         app.world.spawn((mesh, Material::color(0.6, 0.6, 0.6), ShadowReceiver));
@@ -139,7 +143,11 @@ fn the_shadow_follows_the_character_as_it_walks() {
 
 #[test]
 fn the_character_wears_its_striped_texture() {
-    let mut app = App::empty(Settings { shadow_map_size: 1024, ambient: 0.2, ..Settings::default() }).unwrap();
+    let mut app = App::empty(Settings::default().with(|s| {
+        s.maps.shadow_map_size = 1024;
+        s.view.ambient = 0.2;
+    }))
+    .unwrap();
     let model = Arc::new(parse_model(CHARACTER_GLB, None, "character.glb").unwrap());
     assert!(model.warnings.is_empty(), "{:?}", model.warnings);
     assert!(model.parts.iter().filter(|p| p.texture.is_some()).count() == 1, "the shirt is textured");

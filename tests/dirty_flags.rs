@@ -29,7 +29,7 @@ fn spot_at(x: f32) -> (SpotLight, Transform, ShadowMap) {
 /// Ground, a cube under each of two spot lights, a sun with three cascades and a camera; updated
 /// twice so everything has settled.
 fn scene() -> Scene {
-    let mut app = App::empty(Settings { cascades: 3, ..Settings::default() }).unwrap();
+    let mut app = App::empty(Settings::default().with(|s| s.cascade.cascades = 3)).unwrap();
     let (ground, block) = {
         let mut meshes = app.world.resource_mut::<MeshLibrary>();
         (meshes.add(plane(40.0)), meshes.add(cube(Vec3::splat(0.5))))
@@ -127,7 +127,7 @@ fn moving_a_light_or_resizing_the_maps_dirties_it() {
     s.app.world.get_mut::<Transform>(s.left_spot).unwrap().translation.y += 0.5;
     s.app.set_time(0.0);
     assert!(dirty(&s, s.left_spot) && !dirty(&s, s.right_spot));
-    s.app.world.resource_mut::<Settings>().shadow_map_size = 1024;
+    s.app.world.resource_mut::<umbra::settings::MapSettings>().shadow_map_size = 1024;
     s.app.set_time(0.0);
     assert!(dirty(&s, s.left_spot) && dirty(&s, s.right_spot) && dirty(&s, s.sun));
 }
@@ -136,7 +136,7 @@ fn moving_a_light_or_resizing_the_maps_dirties_it() {
 fn a_stable_cascade_stays_clean_while_the_camera_creeps_and_a_tight_one_does_not() {
     for (mode, expect_dirty) in [(umbra::shadow::FitMode::Stable, false), (umbra::shadow::FitMode::Tight, true)] {
         let mut s = scene();
-        s.app.world.resource_mut::<Settings>().fit_mode = mode;
+        s.app.world.resource_mut::<umbra::settings::CascadeSettings>().fit_mode = mode;
         s.app.set_time(0.0);
         s.app.set_time(0.0);
         let texel = layers(&s, s.sun)[2].texel.x;

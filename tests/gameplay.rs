@@ -41,7 +41,7 @@ fn steps_are_a_pure_function_of_time() {
         a.step();
     }
     let mut b = App::new(Settings::default()).unwrap();
-    b.set_time(90.0 * Settings::default().dt as f64);
+    b.set_time(90.0 * Settings::default().scene.dt as f64);
     let poses = |app: &mut App| app.world.query::<&Transform>().iter(&app.world).copied().collect::<Vec<_>>();
     assert_eq!(poses(&mut a), poses(&mut b));
 }

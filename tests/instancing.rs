@@ -29,9 +29,9 @@ fn frames(settings: Settings) -> Vec<(Image, ShadowStats)> {
 
 /// Draw calls one by one and instanced, after checking the frames are the same.
 fn compare(base: Settings) -> (u32, u32) {
-    let field = Settings { cubes: RING_CUBES + 600, ..base };
-    let one_by_one = frames(Settings { instancing: false, ..field.clone() });
-    let instanced = frames(Settings { instancing: true, ..field });
+    let field = base.with(|s| s.scene.cubes = RING_CUBES + 600);
+    let one_by_one = frames(field.clone().with(|s| s.maps.instancing = false));
+    let instanced = frames(field.with(|s| s.maps.instancing = true));
     for (i, ((a, sa), (b, sb))) in one_by_one.iter().zip(&instanced).enumerate() {
         assert!(a.pixels == b.pixels, "frame {i}: instanced drawing changed the picture");
         assert_eq!((sa.drawn(), sa.kept()), (sb.drawn(), sb.kept()), "frame {i}: the same layers drawn");
@@ -46,20 +46,20 @@ fn instanced_and_one_by_one_drawing_give_the_same_frames() {
     let (a, b) = compare(base.clone());
     assert!(b > 0 && a > 10 * b, "instancing takes far fewer calls: {b} against {a}");
     // Culling the faces towards the light is part of each batch's pipeline.
-    let (a, b) = compare(Settings { shadow_faces: ShadowFaces::Back, ..base });
+    let (a, b) = compare(base.with(|s| s.maps.shadow_faces = ShadowFaces::Back));
     assert!(b > 0 && a > 10 * b, "{b} against {a}");
 }
 
 #[test]
 fn layers_with_a_colour_map_draw_one_by_one_and_stay_the_same() {
-    let (a, b) = compare(Settings { method: ShadowMethod::Vsm, ..Settings::default() });
+    let (a, b) = compare(Settings::default().with(|s| s.shadow.method = ShadowMethod::Vsm));
     assert_eq!(a, b, "no layer is batched");
 }
 
 #[test]
 fn the_shadow_pass_bench_draws_the_same_casters_in_as_many_calls_at_any_size() {
     let gpu = gpu();
-    let settings = Settings { shadow_map_size: 128, ..Settings::default() };
+    let settings = Settings::default().with(|s| s.maps.shadow_map_size = 128);
     let sizes = [10, RING_CUBES + 400];
     let rows = umbra::eval::passes::run(&gpu, &settings, &sizes, 1, |_| {}).expect("the bench runs");
     assert_eq!(rows.len(), 2);

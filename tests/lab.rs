@@ -22,7 +22,7 @@ fn the_overlays_numbers_are_the_benchs_for_the_same_view() {
     let gpu = gpu();
     let options = SweepOptions::new(true);
     let view = VIEWS[0];
-    let settings = Settings { method: umbra::components::ShadowMethod::Pcf3, ..Settings::default() };
+    let settings = Settings::default().with(|s| s.shadow.method = umbra::components::ShadowMethod::Pcf3);
     let mut bench = Measurer::new(&gpu, options.size, options.truth);
     let (expected, names) = scene_accuracy(&mut bench, &settings, &[view]).unwrap();
 
@@ -53,7 +53,11 @@ const RED: [u8; 4] = [255, 40, 30, (OVERLAY_OPACITY * 255.0 + 0.5) as u8];
 /// The acne case's open plane under a 35° sun, measured live with `bias` texels of every kind.
 fn acne_overlay(bias: f32) -> (umbra::eval::live::LiveReport, usize) {
     let gpu = gpu();
-    let settings = Settings { depth_bias: bias, slope_bias: bias, normal_bias: bias, ..Settings::default() };
+    let settings = Settings::default().with(|s| {
+        s.shadow.depth_bias = bias;
+        s.shadow.slope_bias = bias;
+        s.shadow.normal_bias = bias;
+    });
     let mut app =
         ground(&settings, 80.0, true, Vec3::NEG_Y, (Vec3::new(0.0, 5.0, 10.0), Vec3::new(0.0, 0.0, -2.0))).unwrap();
     set_sun(&mut app, sun_direction(35.0, 30.0));
@@ -177,7 +181,7 @@ fn a_bias_or_size_dragged_on_the_panel_changes_only_its_light_and_redraws_nothin
     drag(&ctx, &mut app, &mut lab, at, egui::pos2(1000.0, at.y));
     let bias = *app.world.get::<ShadowBias>(spot).expect("spot 1 has a bias of its own now");
     assert_eq!(bias.constant, 8.0, "dragged to the far end of a 0..8 slider");
-    assert_eq!(*app.world.resource::<Settings>(), Settings::default(), "the settings' bias is untouched");
+    assert_eq!(app.settings(), Settings::default(), "the settings' bias is untouched");
     for other in lights.iter().filter(|l| l.entity != spot) {
         assert!(app.world.get::<ShadowBias>(other.entity).is_none(), "{} keeps the settings' bias", other.label);
     }
@@ -209,10 +213,11 @@ fn a_window_state_renders_the_same_headless_from_its_command_line() {
     let gpu = gpu();
     let mut app = App::new(Settings::default()).unwrap();
     // What a learner did in the window: settings, a light's method, bias, size and shadow, the camera.
-    {
-        let mut s = app.world.resource_mut::<Settings>();
-        (s.cascades, s.method, s.shadow_distance, s.toon_bands) = (2, ShadowMethod::Gauss5, 40.0, 3);
-    }
+    let learned = app.settings().with(|s| {
+        (s.cascade.cascades, s.shadow.method, s.cascade.shadow_distance, s.view.toon_bands) =
+            (2, ShadowMethod::Gauss5, 40.0, 3)
+    });
+    app.set_settings(&learned).unwrap();
     let own = [
         ("spot 1".to_string(), LightSetting::Method(ShadowMethod::Pcss)),
         (
@@ -256,7 +261,7 @@ fn the_ground_checker_shows_in_the_picture_and_never_in_the_measuring_view() {
     use umbra::render::render_debug_frame;
     let gpu = gpu();
     let frames = |grid: bool| {
-        let mut app = App::new(Settings { ground_grid: grid, ..Settings::default() }).unwrap();
+        let mut app = App::new(Settings::default().with(|s| s.view.ground_grid = grid)).unwrap();
         app.resize(192, 108);
         app.set_time(6.0);
         let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
@@ -278,7 +283,10 @@ fn the_ground_checker_shows_in_the_picture_and_never_in_the_measuring_view() {
 fn texel_density_is_red_for_a_coarse_map_and_blue_for_a_fine_one() {
     let gpu = gpu();
     let mean = |size: u32| {
-        let settings = Settings { shadow_map_size: size, texel_density: Some("sun".into()), ..Settings::default() };
+        let settings = Settings::default().with(|s| {
+            s.maps.shadow_map_size = size;
+            s.view.texel_density = Some("sun".into());
+        });
         let mut app = App::new(settings).unwrap();
         app.resize(480, 270);
         app.set_time(6.0);

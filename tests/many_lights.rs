@@ -88,7 +88,7 @@ fn shadowed_lamps_share_the_atlas_and_those_it_cannot_hold_are_lit_and_named() {
     // 900 in the least memory: 5,400 faces of 32² at the least, and the atlas holds 4,096 of
     // them: the lamps past them are named.
     let mut app = lamp_field(30, true);
-    app.world.resource_mut::<Settings>().shadow_memory = 16;
+    app.world.resource_mut::<umbra::settings::MapSettings>().shadow_memory = 16;
     app.resize(SIZE, SIZE);
     app.set_time(0.0);
     render_headless(&gpu, &mut renderer, &mut app, SIZE, SIZE).unwrap();
@@ -171,7 +171,7 @@ fn a_starved_budget_draws_one_map_a_frame_and_the_other_keeps_its_old_shadow_unt
     // A budget for one spot's map a frame; the block moves in both spots' views.
     let side = |app: &mut App| app.world.query::<&ShadowMap>().iter(&app.world).map(|m| m.resolution).max().unwrap();
     let side = side(&mut app);
-    app.world.resource_mut::<Settings>().shadow_updates = side * side;
+    app.world.resource_mut::<umbra::settings::MapSettings>().shadow_updates = side * side;
     app.world.get_mut::<Transform>(cube).unwrap().translation.z += 1.5;
     let (moved, wrong) = frame(&mut app);
     assert_eq!((moved.drawn(), moved.stale()), (1, 1), "one drawn, one waits: {moved}");

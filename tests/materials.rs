@@ -21,8 +21,12 @@ const BLUE: [u8; 4] = [0, 0, 255, 255];
 
 /// An empty scene: optionally a ground plane, a sun travelling along `sun`, a camera.
 fn scene(ground: bool, sun: Vec3, eye: Vec3, target: Vec3) -> App {
-    let mut app =
-        App::empty(Settings { shadow_map_size: 1024, cascades: 2, ambient: 0.1, ..Settings::default() }).unwrap();
+    let mut app = App::empty(Settings::default().with(|s| {
+        s.maps.shadow_map_size = 1024;
+        s.cascade.cascades = 2;
+        s.view.ambient = 0.1;
+    }))
+    .unwrap();
     if ground {
         let mesh = app.world.resource_mut::<MeshLibrary>().add(plane(20.0));
         app.world.spawn((mesh, Material::color(0.6, 0.6, 0.6), ShadowReceiver));
@@ -177,7 +181,11 @@ fn a_model_with_no_size_leaves_every_other_shadow_as_it_was() {
     // At 2.5 s the clip has turned the column's tip but not moved its root, so a model blown up
     // by millions would reach from the middle of the scene out over every cascade.
     let frame = |model: Option<std::path::PathBuf>| {
-        let mut app = App::new(Settings { character: false, model, ..Settings::default() }).unwrap();
+        let mut app = App::new(Settings::default().with(|s| {
+            s.scene.character = false;
+            s.scene.model = model;
+        }))
+        .unwrap();
         render(&mut app, 2.5)
     };
     let without = frame(None);

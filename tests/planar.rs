@@ -20,7 +20,10 @@ fn grey() -> Material {
 /// Planar shadows on a plain ground: the tests compare the brightness of ground points that
 /// would lie on different squares of the checker.
 fn planar() -> Settings {
-    Settings { method: ShadowMethod::Planar, ground_grid: false, ..Settings::default() }
+    Settings::default().with(|s| {
+        s.shadow.method = ShadowMethod::Planar;
+        s.view.ground_grid = false;
+    })
 }
 
 /// An app with a 40 m ground, the boxes `boxes` (centre, half extents) and a camera.
@@ -114,7 +117,7 @@ fn on_the_sample_ground_planar_shadows_match_the_truth_and_elsewhere_there_are_n
 
 #[test]
 fn with_planar_ground_the_ground_takes_planar_shadows_and_the_rest_keeps_the_maps() {
-    let settings = Settings { planar_ground: true, ..Settings::default() };
+    let settings = Settings::default().with(|s| s.shadow.planar_ground = true);
     let maps_only: Vec<[usize; 5]> = sample_ground(Settings::default());
     for (light, [ground, _, wrong, lost_elsewhere, partial]) in sample_ground(settings).into_iter().enumerate() {
         assert!(wrong <= ground / 1000, "light {light}: {wrong} of {ground} ground pixels wrong");

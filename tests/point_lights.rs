@@ -92,7 +92,7 @@ fn a_spot_wider_than_one_map_is_shadow_tested_over_all_its_cone() {
 fn a_sun_four_spots_and_two_point_lights_are_each_measured_against_the_truth() {
     // Seven lights: the measuring view takes two passes (four lights each); every light's column
     // is compared with its own truth, as `bench` and `tune` compare them.
-    let mut app = boxes(Settings { shadow_map_size: 1024, ..Settings::default() });
+    let mut app = boxes(Settings::default().with(|s| s.maps.shadow_map_size = 1024));
     let sun = DirectionalLight { direction: Vec3::new(0.3, -1.0, 0.2), intensity: 0.6, ..Default::default() };
     app.world.spawn((sun, ShadowMap::default()));
     for (x, z) in [(-3.0, -3.0), (3.0, -3.0), (-3.0, 3.0), (3.0, 3.0)] {

@@ -11,7 +11,10 @@ use umbra::render::{Gpu, HEADLESS_FORMAT, RenderError, Renderer, render_headless
 use umbra::{App, Settings};
 
 fn settings() -> Settings {
-    Settings { shadow_map_size: 1024, ambient: 0.1, ..Settings::default() }
+    Settings::default().with(|s| {
+        s.maps.shadow_map_size = 1024;
+        s.view.ambient = 0.1;
+    })
 }
 
 /// A grey unit cube hovering at height 1..2 over a grey plane, seen from above and in front.
@@ -65,7 +68,7 @@ fn slanted_sun_moves_the_shadow_away_from_under_the_cube() {
 
 #[test]
 fn without_shadows_there_is_no_dark_region() {
-    let mut app = cube_over_plane(Settings { shadows: false, ..settings() });
+    let mut app = cube_over_plane(settings().with(|s| s.shadow.enabled = false));
     add_sun(&mut app, Vec3::NEG_Y);
     let image = render(&mut app, 0.0);
     let far = brightness_at(&mut app, &image, Vec3::new(2.5, 0.0, 1.0));
@@ -132,7 +135,7 @@ fn the_sample_scene_is_deterministic_in_time() {
 #[test]
 fn the_sample_scene_has_pillar_shadows_where_the_sun_puts_them() {
     let mut on = App::new(Settings::default()).unwrap();
-    let mut off = App::new(Settings { shadows: false, ..Settings::default() }).unwrap();
+    let mut off = App::new(Settings::default().with(|s| s.shadow.enabled = false)).unwrap();
     let (a, b) = (render(&mut on, 2.0), render(&mut off, 2.0));
     // The pillar at (7.5, -4) is 6 m tall; the sun travels along SUN_DIRECTION (y = -1), so its
     // shadow runs from the foot to the top's image at the foot + 6 * (x, z) of that direction.
@@ -180,7 +183,7 @@ fn oversized_shadow_maps_and_frames_are_clear_errors() {
     assert!(err.to_string().contains("0x10"), "{err}");
     let max = gpu.device.limits().max_texture_dimension_2d;
     if max < umbra::settings::MAX_SHADOW_MAP_SIZE {
-        app.world.resource_mut::<Settings>().shadow_map_size = max * 2;
+        app.world.resource_mut::<umbra::settings::MapSettings>().shadow_map_size = max * 2;
         let err = render_headless(&gpu, &mut renderer, &mut app, 8, 8).unwrap_err();
         assert!(err.to_string().contains("shadow_map_size"), "{err}");
     }

@@ -26,7 +26,8 @@ fn ground_app(settings: Settings, eye: Vec3, target: Vec3) -> App {
 #[test]
 fn a_tall_caster_behind_the_camera_shadows_the_visible_ground() {
     let scene = |shadows| {
-        let mut app = ground_app(Settings { shadows, ..Settings::default() }, Vec3::new(0.0, 3.0, 10.0), Vec3::ZERO);
+        let mut app =
+            ground_app(Settings::default().with(|s| s.shadow.enabled = shadows), Vec3::new(0.0, 3.0, 10.0), Vec3::ZERO);
         let block = app.world.resource_mut::<MeshLibrary>().add(cube(Vec3::splat(0.5)));
         // 20 m tall at z = 16, behind the camera; the sun travels towards -z at 45 degrees, so the
         // pillar's shadow runs along x = 0 from z = 16 to z = -4, right through the view.
@@ -87,7 +88,10 @@ fn the_cascade_debug_view_shows_one_tint_per_cascade() {
     for cascades in [1, 2, 4] {
         // Low over the ground looking at the horizon: the view runs from 1.6 m to past 60 m.
         let shot = |debug| {
-            let settings = Settings { cascades, cascade_debug: debug, ..Settings::default() };
+            let settings = Settings::default().with(|s| {
+                s.cascade.cascades = cascades;
+                s.view.cascade_debug = debug;
+            });
             let mut app = ground_app(settings, Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 0.6, -30.0));
             let sun = DirectionalLight {
                 direction: Vec3::new(0.3, -1.0, 0.2),

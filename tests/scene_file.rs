@@ -34,7 +34,7 @@ fn lit_scene() -> SceneFile {
 
 fn scene_app(scene: &SceneFile, name: &str) -> App {
     let path = scene.write(&scratch("scene-file"), name);
-    App::new(Settings { scene: Some(path), ..Settings::default() }).unwrap_or_else(|e| panic!("{e}"))
+    App::new(Settings::default().with(|s| s.scene.file = Some(path))).unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]
@@ -153,12 +153,15 @@ fn a_files_broken_lights_are_named() {
 fn scene_and_model_together_are_refused_and_a_scene_without_meshes_too() {
     let dir = scratch("scene-file-refused");
     let path = lit_scene().write(&dir, "lit.gltf");
-    let both = Settings { scene: Some(path.clone()), model: Some(path), ..Settings::default() };
+    let both = Settings::default().with(|s| {
+        s.scene.file = Some(path.clone());
+        s.scene.model = Some(path);
+    });
     let err = App::new(both).err().expect("refused").to_string();
     assert!(err.contains("model") && err.contains("one or the other"), "{err}");
     let mut empty = SceneFile::new();
     empty.0.json["scenes"][0]["nodes"] = json!([]);
     let path = empty.write(&dir, "empty.gltf");
-    let err = App::new(Settings { scene: Some(path), ..Settings::default() }).err().expect("refused").to_string();
+    let err = App::new(Settings::default().with(|s| s.scene.file = Some(path))).err().expect("refused").to_string();
     assert!(err.contains("empty.gltf") && err.contains("no triangle meshes"), "{err}");
 }

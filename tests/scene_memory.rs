@@ -22,7 +22,7 @@ fn peak_resident() -> Option<u64> {
 fn a_model_of_100_000_nodes_is_drawn_in_under_a_gigabyte() {
     let path = common::scratch("scene-memory").join("many.gltf");
     std::fs::write(&path, TestModel::instanced(100_000).gltf_embedded()).unwrap();
-    let mut app = App::new(Settings { model: Some(path), ..Settings::default() }).unwrap();
+    let mut app = App::new(Settings::default().with(|s| s.scene.model = Some(path))).unwrap();
     app.resize(1280, 720);
     app.set_time(2.0);
     let gpu = common::gpu();

@@ -19,7 +19,10 @@ const H: u32 = 135;
 fn view(fit: FitMode, eye: Vec3, target: Vec3) -> (DebugFrame, Vec<ShadowLayer>, Vec<String>) {
     let gpu = gpu();
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
-    let settings = Settings { fit_mode: fit, camera: Some((eye, target)), ..Settings::default() };
+    let settings = Settings::default().with(|s| {
+        s.cascade.fit_mode = fit;
+        s.scene.camera = Some((eye, target));
+    });
     let mut app = App::new(settings).unwrap();
     app.resize(W, H);
     app.set_time(1.0);

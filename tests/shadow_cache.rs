@@ -81,14 +81,13 @@ struct World {
 }
 
 fn build(reuse: bool, method: ShadowMethod) -> World {
-    let settings = Settings {
-        shadow_map_size: 512,
-        cascades: 3,
-        reuse_shadow_maps: reuse,
-        static_cache: reuse,
-        method,
-        ..Settings::default()
-    };
+    let settings = Settings::default().with(|s| {
+        s.maps.shadow_map_size = 512;
+        s.cascade.cascades = 3;
+        s.maps.reuse_shadow_maps = reuse;
+        s.maps.static_cache = reuse;
+        s.shadow.method = method;
+    });
     let mut app = App::empty(settings).unwrap();
     let (ground, block) = {
         let mut meshes = app.world.resource_mut::<MeshLibrary>();
@@ -288,7 +287,7 @@ fn a_new_moment_method_or_blur_redraws_the_maps_it_changes() {
     // What each setting looks like drawn from nothing.
     let fresh = |method, blur| {
         let mut w = build(true, method);
-        w.app.world.resource_mut::<Settings>().moment_blur = blur;
+        w.app.world.resource_mut::<umbra::settings::MapSettings>().moment_blur = blur;
         frame(&mut w, &mut Renderer::new(&gpu, HEADLESS_FORMAT).unwrap())
     };
     let mut w = build(true, ShadowMethod::Vsm);
@@ -296,10 +295,8 @@ fn a_new_moment_method_or_blur_redraws_the_maps_it_changes() {
     frame(&mut w, &mut renderer);
     // Nothing moves between the frames: no layer is dirty, yet what the maps hold changed.
     for (method, blur) in [(ShadowMethod::Msm, 2), (ShadowMethod::Msm, 5), (ShadowMethod::Evsm, 5)] {
-        {
-            let mut settings = w.app.world.resource_mut::<Settings>();
-            (settings.method, settings.moment_blur) = (method, blur);
-        }
+        let settings = w.app.settings().with(|s| (s.shadow.method, s.maps.moment_blur) = (method, blur));
+        w.app.set_settings(&settings).unwrap();
         let image = frame(&mut w, &mut renderer);
         assert!(image == fresh(method, blur), "{method:?} with blur {blur} differs from a fresh start");
         let stats = w.app.world.resource::<ShadowStats>();

@@ -25,7 +25,7 @@ const HIGH: f32 = 2.0;
 /// one high, seen from straight above. The penumbra of a plate's edge is 2 R h / (4 - h) wide:
 /// 1.3 cm for the low one, 20 cm for the high one.
 fn plates(method: ShadowMethod) -> App {
-    plates_with(Settings { method, ..Settings::default() })
+    plates_with(Settings::default().with(|s| s.shadow.method = method))
 }
 
 fn plates_with(settings: Settings) -> App {
@@ -170,8 +170,8 @@ fn the_receiver_plane_is_each_lights_own() {
         app.resize(SIZE, SIZE);
         app
     };
-    let pcf5 = Settings { method: ShadowMethod::Pcf5, ..Settings::default() };
-    let flat_settings = Settings { receiver_plane: false, ..pcf5.clone() };
+    let pcf5 = Settings::default().with(|s| s.shadow.method = ShadowMethod::Pcf5);
+    let flat_settings = pcf5.clone().with(|s| s.shadow.receiver_plane = false);
     let with = measure_app(plane(&pcf5), "pcf5");
     let flat = measure_app(plane(&flat_settings), "pcf5 flat");
     let mut own = plane(&flat_settings);
@@ -186,7 +186,10 @@ fn the_receiver_plane_is_each_lights_own() {
 fn moment_maps_resolved_from_depth_at_every_size_put_the_shadows_where_drawn_ones_do() {
     use umbra::settings::MomentSource;
     let vsm = |moments_from: MomentSource| {
-        let app = plates_with(Settings { method: ShadowMethod::Vsm, moments_from, ..Settings::default() });
+        let app = plates_with(Settings::default().with(|s| {
+            s.shadow.method = ShadowMethod::Vsm;
+            s.maps.moments_from = moments_from;
+        }));
         measure_app(app, moments_from.name())
     };
     let drawn = vsm(MomentSource::Colour);

@@ -39,7 +39,11 @@ fn holds_and_breaks(name: &str, broken: Settings) -> (Score, Score) {
 }
 
 fn no_bias() -> Settings {
-    Settings { depth_bias: 0.0, slope_bias: 0.0, normal_bias: 0.0, ..Settings::default() }
+    Settings::default().with(|s| {
+        s.shadow.depth_bias = 0.0;
+        s.shadow.slope_bias = 0.0;
+        s.shadow.normal_bias = 0.0;
+    })
 }
 
 #[test]
@@ -50,25 +54,25 @@ fn acne_stays_off_an_open_plane_and_comes_back_without_bias() {
 
 #[test]
 fn shadows_stay_at_a_cubes_foot_and_come_loose_with_back_faces_only() {
-    holds_and_breaks("peter-panning", Settings { shadow_faces: ShadowFaces::Back, ..Settings::default() });
+    holds_and_breaks("peter-panning", Settings::default().with(|s| s.maps.shadow_faces = ShadowFaces::Back));
 }
 
 #[test]
 fn a_creeping_camera_flips_no_shadow_but_unsnapped_cascades_shimmer() {
-    let (good, _) = holds_and_breaks("shimmer", Settings { fit_mode: FitMode::Unsnapped, ..Settings::default() });
+    let (good, _) = holds_and_breaks("shimmer", Settings::default().with(|s| s.cascade.fit_mode = FitMode::Unsnapped));
     assert_eq!(good.hits, 0, "snapped cascades keep every texel on the same world grid");
 }
 
 #[test]
 fn thin_poles_cast_shadows_until_the_map_is_too_coarse() {
-    holds_and_breaks("thin-casters", Settings { shadow_map_size: 256, ..Settings::default() });
+    holds_and_breaks("thin-casters", Settings::default().with(|s| s.maps.shadow_map_size = 256));
 }
 
 #[test]
 fn a_caster_behind_the_camera_shadows_the_view_unless_culled_to_the_camera() {
     let (_, bad) = holds_and_breaks(
         "off-screen-caster",
-        Settings { caster_culling: CasterCulling::CameraView, ..Settings::default() },
+        Settings::default().with(|s| s.maps.caster_culling = CasterCulling::CameraView),
     );
     assert_eq!(bad.value(), 1.0, "culled to the camera, the whole shadow is gone");
 }
@@ -81,7 +85,13 @@ fn degenerate_suns_give_no_garbage() {
 
 #[test]
 fn far_shadows_hold_across_cascade_seams_but_not_with_one_coarse_cascade() {
-    holds_and_breaks("far-field", Settings { cascades: 1, shadow_map_size: 512, ..Settings::default() });
+    holds_and_breaks(
+        "far-field",
+        Settings::default().with(|s| {
+            s.cascade.cascades = 1;
+            s.maps.shadow_map_size = 512;
+        }),
+    );
 }
 
 #[test]
@@ -124,35 +134,35 @@ fn probes_make_the_same_shadow_tests_as_the_pixels_they_sit_on() {
 
 #[test]
 fn a_point_lights_shadow_holds_across_its_cube_seams_but_not_without_seam_handling() {
-    holds_and_breaks("cube-seams", Settings { cube_seams: false, ..Settings::default() });
+    holds_and_breaks("cube-seams", Settings::default().with(|s| s.maps.cube_seams = false));
 }
 
 #[test]
 fn filters_stay_inside_their_atlas_tile_but_darken_its_rim_without_the_guard() {
-    let (good, bad) = holds_and_breaks("atlas-seams", Settings { atlas_guard: false, ..Settings::default() });
+    let (good, bad) = holds_and_breaks("atlas-seams", Settings::default().with(|s| s.maps.atlas_guard = false));
     assert_eq!(good.hits, 0, "nothing shades the open ground");
     assert!(bad.value() > 0.1, "past the tile's edge the filter reads an empty page: {bad:?}");
 }
 
 #[test]
 fn a_170_degree_spot_is_shadowed_to_its_rim_but_not_through_one_map() {
-    let one_map = Settings { spot_map_limit: 85f32.to_radians(), ..Settings::default() };
+    let one_map = Settings::default().with(|s| s.maps.spot_map_limit = 85f32.to_radians());
     holds_and_breaks("wide-spot", one_map);
 }
 
 #[test]
 fn a_wide_filter_leaves_a_lit_slope_lit_but_darkens_it_without_the_receiver_plane() {
-    holds_and_breaks("soft-acne", Settings { receiver_plane: false, ..Settings::default() });
+    holds_and_breaks("soft-acne", Settings::default().with(|s| s.shadow.receiver_plane = false));
 }
 
 #[test]
 fn pcss_penumbrae_harden_towards_a_poles_foot_but_not_with_a_fixed_kernel() {
-    holds_and_breaks("contact-hardening", Settings { pcss_blocker_search: false, ..Settings::default() });
+    holds_and_breaks("contact-hardening", Settings::default().with(|s| s.shadow.pcss_blocker_search = false));
 }
 
 #[test]
 fn a_variance_map_keeps_light_from_leaking_between_stacked_casters_but_not_without_bleeding_reduction() {
-    holds_and_breaks("light-bleeding", Settings { light_bleeding: 0.0, ..Settings::default() });
+    holds_and_breaks("light-bleeding", Settings::default().with(|s| s.shadow.light_bleeding = 0.0));
 }
 
 #[test]
@@ -160,7 +170,10 @@ fn evsm_and_msm_leak_less_light_than_vsm_between_stacked_casters_without_bleedin
     let gpu = common::gpu();
     let case = case("light-bleeding").unwrap();
     let leak = |method| {
-        let settings = Settings { method, light_bleeding: 0.0, ..Settings::default() };
+        let settings = Settings::default().with(|s| {
+            s.shadow.method = method;
+            s.shadow.light_bleeding = 0.0;
+        });
         let score = (case.run)(&mut measurer(&gpu), &settings).unwrap();
         eprintln!("{method:?}: {:.4} of the shadow across the edge leaks ({score:?})", score.value());
         score.value()
@@ -184,7 +197,7 @@ fn evsm_and_msm_leak_less_light_than_vsm_between_stacked_casters_without_bleedin
 #[test]
 fn a_spots_error_grows_as_its_tile_shrinks_and_passes_the_threshold_near_the_predicted_side() {
     // With every tile held at 32², the spot's edges land half a 17 cm texel off.
-    holds_and_breaks("tile-shrink", Settings { shadow_map_size: 32, ..Settings::default() });
+    holds_and_breaks("tile-shrink", Settings::default().with(|s| s.maps.shadow_map_size = 32));
     let gpu = common::gpu();
     let sides = [32, 64, 128, 256, 512, 1024];
     let points = tile_shrink_sweep(&mut measurer(&gpu), &Settings::default(), &sides).unwrap();
@@ -208,12 +221,12 @@ fn a_spots_error_grows_as_its_tile_shrinks_and_passes_the_threshold_near_the_pre
 
 #[test]
 fn a_tile_keeps_its_size_as_the_camera_creeps_across_a_class_edge_and_flickers_without_hysteresis() {
-    holds_and_breaks("tile-resize", Settings { tile_hysteresis: 0.0, ..Settings::default() });
+    holds_and_breaks("tile-resize", Settings::default().with(|s| s.maps.tile_hysteresis = 0.0));
 }
 
 #[test]
 fn a_starved_budget_redraws_every_spot_within_its_turn_and_bounds_how_wrong_it_gets_meanwhile() {
-    let (good, bad) = holds_and_breaks("starved-budget", Settings { max_stale: 1000, ..Settings::default() });
+    let (good, bad) = holds_and_breaks("starved-budget", Settings::default().with(|s| s.maps.max_stale = 1000));
     assert!(bad.garbage > 0, "without the overdue rule the spots that show least never get their turn: {bad:?}");
     // And meanwhile their shadows stay where their posts were, further off every frame.
     let share = |s: Score| s.hits as f64 / s.of.max(1) as f64;
@@ -224,7 +237,7 @@ fn a_starved_budget_redraws_every_spot_within_its_turn_and_bounds_how_wrong_it_g
 #[test]
 fn contact_shadows_leave_no_halo_behind_a_thin_bar_unless_surfaces_are_taken_thick() {
     // Taken 10 m thick, the bar 8 m in front of the ground hides the ground's march.
-    holds_and_breaks("contact-halos", Settings { contact_thickness: 10.0, ..Settings::default() });
+    holds_and_breaks("contact-halos", Settings::default().with(|s| s.shadow.contact_thickness = 10.0));
 }
 
 #[test]
@@ -233,9 +246,9 @@ fn contact_shadows_close_the_gap_a_large_bias_opens_at_a_cubes_foot() {
     // opens no gap here: it lifts a ground point straight up, still under the cube's shadow.)
     let gpu = common::gpu();
     let case = case("peter-panning").unwrap();
-    let biased = Settings { slope_bias: 30.0, ..Settings::default() };
+    let biased = Settings::default().with(|s| s.shadow.slope_bias = 30.0);
     let gap = (case.run)(&mut measurer(&gpu), &biased).unwrap();
-    let closed = (case.run)(&mut measurer(&gpu), &Settings { contact_shadows: true, ..biased }).unwrap();
+    let closed = (case.run)(&mut measurer(&gpu), &biased.with(|s| s.shadow.contact_shadows = true)).unwrap();
     eprintln!("peter-panning at slope bias 30: {:.4} without contact shadows, {:.4} with", gap.value(), closed.value());
     assert!(gap.value() > case.threshold, "the bias should open a gap: {gap:?}");
     assert!(closed.value() <= case.threshold, "contact shadows should close it: {closed:?}");

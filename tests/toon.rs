@@ -20,7 +20,11 @@ fn grey() -> Material {
 /// A lamp 1.5 m over the ground and a 50 cm box 1.5 m to its +X side, seen from above.
 fn scene(shadows: bool) -> App {
     // A plain ground: the test counts its levels, which the checker would double.
-    let settings = Settings { toon_bands: BANDS, shadows, ground_grid: false, ..Settings::default() };
+    let settings = Settings::default().with(|s| {
+        s.view.toon_bands = BANDS;
+        s.shadow.enabled = shadows;
+        s.view.ground_grid = false;
+    });
     let mut app = App::empty(settings).unwrap();
     let (ground, block) = {
         let mut meshes = app.world.resource_mut::<MeshLibrary>();

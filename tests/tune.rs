@@ -12,7 +12,11 @@ use umbra::settings::Settings;
 fn tuned_biases_are_no_worse_and_come_back_from_their_file() {
     let gpu = common::gpu();
     // Start from a deliberately poor bias so there is something to find.
-    let poor = Settings { depth_bias: 0.0, slope_bias: 0.0, normal_bias: 0.0, ..Settings::default() };
+    let poor = Settings::default().with(|s| {
+        s.shadow.depth_bias = 0.0;
+        s.shadow.slope_bias = 0.0;
+        s.shadow.normal_bias = 0.0;
+    });
     let (lights, biases) = tune(&gpu, &poor, (192, 108), |_, _| {}).unwrap();
     assert_eq!(
         lights.iter().map(|l| l.light.as_str()).collect::<Vec<_>>(),
@@ -38,6 +42,6 @@ fn tuned_biases_are_no_worse_and_come_back_from_their_file() {
     let file = std::env::temp_dir().join(format!("umbra-tune-{}.json", std::process::id()));
     biases.save(&file).unwrap();
     let mut app =
-        App::new(Settings { biases: Some(LightBiases::load(&file).unwrap()), ..Settings::default() }).unwrap();
+        App::new(Settings::default().with(|s| s.scene.biases = Some(LightBiases::load(&file).unwrap()))).unwrap();
     assert_eq!(LightBiases::of(&mut app.world), biases);
 }

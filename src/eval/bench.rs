@@ -56,7 +56,7 @@ pub struct Scenario {
     /// What the lab adds.
     pub lab: Lab,
     /// Casters at rest kept in static maps whatever the settings say (see
-    /// [`Settings::static_cache`]).
+    /// [`crate::settings::MapSettings::static_cache`]).
     pub static_cache: bool,
 }
 
@@ -133,11 +133,10 @@ struct Run {
 
 impl Run {
     fn new(gpu: &Gpu, scenario: Scenario, settings: &Settings, width: u32, height: u32) -> Result<Run, BenchError> {
-        let settings = Settings {
-            shadows: scenario.shadows,
-            static_cache: scenario.static_cache || settings.static_cache,
-            ..settings.clone()
-        };
+        let settings = settings.clone().with(|s| {
+            s.shadow.enabled = scenario.shadows;
+            s.maps.static_cache = scenario.static_cache || settings.maps.static_cache;
+        });
         let mut app = App::new(settings)?;
         if scenario.motion == Motion::OneCube {
             freeze_all_but_one_cube(&mut app.world);

@@ -53,22 +53,21 @@ pub const BEVY_FAMILY: &str = "Bevy-like";
 /// `gauss5`); 2048² maps; no receiver plane. Umbra's stable fit stands in for Bevy's own.
 #[must_use]
 pub fn bevy_like(base: &Settings) -> Settings {
-    Settings {
-        shadow_map_size: 2048,
-        cascades: 4,
-        first_cascade_far: Some(10.0),
-        shadow_distance: 150.0,
-        cascade_blend: 0.2,
-        fit_mode: FitMode::Stable,
-        method: ShadowMethod::Gauss5,
-        depth_bias: 0.0,
-        slope_bias: 0.0,
-        normal_bias: 1.8,
-        depth_bias_metres: 0.02,
-        receiver_plane: false,
-        shadow_faces: ShadowFaces::Both,
-        ..base.clone()
-    }
+    base.clone().with(|s| {
+        s.maps.shadow_map_size = 2048;
+        s.cascade.cascades = 4;
+        s.cascade.first_cascade_far = Some(10.0);
+        s.cascade.shadow_distance = 150.0;
+        s.cascade.cascade_blend = 0.2;
+        s.cascade.fit_mode = FitMode::Stable;
+        s.shadow.method = ShadowMethod::Gauss5;
+        s.shadow.depth_bias = 0.0;
+        s.shadow.slope_bias = 0.0;
+        s.shadow.normal_bias = 1.8;
+        s.shadow.depth_bias_metres = 0.02;
+        s.shadow.receiver_plane = false;
+        s.maps.shadow_faces = ShadowFaces::Both;
+    })
 }
 
 impl Config {
@@ -76,19 +75,19 @@ impl Config {
     pub fn default_settings() -> Config {
         let d = Settings::default();
         Config {
-            map_size: d.shadow_map_size,
-            cascades: d.cascades,
-            fit: d.fit_mode,
-            method: d.method,
-            bias: d.depth_bias,
-            faces: d.shadow_faces,
-            receiver_plane: d.receiver_plane,
-            blur: d.moment_blur,
-            moment_bits: d.moment_bits,
-            moments_from: d.moments_from,
-            depth: d.shadow_depth,
-            bias_scale: d.bias_scale,
-            contact: d.contact_shadows,
+            map_size: d.maps.shadow_map_size,
+            cascades: d.cascade.cascades,
+            fit: d.cascade.fit_mode,
+            method: d.shadow.method,
+            bias: d.shadow.depth_bias,
+            faces: d.maps.shadow_faces,
+            receiver_plane: d.shadow.receiver_plane,
+            blur: d.maps.moment_blur,
+            moment_bits: d.maps.moment_bits,
+            moments_from: d.maps.moments_from,
+            depth: d.maps.shadow_depth,
+            bias_scale: d.shadow.bias_scale,
+            contact: d.shadow.contact_shadows,
             bevy_like: false,
         }
     }
@@ -96,27 +95,26 @@ impl Config {
     /// `base` with this configuration's shadow settings.
     pub fn settings(&self, base: &Settings) -> Settings {
         if self.bevy_like {
-            return Settings { contact_shadows: self.contact, ..bevy_like(base) };
+            return bevy_like(base).with(|s| s.shadow.contact_shadows = self.contact);
         }
-        Settings {
-            shadow_map_size: self.map_size,
-            cascades: self.cascades,
-            fit_mode: self.fit,
-            method: self.method,
-            depth_bias: self.bias,
-            slope_bias: self.bias,
-            normal_bias: self.bias,
-            shadow_faces: self.faces,
-            receiver_plane: self.receiver_plane,
-            moment_blur: self.blur,
-            moment_bits: self.moment_bits,
-            moments_from: self.moments_from,
-            shadow_depth: self.depth,
-            bias_scale: self.bias_scale,
-            shadow_memory: self.memory_mib(),
-            contact_shadows: self.contact,
-            ..base.clone()
-        }
+        base.clone().with(|s| {
+            s.maps.shadow_map_size = self.map_size;
+            s.cascade.cascades = self.cascades;
+            s.cascade.fit_mode = self.fit;
+            s.shadow.method = self.method;
+            s.shadow.depth_bias = self.bias;
+            s.shadow.slope_bias = self.bias;
+            s.shadow.normal_bias = self.bias;
+            s.maps.shadow_faces = self.faces;
+            s.shadow.receiver_plane = self.receiver_plane;
+            s.maps.moment_blur = self.blur;
+            s.maps.moment_bits = self.moment_bits;
+            s.maps.moments_from = self.moments_from;
+            s.maps.shadow_depth = self.depth;
+            s.shadow.bias_scale = self.bias_scale;
+            s.maps.shadow_memory = self.memory_mib();
+            s.shadow.contact_shadows = self.contact;
+        })
     }
 
     /// Shadow memory in MiB that holds sixteen layers at this configuration's map size with
@@ -125,7 +123,8 @@ impl Config {
     pub fn memory_mib(&self) -> u32 {
         let size = u64::from(self.map_size);
         let bytes = 16 * size * size * u64::from(self.texel_bytes() + 4);
-        (bytes.div_ceil(1 << 20) as u32).clamp(Settings::default().shadow_memory, crate::settings::MAX_SHADOW_MEMORY)
+        (bytes.div_ceil(1 << 20) as u32)
+            .clamp(Settings::default().maps.shadow_memory, crate::settings::MAX_SHADOW_MEMORY)
     }
 
     /// Bytes a texel of one layer takes: the depth map's, and the colour map's where its method
@@ -346,7 +345,7 @@ pub const VIEWS: [View; 4] = [
 /// The views `app`'s scene is measured from: the sample scene's four, or a scene file's own
 /// camera (or the one that frames it) at 2 s.
 pub fn views(app: &mut App) -> Vec<View> {
-    if app.world.resource::<Settings>().scene.is_none() {
+    if app.world.resource::<crate::settings::SceneSettings>().file.is_none() {
         return VIEWS.to_vec();
     }
     let mut cameras = app.world.query_filtered::<&crate::components::Transform, With<crate::components::Camera>>();

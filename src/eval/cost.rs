@@ -7,7 +7,7 @@
 //! ratios stay fair.
 
 use super::config::{Config, SweepOptions};
-use super::measure::{MeasureError, Measurer, Subject, SubjectId, TimedMaps, apply_settings, place_camera};
+use super::measure::{MeasureError, Measurer, Subject, SubjectId, TimedMaps, place_camera};
 use crate::App;
 use crate::render::{Gpu, HEADLESS_FORMAT, Renderer};
 use crate::settings::Settings;
@@ -32,29 +32,35 @@ impl Cost {
     }
 }
 
-/// One timed frame under `settings` at scene time `t`, in milliseconds: the GPU time of its
-/// passes where `stamps`, else the wall time of the whole frame, waited for.
-fn frame(
-    (gpu, stamps): (&Gpu, bool),
-    app: &mut App,
-    renderer: &mut Renderer,
-    target: (&wgpu::TextureView, u32, u32),
-    (settings, t): (&Settings, f64),
-) -> Result<f64, MeasureError> {
-    apply_settings(app, settings);
-    app.set_time(t);
-    let start = Instant::now();
-    renderer.render(gpu, &app.world, target.0, target.1, target.2)?;
-    app.hear(renderer.news());
-    gpu.wait()?;
-    let wall = start.elapsed().as_secs_f64() * 1e3;
-    Ok(match renderer.pass_times(gpu) {
-        Some(times) if stamps => {
-            let t = times?;
-            t.shadow_ms + t.main_ms
-        }
-        _ => wall,
-    })
+/// Where and how frames are timed: the GPU, whether by its timestamps, and the picture drawn.
+#[derive(Clone, Copy)]
+struct Stopwatch<'a> {
+    gpu: &'a Gpu,
+    /// Time the GPU's passes by its timestamps (else the wall clock, the frame waited for).
+    stamps: bool,
+    view: &'a wgpu::TextureView,
+    size: (u32, u32),
+}
+
+impl Stopwatch<'_> {
+    /// One timed frame of `app` under `settings` at scene time `t`, in milliseconds.
+    fn frame(&self, app: &mut App, renderer: &mut Renderer, settings: &Settings, t: f64) -> Result<f64, MeasureError> {
+        let Stopwatch { gpu, stamps, view, size: (width, height) } = *self;
+        app.set_settings(settings)?;
+        app.set_time(t);
+        let start = Instant::now();
+        renderer.render(gpu, &app.world, view, width, height)?;
+        app.hear(renderer.news());
+        gpu.wait()?;
+        let wall = start.elapsed().as_secs_f64() * 1e3;
+        Ok(match renderer.pass_times(gpu) {
+            Some(times) if stamps => {
+                let t = times?;
+                t.shadow_ms + t.main_ms
+            }
+            _ => wall,
+        })
+    }
 }
 
 /// One round's three frames of a configuration: every map drawn, every map kept (the same
@@ -79,6 +85,7 @@ pub fn time_all(
     let texture = gpu.target("timed frame", (w, h), HEADLESS_FORMAT)?;
     let view = texture.create_view(&Default::default());
     let stamps = timed_on_gpu(gpu);
+    let watch = Stopwatch { gpu, stamps, view: &view, size: (w, h) };
     let mut m = Measurer::new(gpu, options.size, options.truth);
     let mut times: Vec<Vec<Timed>> = vec![Vec::new(); configs.len()];
     let mut round = 0;
@@ -87,20 +94,19 @@ pub fn time_all(
             progress(round);
             round += 1;
             for (c, config) in configs.iter().enumerate() {
-                let drawn = Settings { reuse_shadow_maps: false, ..config.settings(base) };
-                let kept = Settings { reuse_shadow_maps: true, ..drawn.clone() };
-                let off = Settings { shadows: false, ..kept.clone() };
+                let drawn = config.settings(base).with(|s| s.maps.reuse_shadow_maps = false);
+                let kept = drawn.clone().with(|s| s.maps.reuse_shadow_maps = true);
+                let off = kept.clone().with(|s| s.shadow.enabled = false);
                 let id = SubjectId::Timing(timed_maps(config));
                 let Subject { app, renderer } = m.subject(id, &drawn, |s| App::new(s.clone()))?;
                 if stamps {
                     renderer.enable_timing(gpu);
                 }
                 place_camera(&mut app.world, v.eye, v.target);
-                let target = (&view, w, h);
                 let t = Timed {
-                    drawn: frame((gpu, stamps), app, renderer, target, (&drawn, v.time))?,
-                    kept: frame((gpu, stamps), app, renderer, target, (&kept, v.time))?,
-                    off: frame((gpu, stamps), app, renderer, target, (&off, v.time))?,
+                    drawn: watch.frame(app, renderer, &drawn, v.time)?,
+                    kept: watch.frame(app, renderer, &kept, v.time)?,
+                    off: watch.frame(app, renderer, &off, v.time)?,
                 };
                 if k >= 2 {
                     times[c].push(t);

@@ -29,7 +29,7 @@ impl Entry {
     /// `base` drawn as this entry draws it.
     #[must_use]
     pub fn settings(&self, base: &Settings) -> Settings {
-        Settings { toon_bands: self.toon, ..self.config.settings(base) }
+        self.config.settings(base).with(|s| s.view.toon_bands = self.toon)
     }
 }
 
@@ -162,6 +162,6 @@ mod tests {
         assert!(md.contains("![PCSS](docs/gallery/pcss.png)<br>**PCSS**: 706.6 ms, 0.071 % wrong, soft error 0.0013"));
         assert_eq!(md.matches("not in this bench run").count(), 12);
         assert!(e.iter().all(|e| e.settings(&Settings::default()).validate().is_ok()));
-        assert_eq!(e.iter().find(|e| e.slug == "toon").unwrap().settings(&Settings::default()).toon_bands, 4);
+        assert_eq!(e.iter().find(|e| e.slug == "toon").unwrap().settings(&Settings::default()).view.toon_bands, 4);
     }
 }

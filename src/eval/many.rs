@@ -76,14 +76,16 @@ impl Policy {
     /// `base` under this policy with `lights` lights.
     #[must_use]
     pub fn settings(self, base: &Settings, lights: u32) -> Settings {
-        let s = Settings { lanterns: lights.saturating_sub(SAMPLE_LIGHTS), ..base.clone() };
+        let s = base.clone().with(|s| s.scene.lanterns = lights.saturating_sub(SAMPLE_LIGHTS));
         match self {
-            Policy::Unshadowed => Settings { shadows: false, ..s },
+            Policy::Unshadowed => s.with(|s| s.shadow.enabled = false),
             Policy::Atlas => s,
-            Policy::Fixed => Settings { tile_sizes: TileSizes::Fixed, ..s },
-            Policy::Bevy => {
-                Settings { tile_sizes: TileSizes::Bevy, reuse_shadow_maps: false, static_cache: false, ..s }
-            }
+            Policy::Fixed => s.with(|s| s.maps.tile_sizes = TileSizes::Fixed),
+            Policy::Bevy => s.with(|s| {
+                s.maps.tile_sizes = TileSizes::Bevy;
+                s.maps.reuse_shadow_maps = false;
+                s.maps.static_cache = false;
+            }),
         }
     }
 }
@@ -135,7 +137,7 @@ pub struct LightsOptions {
 /// The shadow memory `settings` need for every light's layers at their policy's size, in MiB
 /// (as a first update sizes them with all the memory there is).
 fn memory_needed(settings: &Settings) -> Result<u32, BenchError> {
-    let mut app = App::new(Settings { shadow_memory: MAX_SHADOW_MEMORY, ..settings.clone() })?;
+    let mut app = App::new(settings.clone().with(|s| s.maps.shadow_memory = MAX_SHADOW_MEMORY))?;
     app.set_time(0.0);
     let bytes = u64::from(app.world.resource::<ShadowAtlas>().texel_bytes);
     let mut maps = app.world.query::<&ShadowMap>();
@@ -148,18 +150,19 @@ fn memory_needed(settings: &Settings) -> Result<u32, BenchError> {
 pub fn run_one(
     gpu: &Gpu,
     base: &Settings,
-    (policy, lights): (Policy, u32),
+    policy: Policy,
+    lights: u32,
     o: LightsOptions,
 ) -> Result<LightsRow, BenchError> {
     let mut settings = policy.settings(base, lights);
     if matches!(policy, Policy::Fixed | Policy::Bevy) {
-        settings.shadow_memory = memory_needed(&settings)?.max(settings.shadow_memory);
+        settings.maps.shadow_memory = memory_needed(&settings)?.max(settings.maps.shadow_memory);
     }
     let mut row = LightsRow {
         policy,
         lights,
-        memory_mib: settings.shadow_memory,
-        ran: settings.shadow_memory <= MAX_RUN_MIB,
+        memory_mib: settings.maps.shadow_memory,
+        ran: settings.maps.shadow_memory <= MAX_RUN_MIB,
         frame_ms: f64::NAN,
         shadow_ms: f64::NAN,
         main_ms: f64::NAN,
@@ -206,7 +209,7 @@ pub fn run_one(
     (row.frame_ms, row.shadow_ms, row.main_ms) = (median(&mut frames), median(&mut shadow), median(&mut main));
     row.memory_mib = (app.world.resource::<ShadowAtlas>().bytes() >> 20) as u32;
     if policy != Policy::Unshadowed {
-        measure(gpu, (&mut app, &mut renderer), o, &mut row)?;
+        measure(gpu, &mut app, &mut renderer, o, &mut row)?;
     }
     Ok(row)
 }
@@ -214,7 +217,8 @@ pub fn run_one(
 /// Measures the frame the app is at against the truth, light by light, into `row`.
 fn measure(
     gpu: &Gpu,
-    (app, renderer): (&mut App, &mut Renderer),
+    app: &mut App,
+    renderer: &mut Renderer,
     o: LightsOptions,
     row: &mut LightsRow,
 ) -> Result<(), BenchError> {
@@ -258,7 +262,7 @@ pub fn run(
     let mut rows = Vec::new();
     for &lights in counts {
         for policy in Policy::ALL {
-            let row = run_one(gpu, base, (policy, lights), o)?;
+            let row = run_one(gpu, base, policy, lights, o)?;
             progress(&row);
             rows.push(row);
         }
@@ -352,15 +356,15 @@ mod tests {
         let base = Settings::default();
         let bevy = Policy::Bevy.settings(&base, 64);
         assert_eq!(
-            (bevy.lanterns, bevy.tile_sizes, bevy.reuse_shadow_maps, bevy.static_cache),
+            (bevy.scene.lanterns, bevy.maps.tile_sizes, bevy.maps.reuse_shadow_maps, bevy.maps.static_cache),
             (60, TileSizes::Bevy, false, false)
         );
-        assert_eq!(Policy::Atlas.settings(&base, 4), Settings { lanterns: 0, ..base.clone() });
-        assert!(!Policy::Unshadowed.settings(&base, 16).shadows);
+        assert_eq!(Policy::Atlas.settings(&base, 4), base.clone().with(|s| s.scene.lanterns = 0));
+        assert!(!Policy::Unshadowed.settings(&base, 16).shadow.enabled);
         // Every lamp at 2048² a face: far more than the atlas's default.
         let fixed = memory_needed(&Policy::Fixed.settings(&base, 16)).unwrap();
         let bevy = memory_needed(&bevy).unwrap();
-        assert!(fixed >= 4 * base.shadow_memory && bevy > base.shadow_memory, "{fixed} and {bevy} MiB");
+        assert!(fixed >= 4 * base.maps.shadow_memory && bevy > base.maps.shadow_memory, "{fixed} and {bevy} MiB");
     }
 
     #[test]

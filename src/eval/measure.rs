@@ -184,7 +184,7 @@ impl<'g> Measurer<'g> {
                 e.insert(Subject { app, renderer })
             }
         };
-        apply_settings(&mut subject.app, settings);
+        subject.app.set_settings(settings)?;
         Ok(subject)
     }
 
@@ -210,14 +210,6 @@ impl<'g> Measurer<'g> {
     /// The app and renderer of scene `id`, for timing or probes.
     pub fn parts(&mut self, id: SubjectId) -> Result<(&mut App, &mut Renderer), MeasureError> {
         self.subjects.get_mut(&id).map(|s| (&mut s.app, &mut s.renderer)).ok_or(MeasureError::NoSubject(id))
-    }
-}
-
-/// Puts `settings` in force in `app` (lights without a bias or method of their own take the
-/// settings').
-pub fn apply_settings(app: &mut App, settings: &Settings) {
-    if app.world.resource::<Settings>() != settings {
-        *app.world.resource_mut::<Settings>() = settings.clone();
     }
 }
 

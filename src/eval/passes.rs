@@ -56,7 +56,10 @@ pub fn run(
 ) -> Result<Vec<PassRow>, BenchError> {
     let mut rows = Vec::new();
     for &cubes in sizes {
-        let settings = Settings { cubes, reuse_shadow_maps: false, ..settings.clone() };
+        let settings = settings.clone().with(|s| {
+            s.scene.cubes = cubes;
+            s.maps.reuse_shadow_maps = false;
+        });
         let mut app = App::new(settings.clone())?;
         let mut renderer = Renderer::new(gpu, HEADLESS_FORMAT)?;
         app.hear(renderer.news());
@@ -74,7 +77,7 @@ pub fn run(
             let data = extract(&app.world);
             let time_bare = |renderer: &mut Renderer| -> Result<f64, BenchError> {
                 let start = Instant::now();
-                renderer.render_bare_depth(gpu, &data, settings.shadow_depth)?;
+                renderer.render_bare_depth(gpu, &data, settings.maps.shadow_depth)?;
                 gpu.wait()?;
                 Ok(start.elapsed().as_secs_f64() * 1e3)
             };

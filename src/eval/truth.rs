@@ -264,23 +264,37 @@ impl Emitter {
                 }
                 // A sphere seen from the point is a disc facing it.
                 let facing = facing.unwrap_or_else(|| (position - p).normalize_or(Vec3::Y));
-                local_truth(occluders, (p, origin, n), (position, range), basis(facing), radius, disc)
+                let light = Disc { centre: position, range, axes: basis(facing), radius };
+                local_truth(occluders, p, origin, n, light, disc)
             }
         }
     }
 }
 
-/// The truth at surface point `p` (rays from `origin`, normal `n`) from a light at `position`
-/// (out to `range`) whose disc of `radius` spans `(u, v)`: `None` where it does not reach
-/// (facing away, out of range).
+/// A local light's disc as a surface point sees it.
+struct Disc {
+    /// Its centre, the light's position.
+    centre: Vec3,
+    /// How far its light reaches.
+    range: f32,
+    /// Two unit vectors across the disc, perpendicular to each other.
+    axes: (Vec3, Vec3),
+    /// Its radius.
+    radius: f32,
+}
+
+/// The truth at surface point `p` with normal `n` (rays from `origin`, just off the surface)
+/// from the light `disc`, sampled at `samples` (points of the unit disc): `None` where it does
+/// not reach (facing away, out of range).
 fn local_truth(
     occluders: &Occluders,
-    (p, origin, n): (Vec3, Vec3, Vec3),
-    (position, range): (Vec3, f32),
-    (u, v): (Vec3, Vec3),
-    radius: f32,
-    disc: &[glam::Vec2],
+    p: Vec3,
+    origin: Vec3,
+    n: Vec3,
+    disc: Disc,
+    samples: &[glam::Vec2],
 ) -> Option<Truth> {
+    let Disc { centre: position, range, axes: (u, v), radius } = disc;
     let to_light = position - p;
     let d = to_light.length();
     let l = to_light / d.max(1e-6);
@@ -288,14 +302,14 @@ fn local_truth(
         return None;
     }
     let lit = !occluders.occluded(origin, (position - origin).normalize_or(l), (position - origin).length());
-    let seen = disc
+    let seen = samples
         .iter()
         .filter(|s| {
             let to = position + (u * s.x + v * s.y) * radius - origin;
             !occluders.occluded(origin, to.normalize(), to.length())
         })
         .count();
-    Some(Truth { lit, soft: soft_fraction(seen, disc.len(), lit) })
+    Some(Truth { lit, soft: soft_fraction(seen, samples.len(), lit) })
 }
 
 fn soft_fraction(seen: usize, of: usize, lit: bool) -> f32 {

@@ -100,7 +100,8 @@ fn set(b: &mut ShadowBias, param: usize, v: f32) {
 /// with less bias in all: less loosening where the views do not look) takes it. Light `i` of
 /// `current` is column `i` of the measurements.
 fn try_candidate(
-    (m, views): (&mut Measurer<'_>, &[View]),
+    m: &mut Measurer<'_>,
+    views: &[View],
     current: &mut LightBiases,
     best: &mut [Tally],
     candidate: impl Fn(&ShadowBias) -> ShadowBias,
@@ -148,14 +149,14 @@ pub fn tune(
         progress(done, steps);
         done += 1;
         // The grid sets the texel biases; the offset and the receiver plane stay each light's.
-        try_candidate((&mut m, views), &mut current, &mut best, |b| ShadowBias { constant, slope, normal, ..*b })?;
+        try_candidate(&mut m, views, &mut current, &mut best, |b| ShadowBias { constant, slope, normal, ..*b })?;
     }
     for _ in 0..ROUNDS {
         for param in 0..PARAMETERS {
             for &v in candidates(param) {
                 progress(done, steps);
                 done += 1;
-                try_candidate((&mut m, views), &mut current, &mut best, |b| {
+                try_candidate(&mut m, views, &mut current, &mut best, |b| {
                     let mut b = *b;
                     set(&mut b, param, v);
                     b

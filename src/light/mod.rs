@@ -23,7 +23,7 @@ use crate::components::{
     SpotLight, Transform,
 };
 use crate::render::gpu_types::{GpuLight, SHAPE_CASCADES, SHAPE_CUBE, SHAPE_SINGLE};
-use crate::settings::Settings;
+use crate::settings::{CascadeSettings, MapSettings, ShadowSettings};
 use crate::shadow::{Aabb, LightProjection, VisibleSamples, cube_projections};
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
@@ -87,8 +87,10 @@ pub struct CameraView<'a> {
 /// What a light's layers are fitted to besides the light itself.
 #[derive(Clone, Copy, Debug)]
 pub struct LayerContext<'a> {
-    /// Map size, cascades, cube seams, the widest spot one map takes.
-    pub settings: &'a Settings,
+    /// Map size, cube seams, the widest spot one map takes.
+    pub maps: &'a MapSettings,
+    /// The sun's cascades.
+    pub cascade: &'a CascadeSettings,
     /// The camera, if there is one.
     pub view: Option<CameraView<'a>>,
     /// The boxes fitting can use, each with whether it casts a shadow.
@@ -102,7 +104,7 @@ impl LayerContext<'_> {
     /// with the margin the cube seams take when they are handled.
     #[must_use]
     pub fn cube(&self, at: Vec3, range: f32, resolution: u32) -> Vec<LayerFit> {
-        let margin = if self.settings.cube_seams { crate::settings::CUBE_MARGIN } else { 0 };
+        let margin = if self.maps.cube_seams { crate::settings::CUBE_MARGIN } else { 0 };
         cube_projections(at, range, resolution, margin).map(LayerFit::everywhere).to_vec()
     }
 }
@@ -154,7 +156,7 @@ pub trait Kind {
         false
     }
     /// How its shadow is laid out in layers.
-    fn shape(&self, settings: &Settings) -> ShadowShape;
+    fn shape(&self, settings: &MapSettings) -> ShadowShape;
     /// Its shadow's layers, `resolution` texels a side: their projections, in layer order.
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit>;
     /// Its size as soft shadows take it: tan of a distant light's angular radius (a blocker's
@@ -206,7 +208,7 @@ impl Kind for LightKind {
     fn first_unnumbered(&self) -> bool {
         each_kind!(self, k => k.first_unnumbered())
     }
-    fn shape(&self, settings: &Settings) -> ShadowShape {
+    fn shape(&self, settings: &MapSettings) -> ShadowShape {
         each_kind!(self, k => k.shape(settings))
     }
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {
@@ -339,14 +341,8 @@ fn in_light_order(kinds: [Vec<Source>; 3]) -> Vec<Source> {
 /// The lights of `world` in light order, every one of them (read only: a kind never spawned
 /// has none).
 pub fn light_list(world: &World) -> Vec<Light> {
-    let fallback;
-    let settings = match world.get_resource::<Settings>() {
-        Some(s) => s,
-        None => {
-            fallback = Settings::default();
-            &fallback
-        }
-    };
+    let maps = world.get_resource::<MapSettings>().copied().unwrap_or_default();
+    let settings = world.get_resource::<ShadowSettings>().copied().unwrap_or_default();
     let sources = in_light_order([
         world
             .try_query::<(Entity, &DirectionalLight)>()
@@ -368,7 +364,7 @@ pub fn light_list(world: &World) -> Vec<Light> {
                 entity,
                 label: LightLabel { word: kind.word(), number, bare: number == 1 && kind.first_unnumbered() },
                 kind,
-                shape: kind.shape(settings),
+                shape: kind.shape(&maps),
                 color,
                 shadowed: map.is_some(),
                 bias: world.get::<ShadowBias>(entity).copied().unwrap_or_else(|| settings.shadow_bias()),
@@ -385,11 +381,12 @@ pub fn light_list(world: &World) -> Vec<Light> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::settings::Settings;
 
     #[test]
     fn lights_come_suns_first_with_their_own_names_and_defaults() {
         let mut world = World::new();
-        world.insert_resource(Settings::default());
+        Settings::default().put(&mut world).unwrap();
         let spot = world.spawn((SpotLight::default(), Transform::default(), ShadowMap::default())).id();
         let point = world.spawn((PointLight::default(), Transform::from_xyz(0.0, 3.0, 0.0))).id();
         let sun = world.spawn((DirectionalLight::default(), ShadowMap::default(), ShadowMethod::Pcf5)).id();
@@ -404,8 +401,8 @@ mod tests {
         let names: Vec<String> = lights.iter().map(|l| l.label.to_string()).collect();
         assert_eq!(names, vec!["sun", "sun 2", "spot 1", "spot 2", "point 1"]);
         assert_eq!(lights[0].method, ShadowMethod::Pcf5);
-        assert_eq!(lights[2].method, Settings::default().method, "the settings' method by default");
-        assert_eq!((lights[2].bias, lights[3].bias), (Settings::default().shadow_bias(), bias));
+        assert_eq!(lights[2].method, ShadowSettings::default().method, "the settings' method by default");
+        assert_eq!((lights[2].bias, lights[3].bias), (ShadowSettings::default().shadow_bias(), bias));
         assert!(!lights[4].shadowed && !lights[1].shadowed && lights[0].shadowed);
         let shapes: Vec<ShadowShape> = lights.iter().map(|l| l.shape).collect();
         use ShadowShape::*;
@@ -426,7 +423,7 @@ mod tests {
     #[test]
     fn sizes_set_through_the_kind_land_on_its_component() {
         let mut world = World::new();
-        world.insert_resource(Settings::default());
+        Settings::default().put(&mut world).unwrap();
         let sun = world.spawn(DirectionalLight::default()).id();
         let spot = world.spawn((SpotLight::default(), Transform::default())).id();
         let point = world.spawn((PointLight::default(), Transform::default())).id();

@@ -4,7 +4,7 @@ use super::clusters::Reach;
 use super::{Emitter, Kind, LayerContext, LayerFit, ShadowShape, SizeControl, Source};
 use crate::components::{PointLight, Transform};
 use crate::render::gpu_types::{GpuLight, LIGHT_POINT};
-use crate::settings::Settings;
+use crate::settings::MapSettings;
 use crate::shadow::light_range;
 use bevy_ecs::prelude::*;
 use glam::{Vec3, Vec4};
@@ -34,7 +34,7 @@ impl Kind for Point {
         "point"
     }
 
-    fn shape(&self, _: &Settings) -> ShadowShape {
+    fn shape(&self, _: &MapSettings) -> ShadowShape {
         ShadowShape::Cube
     }
 

@@ -5,7 +5,7 @@ use super::clusters::Reach;
 use super::{Emitter, Kind, LayerContext, LayerFit, ShadowShape, SizeControl, Source};
 use crate::components::{SpotLight, Transform};
 use crate::render::gpu_types::{GpuLight, LIGHT_SPOT};
-use crate::settings::Settings;
+use crate::settings::MapSettings;
 use crate::shadow::{light_range, spot_cone, spot_projection};
 use bevy_ecs::prelude::*;
 use glam::{Vec3, Vec4};
@@ -50,12 +50,12 @@ impl Kind for Spot {
 
     /// One map, unless its cone is wider than `spot_map_limit` (the widest half angle one map
     /// shadows): then a cube, as a point light has.
-    fn shape(&self, settings: &Settings) -> ShadowShape {
+    fn shape(&self, settings: &MapSettings) -> ShadowShape {
         if self.outer <= settings.spot_map_limit { ShadowShape::Single } else { ShadowShape::Cube }
     }
 
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {
-        match self.shape(context.settings) {
+        match self.shape(context.maps) {
             ShadowShape::Single => {
                 let cone = spot_projection(self.position, self.direction, self.outer, self.range, resolution);
                 vec![LayerFit::everywhere(cone)]

@@ -5,7 +5,7 @@ use super::clusters::Reach;
 use super::{CameraView, Emitter, Kind, LayerContext, LayerFit, ShadowShape, SizeControl, Source};
 use crate::components::DirectionalLight;
 use crate::render::gpu_types::{GpuLight, LIGHT_SUN};
-use crate::settings::Settings;
+use crate::settings::MapSettings;
 use crate::shadow::{
     FitMode, SunScene, ViewFrustum, VisibleSamples, blend_bands, fit_seen, fit_slice, geometric_splits, split_depths,
 };
@@ -43,7 +43,7 @@ impl Kind for Sun {
         true
     }
 
-    fn shape(&self, _: &Settings) -> ShadowShape {
+    fn shape(&self, _: &MapSettings) -> ShadowShape {
         ShadowShape::Cascades
     }
 
@@ -93,7 +93,7 @@ impl Kind for Sun {
 /// depths seen and each box holds its slice's visible pixels (a slice where nothing was seen is
 /// fitted stable).
 fn cascades(direction: Vec3, view: CameraView, context: &LayerContext, res: u32) -> Vec<LayerFit> {
-    let (settings, CameraView { camera, transform, aspect }) = (context.settings, view);
+    let (settings, CameraView { camera, transform, aspect }) = (context.cascade, view);
     let frustum =
         ViewFrustum { position: transform.translation, rotation: transform.rotation, fov_y: camera.fov_y, aspect };
     let far = camera.shadow_far(settings.shadow_distance);

@@ -10,21 +10,22 @@ use winit::keyboard::KeyCode;
 /// ground, L: light volumes, J: contact shadows); false for any other key.
 pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
     match code {
-        KeyCode::KeyF => settings.fit_mode = settings.fit_mode.next(),
-        KeyCode::KeyC => settings.cascade_debug = !settings.cascade_debug,
-        KeyCode::KeyP => settings.method = settings.method.next(),
-        KeyCode::KeyR => settings.receiver_plane = !settings.receiver_plane,
-        KeyCode::KeyK => settings.caster_culling = settings.caster_culling.next(),
-        KeyCode::KeyG => settings.planar_ground = !settings.planar_ground,
-        KeyCode::KeyL => settings.light_volumes = !settings.light_volumes,
-        KeyCode::KeyJ => settings.contact_shadows = !settings.contact_shadows,
+        KeyCode::KeyF => settings.cascade.fit_mode = settings.cascade.fit_mode.next(),
+        KeyCode::KeyC => settings.view.cascade_debug = !settings.view.cascade_debug,
+        KeyCode::KeyP => settings.shadow.method = settings.shadow.method.next(),
+        KeyCode::KeyR => settings.shadow.receiver_plane = !settings.shadow.receiver_plane,
+        KeyCode::KeyK => settings.maps.caster_culling = settings.maps.caster_culling.next(),
+        KeyCode::KeyG => settings.shadow.planar_ground = !settings.shadow.planar_ground,
+        KeyCode::KeyL => settings.view.light_volumes = !settings.view.light_volumes,
+        KeyCode::KeyJ => settings.shadow.contact_shadows = !settings.shadow.contact_shadows,
         KeyCode::KeyT => {
-            settings.toon_bands = if settings.toon_bands == 0 { crate::settings::DEFAULT_TOON_BANDS } else { 0 }
+            settings.view.toon_bands =
+                if settings.view.toon_bands == 0 { crate::settings::DEFAULT_TOON_BANDS } else { 0 }
         }
-        KeyCode::Digit1 => settings.cascades = 1,
-        KeyCode::Digit2 => settings.cascades = 2,
-        KeyCode::Digit3 => settings.cascades = 3,
-        KeyCode::Digit4 => settings.cascades = 4,
+        KeyCode::Digit1 => settings.cascade.cascades = 1,
+        KeyCode::Digit2 => settings.cascade.cascades = 2,
+        KeyCode::Digit3 => settings.cascade.cascades = 3,
+        KeyCode::Digit4 => settings.cascade.cascades = 4,
         _ => return false,
     }
     true
@@ -32,20 +33,21 @@ pub fn change_setting(code: KeyCode, settings: &mut Settings) -> bool {
 
 /// The shadow settings the keys change, in a few words.
 pub fn settings_line(settings: &Settings) -> String {
-    let tints = if settings.cascade_debug { ", tinted" } else { "" };
-    let flat = if settings.receiver_plane { "" } else { " without receiver plane" };
-    let culling = match settings.caster_culling {
+    let tints = if settings.view.cascade_debug { ", tinted" } else { "" };
+    let flat = if settings.shadow.receiver_plane { "" } else { " without receiver plane" };
+    let culling = match settings.maps.caster_culling {
         crate::settings::CasterCulling::LightVolume => "",
         crate::settings::CasterCulling::CameraView => ", culling to the camera view",
     };
-    let toon = if settings.toon_bands > 0 { format!(", toon {}", settings.toon_bands) } else { String::new() };
-    let planar = if settings.planar_ground { ", planar ground" } else { "" };
-    let contact = if settings.contact_shadows { ", contact shadows" } else { "" };
+    let toon =
+        if settings.view.toon_bands > 0 { format!(", toon {}", settings.view.toon_bands) } else { String::new() };
+    let planar = if settings.shadow.planar_ground { ", planar ground" } else { "" };
+    let contact = if settings.shadow.contact_shadows { ", contact shadows" } else { "" };
     format!(
         "{} cascades, {} fit, {} filter{flat}{culling}{tints}{toon}{planar}{contact}",
-        settings.cascades,
-        settings.fit_mode.name(),
-        settings.method.name()
+        settings.cascade.cascades,
+        settings.cascade.fit_mode.name(),
+        settings.shadow.method.name()
     )
 }
 
@@ -102,20 +104,20 @@ mod tests {
     fn setting_keys_toggle_and_choose_and_others_do_nothing() {
         let mut s = Settings::default();
         assert!(change_setting(KeyCode::KeyF, &mut s));
-        assert_eq!(s.fit_mode, FitMode::Unsnapped);
-        assert!(change_setting(KeyCode::KeyC, &mut s) && s.cascade_debug);
+        assert_eq!(s.cascade.fit_mode, FitMode::Unsnapped);
+        assert!(change_setting(KeyCode::KeyC, &mut s) && s.view.cascade_debug);
         assert!(change_setting(KeyCode::Digit2, &mut s));
-        assert_eq!(s.cascades, 2);
+        assert_eq!(s.cascade.cascades, 2);
         assert!(change_setting(KeyCode::KeyP, &mut s));
-        assert_eq!(s.method, ShadowMethod::Pcf3);
+        assert_eq!(s.shadow.method, ShadowMethod::Pcf3);
         assert!(change_setting(KeyCode::KeyK, &mut s));
-        assert_eq!(s.caster_culling, CasterCulling::CameraView);
+        assert_eq!(s.maps.caster_culling, CasterCulling::CameraView);
         assert_eq!(settings_line(&s), "2 cascades, unsnapped fit, pcf3 filter, culling to the camera view, tinted");
-        assert!(change_setting(KeyCode::KeyR, &mut s) && !s.receiver_plane);
-        assert!(change_setting(KeyCode::KeyT, &mut s) && s.toon_bands == crate::settings::DEFAULT_TOON_BANDS);
-        assert!(change_setting(KeyCode::KeyT, &mut s) && s.toon_bands == 0);
-        assert!(change_setting(KeyCode::KeyG, &mut s) && s.planar_ground);
-        assert!(change_setting(KeyCode::KeyJ, &mut s) && s.contact_shadows);
+        assert!(change_setting(KeyCode::KeyR, &mut s) && !s.shadow.receiver_plane);
+        assert!(change_setting(KeyCode::KeyT, &mut s) && s.view.toon_bands == crate::settings::DEFAULT_TOON_BANDS);
+        assert!(change_setting(KeyCode::KeyT, &mut s) && s.view.toon_bands == 0);
+        assert!(change_setting(KeyCode::KeyG, &mut s) && s.shadow.planar_ground);
+        assert!(change_setting(KeyCode::KeyJ, &mut s) && s.shadow.contact_shadows);
         assert!(settings_line(&s).ends_with(", planar ground, contact shadows"));
         assert!(settings_line(&s).contains("pcf3 filter without receiver plane"));
         let before = s.clone();

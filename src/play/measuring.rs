@@ -8,7 +8,7 @@ use crate::eval::live::{LiveReport, Taken, Worker, snapshot};
 use crate::eval::measure::TruthSettings;
 use crate::light::{Light, light_list};
 use crate::render::{Gpu, RenderError, Renderer};
-use crate::settings::Settings;
+use crate::settings::{CascadeSettings, MapSettings, ShadowSettings, ViewSettings};
 use crate::ui::Lab;
 use crate::ui::panel::STILL_FOR;
 use bevy_ecs::prelude::*;
@@ -21,7 +21,10 @@ pub struct ViewStamp {
     camera: Option<Transform>,
     frame: u64,
     size: Viewport,
-    settings: Settings,
+    shadow: ShadowSettings,
+    maps: MapSettings,
+    cascade: CascadeSettings,
+    view: ViewSettings,
     lights: Vec<Light>,
 }
 
@@ -32,7 +35,10 @@ pub fn stamp(world: &mut World) -> ViewStamp {
         camera,
         frame: world.resource::<Time>().frame,
         size: *world.resource::<Viewport>(),
-        settings: world.resource::<Settings>().clone(),
+        shadow: *world.resource::<ShadowSettings>(),
+        maps: *world.resource::<MapSettings>(),
+        cascade: *world.resource::<CascadeSettings>(),
+        view: world.resource::<ViewSettings>().clone(),
         // Without their layers: a layer's version and dirty flag change with no change to the
         // picture.
         lights: light_list(world).into_iter().map(|l| Light { layers: Vec::new(), ..l }).collect(),

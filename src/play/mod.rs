@@ -9,10 +9,10 @@ mod screenshot;
 pub use keys::{change_lab, change_setting, key_for, settings_line};
 pub use measuring::{Measuring, ViewStamp, stamp};
 
+use crate::App;
 use crate::components::Input;
 use crate::render::{Gpu, RenderError, Renderer, ShadowStats};
 use crate::ui::{Gui, Lab};
-use crate::{App, Settings};
 use desk::Desk;
 use std::path::Path;
 use std::sync::Arc;
@@ -159,7 +159,7 @@ impl Player {
     /// one step that moves only the camera).
     fn advance(&mut self) {
         let now = Instant::now();
-        let dt = self.app.settings().dt as f64;
+        let dt = self.app.world.resource::<crate::components::Time>().dt as f64;
         self.behind += self.last.map_or(dt, |last| (now - last).as_secs_f64());
         self.last = Some(now);
         if self.lab.hold {
@@ -213,7 +213,7 @@ impl Player {
             let passes = self.app.world.get_resource::<ShadowStats>().cloned().unwrap_or_default();
             let title = format!(
                 "umbra - {fps:.0} fps - shadow layers drawn/kept: {passes} - {} - {}",
-                settings_line(self.app.settings()),
+                settings_line(&self.app.settings()),
                 shown.gpu.describe()
             );
             shown.window.set_title(&title);
@@ -279,17 +279,28 @@ impl Player {
         self.app.resize(width, height);
     }
 
+    /// Changes the setting `code` is the key of, if it is one, and says what the keys' settings
+    /// are now.
+    fn change_setting(&mut self, code: KeyCode) -> bool {
+        let mut settings = self.app.settings();
+        if !change_setting(code, &mut settings) {
+            return false;
+        }
+        println!("{}", settings_line(&settings));
+        // Each key steps through valid values only.
+        let _ = self.app.set_settings(&settings);
+        true
+    }
+
     /// A key pressed or let go (not taken by the panel).
     fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode, down: bool, repeat: bool) {
         if code == KeyCode::Escape && down {
             event_loop.exit();
-        } else if down && !repeat && change_setting(code, &mut self.app.world.resource_mut::<Settings>()) {
-            println!("{}", settings_line(self.app.settings()));
-        } else if down && !repeat && change_lab(code, &mut self.lab) {
+        } else if down && !repeat && (self.change_setting(code) || change_lab(code, &mut self.lab)) {
         } else if down && !repeat && code == KeyCode::KeyB {
             let names: Vec<String> =
                 crate::light::light_list(&self.app.world).iter().map(|l| l.label.to_string()).collect();
-            let mut settings = self.app.world.resource_mut::<Settings>();
+            let mut settings = self.app.world.resource_mut::<crate::settings::ViewSettings>();
             settings.texel_density = keys::next_texel_view(&settings.texel_density, &names);
             println!("texel density: {}", settings.texel_density.as_deref().unwrap_or("off"));
         } else if let Some(key) = key_for(code) {

@@ -100,7 +100,8 @@ impl CameraDepth {
         encoder: &mut wgpu::CommandEncoder,
         data: &FrameData,
         with: Drawables<'_>,
-        (size, timer): ((u32, u32), Option<&mut PassTimer>),
+        size: (u32, u32),
+        timer: Option<&mut PassTimer>,
     ) -> Option<wgpu::TextureView> {
         let made = match &self.target {
             Some((_, drawn)) if *drawn == size => None,

@@ -108,7 +108,8 @@ impl DepthReduction {
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         encoder: &mut wgpu::CommandEncoder,
-        (depth, made): (&wgpu::TextureView, u64),
+        depth: &wgpu::TextureView,
+        made: u64,
         reduce: Reduce,
         binning: Binning,
     ) {

@@ -10,7 +10,7 @@ use super::planar::{ground, planar_draws};
 use crate::components::*;
 use crate::light::clusters::{ClusterView, LightGrid, Reach};
 use crate::light::{Kind, Light, ShadowShape, light_list};
-use crate::settings::{CasterCulling, Settings};
+use crate::settings::{CasterCulling, FrameSettings, ShadowSettings};
 use crate::shadow::{Aabb, CasterIndex, intersects_clip_volume};
 use crate::systems::CastersAtRest;
 use bevy_ecs::prelude::*;
@@ -20,8 +20,8 @@ use glam::{Mat4, Vec3};
 /// Steps of this frame's contact-shadow march: the settings' when shadows are on and a
 /// shadowed light asks for contact shadows, else none (and no camera depth is drawn for it).
 #[must_use]
-fn contact_steps<'a>(settings: &Settings, mut lights: impl Iterator<Item = &'a Light>) -> u32 {
-    if settings.shadows && lights.any(|l| l.shadowed && l.contact) { settings.contact_steps } else { 0 }
+fn contact_steps<'a>(settings: &ShadowSettings, mut lights: impl Iterator<Item = &'a Light>) -> u32 {
+    if settings.enabled && lights.any(|l| l.shadowed && l.contact) { settings.contact_steps } else { 0 }
 }
 
 /// The shadow-map layers of one light, each with the casters inside its volume (and inside the
@@ -139,8 +139,12 @@ pub fn extract_shadow_maps(world: &World) -> FrameData {
 
 /// [`extract`] (with `main_pass`) or [`extract_shadow_maps`], refitting the culling hierarchy
 /// `kept` from the last frame and keeping this frame's there.
+///
+/// # Panics
+/// If `world` lacks a group of settings (a world not made by [`crate::App`]); the renderer
+/// refuses such a world before it gets here.
 pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -> FrameData {
-    let settings = world.resource::<Settings>();
+    let settings = FrameSettings::of(world).expect("a world made by umbra::App holds every group of settings");
     let aspect = world.resource::<Viewport>().aspect();
     let (clip_from_world, eye, forward, depths) = world
         .try_query::<(&Camera, &Transform)>()
@@ -149,7 +153,7 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
             (c.view_proj(&t, aspect), t.translation, t.forward(), (c.near, c.far))
         });
     let (mut items, joints) = draw_items(world, main_pass);
-    let cull_to = (settings.caster_culling == CasterCulling::CameraView).then_some(&clip_from_world);
+    let cull_to = (settings.maps.caster_culling == CasterCulling::CameraView).then_some(&clip_from_world);
     let bounds: Vec<Aabb> = items.iter().map(|(_, b)| *b).collect();
     let index = match kept.0.take() {
         Some(last) => last.refitted(&bounds),
@@ -165,7 +169,7 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
         if count > 0 {
             // With shadows off the pipeline holds no sampling code at all: on a software
             // rasterizer a wide filter's code slows every fragment even where it never runs.
-            if settings.shadows {
+            if settings.shadow.enabled {
                 methods |= 1 << light.method as u32;
             }
             draws.extend(layer_draws(&light, layers.len(), (&items, &index), cull_to));
@@ -181,7 +185,7 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
                 depth_terms: l.depth.to_array(),
                 method: light.method as u32,
                 perspective: (light.shape != ShadowShape::Cascades) as u32,
-                bleed: settings.light_bleeding,
+                bleed: settings.shadow.light_bleeding,
                 origin,
                 ..GpuLayer::zeroed()
             }));
@@ -200,47 +204,51 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
     let frame = Frame {
         clip_from_world,
         camera_position: eye.to_array(),
-        shadow_distance: settings.shadow_distance,
+        shadow_distance: settings.cascade.shadow_distance,
         camera_forward: forward.to_array(),
-        fade_start: settings.shadow_distance * (1.0 - SHADOW_FADE),
-        ambient: settings.ambient,
-        shadow_strength: settings.shadow_strength,
-        shadows_on: settings.shadows as u32,
-        cascade_debug: settings.cascade_debug as u32,
+        fade_start: settings.cascade.shadow_distance * (1.0 - SHADOW_FADE),
+        ambient: settings.view.ambient,
+        shadow_strength: settings.shadow.shadow_strength,
+        shadows_on: settings.shadow.enabled as u32,
+        cascade_debug: settings.view.cascade_debug as u32,
         light_count: lights.len() as u32,
-        atlas_guard: settings.atlas_guard as u32,
+        atlas_guard: settings.maps.atlas_guard as u32,
         cluster_near: clusters.0,
         cluster_far: clusters.1,
-        cube_seams: settings.cube_seams as u32,
-        depth_bias_metres: settings.depth_bias_metres,
-        pcss_search: settings.pcss_blocker_search as u32,
-        toon_bands: settings.toon_bands,
+        cube_seams: settings.maps.cube_seams as u32,
+        depth_bias_metres: settings.shadow.depth_bias_metres,
+        pcss_search: settings.shadow.pcss_blocker_search as u32,
+        toon_bands: settings.view.toon_bands,
         texel_view: settings
+            .view
             .texel_density
             .as_ref()
             .and_then(|name| lights.iter().position(|l| l.light.label.to_string() == *name))
             .map_or(0, |i| i as u32 + 1),
-        contact_steps: contact_steps(settings, lights.iter().map(|l| &l.light)),
-        contact_length: settings.contact_length,
-        contact_thickness: settings.contact_thickness,
+        contact_steps: contact_steps(settings.shadow, lights.iter().map(|l| &l.light)),
+        contact_length: settings.shadow.contact_length,
+        contact_thickness: settings.shadow.contact_thickness,
         camera_near: depths.0,
         camera_far: depths.1,
         ..Frame::zeroed()
     };
     if main_pass
-        && settings.ground_grid
+        && settings.view.ground_grid
         && let Some(g) = ground(&items)
     {
         items[g].0.object.ground_grid = 1;
     }
-    let mut planar =
-        if settings.shadows && main_pass { planar_draws(&lights, &items, settings.planar_ground) } else { Vec::new() };
+    let mut planar = if settings.shadow.enabled && main_pass {
+        planar_draws(&lights, &items, settings.shadow.planar_ground)
+    } else {
+        Vec::new()
+    };
     for dropped in planar.drain(MAX_PLANAR.min(planar.len())..) {
         shadowless.push((lights[dropped.uniform.light as usize].light.label, Shadowless::StencilFull));
     }
     // With planar shadows on the ground for lights that keep their maps, the ground leaves
     // those maps unread (`planar_receiver`, `planar_ground`).
-    if settings.shadows && settings.planar_ground && main_pass {
+    if settings.shadow.enabled && settings.shadow.planar_ground && main_pass {
         for p in &planar {
             let light = &mut lights[p.uniform.light as usize];
             light.planar_ground = light.layer_count > 0;
@@ -302,6 +310,7 @@ fn draw_order(items: &[(DrawItem, Aabb)], eye: Vec3, seen: &[bool]) -> Vec<usize
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::settings::Settings;
 
     #[test]
     fn lights_and_their_layers_are_carried_over_in_slot_order() {
@@ -322,8 +331,8 @@ mod tests {
         assert_eq!(slots, (0..next).collect::<Vec<_>>());
         assert_eq!(data.frame.light_count as usize, data.lights.len());
         assert_eq!(data.labels()[0].to_string(), "sun");
-        assert_eq!(data.lights[0].layer_count, Settings::default().cascades);
-        assert_eq!(data.methods, 1 << Settings::default().method as u32);
+        assert_eq!(data.lights[0].layer_count, Settings::default().cascade.cascades);
+        assert_eq!(data.methods, 1 << Settings::default().shadow.method as u32);
         assert_ne!(data.clip_from_world, Mat4::ZERO);
     }
 
@@ -388,7 +397,10 @@ mod tests {
 
     #[test]
     fn a_frame_of_shadow_maps_alone_draws_the_same_layers_and_leaves_the_picture_out() {
-        let settings = Settings { planar_ground: true, ground_grid: true, ..Settings::default() };
+        let settings = Settings::default().with(|s| {
+            s.shadow.planar_ground = true;
+            s.view.ground_grid = true;
+        });
         let mut app = crate::App::new(settings).unwrap();
         app.set_time(0.5);
         let full = extract(&app.world);
@@ -410,9 +422,9 @@ mod tests {
             app.set_time(0.0);
             extract(&app.world).frame.contact_steps
         };
-        let on = Settings { contact_shadows: true, ..Settings::default() };
+        let on = Settings::default().with(|s| s.shadow.contact_shadows = true);
         assert_eq!(steps(Settings::default()), 0);
-        assert_eq!(steps(on.clone()), on.contact_steps);
-        assert_eq!(steps(Settings { shadows: false, ..on }), 0);
+        assert_eq!(steps(on.clone()), on.shadow.contact_steps);
+        assert_eq!(steps(on.with(|s| s.shadow.enabled = false)), 0);
     }
 }

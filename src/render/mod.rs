@@ -115,6 +115,9 @@ pub enum RenderError {
          renderer and before drawing, so that its shadow tiles are sized for this device"
     )]
     NotTold,
+    /// The world lacks a group of settings, so it was not made by `App::new` or `App::empty`.
+    #[error("the world holds no settings (shadow, maps, cascade and view): make it with `App::new` or `App::empty`")]
+    NoSettings,
     /// The adapter lacks something umbra needs.
     #[error("this GPU adapter cannot do {0}; try another backend (WGPU_BACKEND=vulkan|gl) or adapter")]
     Unsupported(&'static str),

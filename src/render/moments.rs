@@ -13,7 +13,7 @@
 use super::gpu_types::{Blur, GpuLayer};
 use super::shaders::{BLUR_MODULE, Composed};
 use super::texture::{LayeredTarget, render_target};
-use super::timing::PassTimer;
+use super::timing::Stamps;
 use super::uniform_array::UniformArray;
 use crate::components::ShadowMethod;
 use crate::settings::{MomentBits, MomentSource};
@@ -269,6 +269,18 @@ pub enum MomentInput<'a> {
     Depth { pages: &'a wgpu::TextureView, layers: &'a UniformArray },
 }
 
+/// The moment maps one frame makes: which tiles of which maps, from what, blurred how far.
+pub struct MomentWork<'a> {
+    /// The colour atlas the tiles are in.
+    pub maps: &'a ColourMaps,
+    /// The tiles to make.
+    pub tiles: &'a [MomentTile],
+    /// Texels of blur each way (0: none).
+    pub radius: u32,
+    /// Where their moments come from.
+    pub input: MomentInput<'a>,
+}
+
 /// The render passes [`MomentBlur::encode`] takes per page: the resolve from depth, if the
 /// moments come from it, then rows and columns if they are blurred.
 #[must_use]
@@ -354,17 +366,18 @@ impl MomentBlur {
         self.format
     }
 
-    /// Makes `tiles` of `maps` from `input` and blurs them by `radius` texels each way, with
+    /// Makes `work`'s tiles from its input and blurs them by its radius each way, with
     /// [`passes_per_page`] passes a page (the resolve into the page, rows into the scratch page,
-    /// columns back), stamped by `timer` as shadow passes `first`, `first + 1`, ... of `total`.
-    /// Each tile reads only its own texels.
-    pub fn encode(
+    /// columns back), each stamped as the frame's next shadow pass. Each tile reads only its own
+    /// texels.
+    pub(super) fn encode(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         encoder: &mut wgpu::CommandEncoder,
-        (maps, tiles, radius, input): (&ColourMaps, &[MomentTile], u32, MomentInput<'_>),
-        (mut timer, first, total): (Option<&mut PassTimer>, usize, usize),
+        work: MomentWork<'_>,
+        stamps: &mut Stamps<'_>,
     ) {
+        let MomentWork { maps, tiles, radius, input } = work;
         let terms: Vec<Blur> = tiles
             .iter()
             .map(|t| Blur {
@@ -393,7 +406,6 @@ impl MomentBlur {
         let mut pages: Vec<u32> = tiles.iter().map(|t| t.tile.page).collect();
         pages.sort_unstable();
         pages.dedup();
-        let mut stamp = first;
         for page in pages {
             let Some(target) = maps.layer_views.get(page as usize) else { continue };
             let mut passes = Vec::new();
@@ -415,11 +427,10 @@ impl MomentBlur {
                         ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
                     })],
                     depth_stencil_attachment: None,
-                    timestamp_writes: timer.as_deref_mut().and_then(|t| t.shadow_writes(stamp, total)),
+                    timestamp_writes: stamps.next(),
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
-                stamp += 1;
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(1, source, &[]);
                 for (i, t) in tiles.iter().enumerate().filter(|(_, t)| t.tile.page == page) {

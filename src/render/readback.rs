@@ -101,7 +101,7 @@ pub fn render_headless(
 /// first draws the view once to see it, reads the reduction back and refits the lights (the
 /// clock held), so the frame it returns is fitted to itself and the same every time.
 fn prime_sdsm(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u32)) -> Result<(), RenderError> {
-    if app.settings().fit_mode != crate::shadow::FitMode::Sdsm {
+    if app.settings().cascade.fit_mode != crate::shadow::FitMode::Sdsm {
         return Ok(());
     }
     let texture = gpu.target("sdsm priming", (w, h), HEADLESS_FORMAT)?;

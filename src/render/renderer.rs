@@ -21,7 +21,7 @@ use super::{Gpu, RenderError};
 use crate::assets::{MeshLibrary, TextureLibrary};
 use crate::components::{Camera, DirectionalLight};
 use crate::light::LightLabel;
-use crate::settings::Settings;
+use crate::settings::{CascadeSettings, FrameSettings};
 use crate::shadow::FitMode;
 use crate::systems::{ShadowAtlas, ShadowCaps};
 use bevy_ecs::prelude::*;
@@ -136,7 +136,7 @@ impl Renderer {
         let joints = JointPalette::new(device);
         let textures = MaterialTextures::new(device, &gpu.queue);
         let reads_depth = super::static_maps::reads_depth(&gpu.adapter);
-        let shadow = ShadowPass::new((device, reads_depth), &objects.layout, &joints, &textures);
+        let shadow = ShadowPass::new(device, reads_depth, &objects.layout, &joints, &textures);
         let main = MainPass::new(device, &objects.layout, &joints, &textures, format, &shadow.maps);
         gpu.check_errors()?;
         let caps = ShadowCaps {
@@ -312,19 +312,20 @@ impl Renderer {
         if world.get_resource::<ShadowCaps>() != Some(&self.caps) {
             return Err(RenderError::NotTold);
         }
+        let settings = FrameSettings::of(world).ok_or(RenderError::NoSettings)?;
         self.take_samples(gpu, false);
         // What this frame takes from the settings, read once (extraction borrows the world).
-        let settings = world.resource::<Settings>();
         let max = device.limits().max_texture_dimension_2d;
-        if settings.shadow_map_size > max {
-            return Err(RenderError::ShadowMapTooLarge { size: settings.shadow_map_size, max });
+        if settings.maps.shadow_map_size > max {
+            return Err(RenderError::ShadowMapTooLarge { size: settings.maps.shadow_map_size, max });
         }
-        let how = DrawOptions::from(settings);
-        let (moment_bits, shadow_depth, shadows) = (settings.moment_bits, settings.shadow_depth, settings.shadows);
-        let (sdsm, light_volumes) = (settings.fit_mode == FitMode::Sdsm, settings.light_volumes);
+        let how = DrawOptions::from(settings.maps);
+        let (moment_bits, shadow_depth, shadows) =
+            (settings.maps.moment_bits, settings.maps.shadow_depth, settings.shadow.enabled);
+        let (sdsm, light_volumes) = (settings.cascade.fit_mode == FitMode::Sdsm, settings.view.light_volumes);
         let shape = match world.get_resource::<ShadowAtlas>() {
             Some(atlas) => atlas.shape,
-            None => ShadowAtlas::for_settings(settings, self.caps, std::iter::empty()).shape,
+            None => ShadowAtlas::for_settings(settings.maps, self.caps, std::iter::empty()).shape,
         };
         self.upload_new_meshes(device, world.resource::<MeshLibrary>());
         if let Some(library) = world.get_resource::<TextureLibrary>() {
@@ -372,8 +373,8 @@ impl Renderer {
             let pass = self
                 .camera_depth
                 .get_or_insert_with(|| CameraDepth::new(device, &self.objects.layout, &self.joints, &self.textures));
-            let target = ((width, height), self.timer.as_mut());
-            if let Some(view) = pass.encode((device, queue), &mut encoder, &data, drawables, target) {
+            let timer = self.timer.as_mut();
+            if let Some(view) = pass.encode((device, queue), &mut encoder, &data, drawables, (width, height), timer) {
                 self.main.set_camera_depth(device, view, &self.shadow.maps);
             }
         }
@@ -488,8 +489,8 @@ impl Renderer {
             }
             return;
         }
-        let settings = world.resource::<Settings>();
-        let shadow_distance = settings.shadow_distance;
+        let Some(cascade) = world.get_resource::<CascadeSettings>() else { return };
+        let shadow_distance = cascade.shadow_distance;
         let camera = world.try_query::<&Camera>().and_then(|mut q| q.iter(world).next().copied());
         let sun = world.try_query::<&DirectionalLight>().and_then(|mut q| q.iter(world).next().map(|s| s.direction));
         let (Some(camera), Some(sun), Some(depth)) = (camera, sun, &self.depth) else {
@@ -509,6 +510,6 @@ impl Renderer {
             _pad: [0; 2],
         };
         let reduction = self.reduction.get_or_insert_with(|| DepthReduction::new(&gpu.device));
-        reduction.encode((&gpu.device, &gpu.queue), encoder, (&depth.depth_only, depth.made), reduce, binning);
+        reduction.encode((&gpu.device, &gpu.queue), encoder, &depth.depth_only, depth.made, reduce, binning);
     }
 }

@@ -14,16 +14,18 @@ use super::frame::{FrameData, LayerDraw};
 use super::gpu_types::{Fill, GpuLayer};
 use super::instances::{InstanceBuffer, layer_calls};
 use super::mesh::{Drawables, JointPalette, Pipelines, Recipe};
-use super::moments::{ColourFormat, ColourLayout, MomentBlur, MomentInput, MomentTile, far_moments, passes_per_page};
+use super::moments::{
+    ColourFormat, ColourLayout, MomentBlur, MomentInput, MomentTile, MomentWork, far_moments, passes_per_page,
+};
 use super::shaders::{Composed, SHADOW_MODULE};
 use super::shadow_atlas::{Placement, ShadowMaps, depth_texture};
 use super::shadow_stats::ShadowStats;
 pub use super::shadow_tiles::DrawOptions;
-use super::shadow_tiles::{Drawing, Job, Stamps, begin, distinct_pages, groups, shadow_variant};
+use super::shadow_tiles::{Drawing, Job, begin, distinct_pages, groups, shadow_variant};
 use super::static_maps::StaticMaps;
 use super::texture::MaterialTextures;
 use super::tile_fill::{FillKind, TileFill};
-use super::timing::PassTimer;
+use super::timing::{PassTimer, Stamps};
 use super::uniform_array::UniformArray;
 use crate::components::ShadowMethod;
 use crate::settings::ShadowDepth;
@@ -103,7 +105,8 @@ struct Drawn {
 impl ShadowPass {
     /// Builds the shadow pipelines; `object_layout` is the per-object bind group layout.
     pub fn new(
-        (device, reads_depth): (&wgpu::Device, bool),
+        device: &wgpu::Device,
+        reads_depth: bool,
         object_layout: &wgpu::BindGroupLayout,
         palette: &JointPalette,
         textures: &MaterialTextures,
@@ -341,11 +344,10 @@ impl ShadowPass {
             jobs.iter().filter(|j| per_page > 0 && self.has_moment_map(j.layer)).map(|j| self.moment_tile(j)).collect();
         let moment_passes = per_page * distinct_pages(made.iter().map(|t| t.tile.page)).len();
         let mut stamps = Stamps { timer, next: 0, total: self.passes(&jobs) + moment_passes };
-        self.encode_jobs((device, encoder), data, &jobs, with, &mut stamps);
+        self.encode_jobs(device, encoder, data, &jobs, with, &mut stamps);
         if let Some(moment_blur) = self.blur.as_mut().filter(|_| !made.is_empty()) {
-            let Stamps { timer, next, total } = stamps;
-            let what = (&self.maps.moments, made.as_slice(), blur, input);
-            moment_blur.encode((device, queue), encoder, what, (timer, next, total));
+            let work = MomentWork { maps: &self.maps.moments, tiles: &made, radius: blur, input };
+            moment_blur.encode((device, queue), encoder, work, &mut stamps);
         }
         for job in &jobs {
             let done = self.drawn_as(job.layer, job.tile, blur, uniforms[job.uniform]);
@@ -453,7 +455,8 @@ impl ShadowPass {
     /// Records the jobs' passes (see [`ShadowPass::passes`]), each tile filled and then drawn.
     fn encode_jobs(
         &self,
-        (device, encoder): (&wgpu::Device, &mut wgpu::CommandEncoder),
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
         data: &FrameData,
         jobs: &[Job],
         with: Drawables<'_>,

@@ -6,7 +6,6 @@ use super::instances::LayerCalls;
 use super::mesh::{AlphaClass, Drawables, Pipelines, Variant};
 use super::moments::ColourFormat;
 use super::tile_fill::{FillKind, TileFill};
-use super::timing::PassTimer;
 use super::uniform_array::UniformArray;
 use crate::components::AlphaMode;
 use crate::settings::{MomentSource, ShadowFaces};
@@ -60,21 +59,6 @@ pub(super) fn begin<'e>(
     })
 }
 
-/// Hands out the frame's shadow passes' timestamps: the first pass's start, the last's end.
-pub(super) struct Stamps<'t> {
-    pub(super) timer: Option<&'t mut PassTimer>,
-    pub(super) next: usize,
-    pub(super) total: usize,
-}
-
-impl Stamps<'_> {
-    pub(super) fn next(&mut self) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        let i = self.next;
-        self.next += 1;
-        self.timer.as_deref_mut()?.shadow_writes(i, self.total)
-    }
-}
-
 /// How the shadow pass draws, from the settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DrawOptions {
@@ -96,8 +80,8 @@ pub struct DrawOptions {
     pub moments_from: MomentSource,
 }
 
-impl From<&crate::Settings> for DrawOptions {
-    fn from(s: &crate::Settings) -> Self {
+impl From<&crate::settings::MapSettings> for DrawOptions {
+    fn from(s: &crate::settings::MapSettings) -> Self {
         DrawOptions {
             reuse: s.reuse_shadow_maps,
             faces: s.shadow_faces,

@@ -182,3 +182,17 @@ impl PassTimer {
         Ok(PassTimes { shadow_ms, main_ms: ms(ticks[2], ticks[3]) })
     }
 }
+/// Hands out the frame's shadow passes' timestamps: the first pass's start, the last's end.
+pub(super) struct Stamps<'t> {
+    pub(super) timer: Option<&'t mut PassTimer>,
+    pub(super) next: usize,
+    pub(super) total: usize,
+}
+
+impl Stamps<'_> {
+    pub(super) fn next(&mut self) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let i = self.next;
+        self.next += 1;
+        self.timer.as_deref_mut()?.shadow_writes(i, self.total)
+    }
+}

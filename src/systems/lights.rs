@@ -8,7 +8,7 @@ use crate::components::{
     Camera, Mesh, Notices, SeenByCamera, ShadowCaster, ShadowLayer, ShadowMap, Transform, Viewport, WorldBounds,
 };
 use crate::light::{CameraView, Kind, LayerContext, LayerFit, LightSources};
-use crate::settings::{CasterCulling, Settings};
+use crate::settings::{CascadeSettings, CasterCulling, MapSettings};
 use crate::shadow::{Aabb, ClipVolume, frustum_corners, intersects_clip_volume};
 use bevy_ecs::prelude::*;
 use std::collections::HashSet;
@@ -60,7 +60,7 @@ pub struct MapOptions {
 }
 
 impl MapOptions {
-    fn of(settings: &Settings) -> MapOptions {
+    fn of(settings: &MapSettings) -> MapOptions {
         MapOptions {
             map_size: settings.shadow_map_size,
             faces: settings.shadow_faces,
@@ -85,7 +85,8 @@ type BoundedObjects<'w, 's> =
 /// applied when the map is sampled, so they dirty nothing.
 #[allow(clippy::too_many_arguments)]
 pub fn update_light_matrices(
-    settings: Res<Settings>,
+    settings: Res<MapSettings>,
+    cascade: Res<CascadeSettings>,
     viewport: Res<Viewport>,
     changes: Res<CasterChanges>,
     mut last_maps: Local<Option<MapOptions>>,
@@ -112,7 +113,8 @@ pub fn update_light_matrices(
     // seen (has a mesh) in front of its far plane.
     let scene = usable_boxes(boxes.iter(), in_view, &mut told, notices.as_deref_mut());
     let context = LayerContext {
-        settings: &settings,
+        maps: &settings,
+        cascade: &cascade,
         view: camera.map(|(camera, transform)| CameraView { camera, transform, aspect: viewport.aspect() }),
         scene: &scene,
         seen: seen.as_deref().map(|s| &s.0),
@@ -121,7 +123,7 @@ pub fn update_light_matrices(
         if let Ok(mut map) = maps.get_mut(source.entity) {
             let resolution = if map.resolution > 0 { map.resolution } else { settings.shadow_map_size };
             let fits = source.kind.layers(&context, resolution);
-            refresh_layers(&mut map, &fits, resolution, (all_dirty, &changes));
+            refresh_layers(&mut map, &fits, resolution, all_dirty, &changes);
         }
     }
 }
@@ -148,7 +150,7 @@ fn touches(clip_from_world: &glam::Mat4, changes: &[Aabb]) -> bool {
 
 /// Replaces a light's layers with `fits`; each layer keeps its version unless it is dirty, and
 /// its static version unless the casters at rest inside it changed (or the layer itself did).
-fn refresh_layers(map: &mut ShadowMap, fits: &[LayerFit], resolution: u32, (forced, changes): (bool, &CasterChanges)) {
+fn refresh_layers(map: &mut ShadowMap, fits: &[LayerFit], resolution: u32, forced: bool, changes: &CasterChanges) {
     let layers = fits
         .iter()
         .enumerate()
@@ -188,12 +190,13 @@ mod tests {
     use super::*;
     use crate::assets::MeshLibrary;
     use crate::components::{DirectionalLight, PointLight, SpotLight};
+    use crate::settings::Settings;
     use bevy_ecs::system::RunSystemOnce;
     use glam::{Mat4, Vec3};
 
     fn world() -> World {
         let mut world = World::new();
-        world.insert_resource(Settings::default());
+        Settings::default().put(&mut world).unwrap();
         world.insert_resource(Viewport { width: 320, height: 240 });
         world.insert_resource(MeshLibrary::default());
         world.insert_resource(CasterChanges::default());
@@ -227,7 +230,7 @@ mod tests {
         let light = world.spawn((sun, ShadowMap::default())).id();
         world.run_system_once(update_light_matrices).unwrap();
         let before = world.get::<ShadowMap>(light).unwrap().layers.clone();
-        assert_eq!(before.len(), Settings::default().cascades as usize);
+        assert_eq!(before.len(), Settings::default().cascade.cascades as usize);
         assert!(before.iter().all(|l| l.clip_from_world != Mat4::IDENTITY && l.clip_from_world.is_finite()));
         world.get_mut::<Transform>(cam).unwrap().translation.x += 10.0;
         world.run_system_once(update_light_matrices).unwrap();
@@ -238,7 +241,7 @@ mod tests {
     #[test]
     fn culled_to_the_camera_a_moving_camera_dirties_every_layer() {
         let mut world = world();
-        world.resource_mut::<Settings>().caster_culling = CasterCulling::CameraView;
+        world.resource_mut::<crate::settings::MapSettings>().caster_culling = CasterCulling::CameraView;
         let cam = world.spawn((Camera::default(), Transform::default())).id();
         let spot = SpotLight {
             color: Vec3::ONE,
@@ -257,7 +260,7 @@ mod tests {
         world.get_mut::<Transform>(cam).unwrap().translation.x += 1.0;
         schedule.run(&mut world);
         assert!(world.get::<ShadowMap>(s).unwrap().dirty(), "the spot's casters depend on the camera now");
-        world.resource_mut::<Settings>().caster_culling = CasterCulling::LightVolume;
+        world.resource_mut::<crate::settings::MapSettings>().caster_culling = CasterCulling::LightVolume;
         schedule.run(&mut world);
         world.get_mut::<Transform>(cam).unwrap().translation.x += 1.0;
         schedule.run(&mut world);
@@ -300,7 +303,7 @@ mod tests {
     #[test]
     fn each_light_kind_gets_its_layers() {
         let mut world = world();
-        world.resource_mut::<Settings>().cascades = 3;
+        world.resource_mut::<crate::settings::CascadeSettings>().cascades = 3;
         world.spawn((Camera::default(), Transform::default()));
         let narrow = SpotLight { inner_angle: 0.2, outer_angle: 0.3, ..Default::default() };
         let wide = SpotLight { inner_angle: 0.2, outer_angle: 80f32.to_radians(), ..Default::default() };

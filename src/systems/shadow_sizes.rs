@@ -6,7 +6,7 @@
 use crate::components::{Camera, ShadowMap, ShadowMethod, Transform};
 use crate::light::clusters::Reach;
 use crate::light::{Kind, LightSources, ShadowShape};
-use crate::settings::{MomentBits, Settings, ShadowDepth, TileSizes};
+use crate::settings::{CascadeSettings, MapSettings, MomentBits, ShadowDepth, ShadowSettings, TileSizes};
 use crate::shadow::{AtlasShape, MAX_PAGE, MIN_TILE, TileNeed, fit_budget, size_class, texels_for};
 use bevy_ecs::prelude::*;
 use glam::Vec3;
@@ -43,7 +43,7 @@ impl ShadowAtlas {
     /// The atlas `settings` give on a device that can do `caps` when the lights use `methods`.
     #[must_use]
     pub fn for_settings(
-        settings: &Settings,
+        settings: &MapSettings,
         caps: ShadowCaps,
         methods: impl Iterator<Item = ShadowMethod>,
     ) -> ShadowAtlas {
@@ -66,7 +66,7 @@ impl ShadowAtlas {
 /// moments when a method needs them and the device has them), shared by the depth texels each
 /// colour texel covers (moments resolved at a half or a quarter of the depth map's side), at
 /// least a byte.
-fn texel_bytes(settings: &Settings, caps: ShadowCaps, methods: impl Iterator<Item = ShadowMethod>) -> u32 {
+fn texel_bytes(settings: &MapSettings, caps: ShadowCaps, methods: impl Iterator<Item = ShadowMethod>) -> u32 {
     let depth = match settings.shadow_depth {
         ShadowDepth::Float32 => 4,
         ShadowDepth::Unorm16 => 2,
@@ -117,8 +117,11 @@ pub fn coverage(reach: Reach, (eye, forward): (Vec3, Vec3), tan_half_fov: f32) -
 
 /// Sizes every shadowed light's layers for this frame (see the module's notes) and writes the
 /// atlas they are sized for.
+#[allow(clippy::too_many_arguments)]
 pub fn size_shadow_maps(
-    settings: Res<Settings>,
+    settings: Res<MapSettings>,
+    shadow: Res<ShadowSettings>,
+    cascade: Res<CascadeSettings>,
     atlas: Option<ResMut<ShadowAtlas>>,
     caps: Option<Res<ShadowCaps>>,
     cameras: Query<(&Camera, &Transform)>,
@@ -126,7 +129,7 @@ pub fn size_shadow_maps(
     mut maps: Query<(&mut ShadowMap, Option<&ShadowMethod>)>,
 ) {
     let sources: Vec<_> = lights.all().into_iter().filter(|s| maps.contains(s.entity)).collect();
-    let method = |e: Entity| maps.get(e).ok().and_then(|(_, m)| m.copied()).unwrap_or(settings.method);
+    let method = |e: Entity| maps.get(e).ok().and_then(|(_, m)| m.copied()).unwrap_or(shadow.method);
     let caps = caps.map_or_else(ShadowCaps::default, |c| *c);
     let shape = ShadowAtlas::for_settings(&settings, caps, sources.iter().map(|s| method(s.entity)));
     let view = cameras.iter().next().map(|(c, t)| ((t.translation, t.forward()), (c.fov_y * 0.5).tan()));
@@ -139,7 +142,7 @@ pub fn size_shadow_maps(
         .map(|s| {
             let shape = s.kind.shape(&settings);
             let layers = match shape {
-                ShadowShape::Cascades => settings.cascades,
+                ShadowShape::Cascades => cascade.cascades,
                 ShadowShape::Single => 1,
                 ShadowShape::Cube => 6,
             };
@@ -208,41 +211,42 @@ mod tests {
     use super::*;
     use crate::components::{DirectionalLight, PointLight, SpotLight};
     use crate::settings::MomentSource;
+    use crate::settings::Settings;
     use bevy_ecs::system::RunSystemOnce;
 
     #[test]
     fn a_texel_costs_its_depth_its_static_copy_and_its_widest_colour_map() {
-        let d = Settings { static_cache: true, ..Settings::default() };
-        let bytes = |s: &Settings, m: &[ShadowMethod]| texel_bytes(s, ShadowCaps::default(), m.iter().copied());
+        let d = Settings::default().with(|s| s.maps.static_cache = true);
+        let bytes = |s: &Settings, m: &[ShadowMethod]| texel_bytes(&s.maps, ShadowCaps::default(), m.iter().copied());
         assert_eq!(bytes(&d, &[ShadowMethod::Bilinear]), 8);
         assert_eq!(bytes(&Settings::default(), &[ShadowMethod::Pcf3]), 4, "no static copies by default");
         assert_eq!(bytes(&d, &[ShadowMethod::Evsm]), 16, "half-float moments");
         assert_eq!(bytes(&d, &[ShadowMethod::Vsm, ShadowMethod::Evsm]), 24, "32-bit moments for VSM");
         assert_eq!(bytes(&d, &[ShadowMethod::RadialR16f]), 10);
         assert_eq!(bytes(&d, &[ShadowMethod::Evsm, ShadowMethod::DepthR32f]), 24, "R32F makes the moments 32-bit");
-        let d16 = Settings { shadow_depth: ShadowDepth::Unorm16, ..d.clone() };
+        let d16 = d.clone().with(|s| s.maps.shadow_depth = ShadowDepth::Unorm16);
         assert_eq!(bytes(&d16, &[ShadowMethod::Bilinear]), 4);
         // GL: half-float moments, no static copies.
         let gl = ShadowCaps { full_float_moments: false, static_maps: false };
-        assert_eq!(texel_bytes(&d, gl, [ShadowMethod::Vsm].into_iter()), 8);
+        assert_eq!(texel_bytes(&d.maps, gl, [ShadowMethod::Vsm].into_iter()), 8);
         // Two moments take two channels, unless a method beside them keeps four.
         assert_eq!(bytes(&d, &[ShadowMethod::Vsm]), 16);
         assert_eq!(bytes(&d, &[ShadowMethod::Evsm2]), 12);
         assert_eq!(bytes(&d, &[ShadowMethod::Vsm, ShadowMethod::Msm]), 24);
         // Moments at half the side share a colour texel among four depth texels, at a quarter
         // among sixteen; depth in colour keeps every texel.
-        let half = Settings { moments_from: MomentSource::Half, ..d.clone() };
+        let half = d.clone().with(|s| s.maps.moments_from = MomentSource::Half);
         assert_eq!(bytes(&half, &[ShadowMethod::Evsm]), 8 + 2);
         assert_eq!(bytes(&half, &[ShadowMethod::Vsm]), 8 + 2);
         assert_eq!(bytes(&half, &[ShadowMethod::Vsm, ShadowMethod::RadialR16f]), 8 + 8);
-        let quarter = Settings { moments_from: MomentSource::Quarter, ..d.clone() };
+        let quarter = d.clone().with(|s| s.maps.moments_from = MomentSource::Quarter);
         assert_eq!(bytes(&quarter, &[ShadowMethod::Evsm]), 8 + 1);
     }
 
     #[test]
     fn the_default_atlas_is_256_mib_of_four_pages_at_most() {
         let atlas = ShadowAtlas::for_settings(
-            &Settings::default(),
+            &MapSettings::default(),
             ShadowCaps::default(),
             [ShadowMethod::Bilinear].into_iter(),
         );
@@ -253,9 +257,9 @@ mod tests {
     #[test]
     fn a_near_lamp_gets_more_texels_than_a_far_one_and_the_sun_its_own() {
         let mut world = World::new();
-        world.insert_resource(Settings::default());
+        Settings::default().put(&mut world).unwrap();
         world.insert_resource(ShadowAtlas::for_settings(
-            &Settings::default(),
+            &MapSettings::default(),
             ShadowCaps::default(),
             std::iter::empty(),
         ));
@@ -268,11 +272,11 @@ mod tests {
         world.run_system_once(size_shadow_maps).unwrap();
         let side = |world: &World, e| world.get::<ShadowMap>(e).unwrap().resolution;
         let side = |e| side(&world, e);
-        assert_eq!(side(sun), Settings::default().shadow_map_size);
+        assert_eq!(side(sun), Settings::default().maps.shadow_map_size);
         assert!(side(near) >= 4 * side(far), "{} against {}", side(near), side(far));
         assert_eq!(side(behind), crate::shadow::MIN_TILE);
         // A tiny budget: everything shrinks, the sun last.
-        world.resource_mut::<Settings>().shadow_memory = 16;
+        world.resource_mut::<crate::settings::MapSettings>().shadow_memory = 16;
         world.run_system_once(size_shadow_maps).unwrap();
         let side = |e| world.get::<ShadowMap>(e).unwrap().resolution;
         let atlas = *world.resource::<ShadowAtlas>();
@@ -287,8 +291,11 @@ mod tests {
     #[test]
     fn the_baselines_size_every_lamp_alike_wherever_it_is() {
         let mut world = World::new();
-        let settings = Settings { tile_sizes: TileSizes::Bevy, shadow_memory: 4096, ..Settings::default() };
-        world.insert_resource(settings);
+        let settings = Settings::default().with(|s| {
+            s.maps.tile_sizes = TileSizes::Bevy;
+            s.maps.shadow_memory = 4096;
+        });
+        settings.put(&mut world).unwrap();
         world.spawn((Camera::default(), Transform::from_xyz(0.0, 2.0, 0.0).looking_to(Vec3::NEG_Z)));
         let far = PointLight { range: 3.0, ..Default::default() };
         let lamp = world.spawn((far, Transform::from_xyz(0.0, 2.0, -60.0), ShadowMap::default())).id();
@@ -298,7 +305,7 @@ mod tests {
             world.get::<ShadowMap>(e).unwrap().resolution
         };
         assert_eq!((side(&mut world, lamp), side(&mut world, spot)), (1024, 2048), "Bevy's defaults");
-        world.resource_mut::<Settings>().tile_sizes = TileSizes::Fixed;
+        world.resource_mut::<crate::settings::MapSettings>().tile_sizes = TileSizes::Fixed;
         assert_eq!((side(&mut world, lamp), side(&mut world, spot)), (2048, 2048), "umbra before the atlas");
     }
 }

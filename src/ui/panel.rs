@@ -1,6 +1,6 @@
 //! The panel: live numbers, every shadow setting, each light's own method, bias, size and
 //! shadow, the error overlay's controls and numbers, and the debug views. It writes the
-//! [`Settings`] resource and the lights' components, and only where a value really changed, so
+//! settings' groups ([`ShadowSettings`] and the others) and the lights' components, and only where a value really changed, so
 //! an untouched panel dirties nothing.
 
 use super::History;
@@ -9,7 +9,10 @@ use crate::eval::live::LiveReport;
 use crate::eval::metrics::Tally;
 use crate::light::{Kind, Light, light_list};
 use crate::render::{AtlasTile, ShadowStats};
-use crate::settings::{CasterCulling, MAX_BIAS_SCALE, MomentBits, MomentSource, Settings, ShadowDepth, ShadowFaces};
+use crate::settings::{
+    CascadeSettings, CasterCulling, MAX_BIAS_SCALE, MapSettings, MomentBits, MomentSource, SettingsGroup, ShadowDepth,
+    ShadowFaces, ShadowSettings, ViewSettings,
+};
 use crate::shadow::FitMode;
 use bevy_ecs::prelude::*;
 use egui::{CollapsingHeader, Color32, ComboBox, Slider, Ui};
@@ -86,18 +89,21 @@ pub fn panel(ui: &mut Ui, world: &mut World, lab: &mut Lab, live: &Live<'_>) {
         egui::ScrollArea::vertical().show(ui, |ui| {
             live_numbers(ui, live);
             section(ui, "Error against the ray-traced truth", true, |ui| overlay_section(ui, lab, live));
-            let mut settings = world.resource::<Settings>().clone();
+            // Edited in copies, each put back only when it changed and is valid.
+            let mut shadow = *world.resource::<ShadowSettings>();
+            let mut maps = *world.resource::<MapSettings>();
+            let mut cascade = *world.resource::<CascadeSettings>();
+            let mut view = world.resource::<ViewSettings>().clone();
             let names: Vec<String> = light_list(world).iter().map(|l| l.label.to_string()).collect();
-            section(ui, "Shadow budgets", true, |ui| budget_settings(ui, &mut settings, world, live.stats));
-            section(ui, "Shadows", false, |ui| shadow_settings(ui, &mut settings));
-            section(ui, "Sun cascades", false, |ui| cascade_settings(ui, &mut settings));
+            section(ui, "Shadow budgets", true, |ui| budget_settings(ui, &mut maps, world, live.stats));
+            section(ui, "Shadows", false, |ui| shadow_settings(ui, &mut shadow, &mut maps));
+            section(ui, "Sun cascades", false, |ui| cascade_settings(ui, &mut cascade, &mut view));
             section(ui, "Shading and views", false, |ui| {
-                view_settings(ui, &mut settings, lab, live.camera);
-                texel_density(ui, &mut settings, &names);
+                view_settings(ui, &mut view, lab, live.camera);
+                texel_density(ui, &mut view, &names);
             });
-            if settings != *world.resource::<Settings>() && settings.validate().is_ok() {
-                *world.resource_mut::<Settings>() = settings;
-            }
+            // An edit the group refuses is not put in force; the slider shows it until changed.
+            let _ = (shadow.put(world), maps.put(world), cascade.put(world), view.put(world));
             section(ui, "Lights", true, |ui| lights(ui, world));
             section(ui, "This view, headless", false, |ui| reproduce(ui, world, lab));
         });
@@ -137,7 +143,7 @@ fn live_numbers(ui: &mut Ui, live: &Live<'_>) {
 const LISTED_LIGHTS: usize = 12;
 
 /// The shadow memory and the update budget, with what the atlas holds and what waits.
-fn budget_settings(ui: &mut Ui, s: &mut Settings, world: &World, stats: &ShadowStats) {
+fn budget_settings(ui: &mut Ui, s: &mut MapSettings, world: &World, stats: &ShadowStats) {
     let memory = crate::settings::MIN_SHADOW_MEMORY..=4096;
     ui.add(slide(&mut s.shadow_memory, memory).logarithmic(true).text("shadow memory (MiB)"));
     if let Some(atlas) = world.get_resource::<crate::systems::ShadowAtlas>() {
@@ -217,29 +223,29 @@ fn choice<T: Copy + PartialEq>(ui: &mut Ui, label: &str, value: &mut T, all: &[T
 /// Shadow-map sizes the panel offers.
 pub const MAP_SIZES: [u32; 6] = [256, 512, 1024, 2048, 4096, 8192];
 
-fn shadow_settings(ui: &mut Ui, s: &mut Settings) {
-    ui.checkbox(&mut s.shadows, "shadows");
-    ui.checkbox(&mut s.reuse_shadow_maps, "keep clean lights' maps (the cache)");
-    ui.checkbox(&mut s.static_cache, "casters at rest kept in static maps");
-    ui.checkbox(&mut s.instancing, "instanced casters (one call per mesh and layer)");
+fn shadow_settings(ui: &mut Ui, s: &mut ShadowSettings, maps: &mut MapSettings) {
+    ui.checkbox(&mut s.enabled, "shadows");
+    ui.checkbox(&mut maps.reuse_shadow_maps, "keep clean lights' maps (the cache)");
+    ui.checkbox(&mut maps.static_cache, "casters at rest kept in static maps");
+    ui.checkbox(&mut maps.instancing, "instanced casters (one call per mesh and layer)");
     choice(ui, "method (lights without their own)", &mut s.method, ShadowMethod::ALL, ShadowMethod::name);
-    ComboBox::from_label("map size").selected_text(format!("{}²", s.shadow_map_size)).show_ui(ui, |ui| {
+    ComboBox::from_label("map size").selected_text(format!("{}²", maps.shadow_map_size)).show_ui(ui, |ui| {
         for size in MAP_SIZES {
-            ui.selectable_value(&mut s.shadow_map_size, size, format!("{size}²"));
+            ui.selectable_value(&mut maps.shadow_map_size, size, format!("{size}²"));
         }
     });
-    choice(ui, "depth format", &mut s.shadow_depth, ShadowDepth::ALL, ShadowDepth::name);
+    choice(ui, "depth format", &mut maps.shadow_depth, ShadowDepth::ALL, ShadowDepth::name);
     ui.add(slide(&mut s.shadow_strength, 0.0..=1.0).text("shadow strength"));
     ui.label("bias of lights without their own (texels):");
     bias_sliders(ui, &mut s.depth_bias, &mut s.slope_bias, &mut s.normal_bias, &mut s.bias_scale);
     ui.checkbox(&mut s.receiver_plane, "receiver-plane bias (filters)");
     ui.checkbox(&mut s.planar_ground, "planar shadows on the ground");
-    choice(ui, "casters culled to", &mut s.caster_culling, CasterCulling::ALL, CasterCulling::name);
-    choice(ui, "caster faces", &mut s.shadow_faces, ShadowFaces::ALL, ShadowFaces::name);
-    ui.add(slide(&mut s.moment_blur, 0..=crate::settings::MAX_MOMENT_BLUR).text("moment blur (texels)"));
+    choice(ui, "casters culled to", &mut maps.caster_culling, CasterCulling::ALL, CasterCulling::name);
+    choice(ui, "caster faces", &mut maps.shadow_faces, ShadowFaces::ALL, ShadowFaces::name);
+    ui.add(slide(&mut maps.moment_blur, 0..=crate::settings::MAX_MOMENT_BLUR).text("moment blur (texels)"));
     ui.add(slide(&mut s.light_bleeding, 0.0..=0.9).text("light-bleeding cut"));
-    choice(ui, "moment bits", &mut s.moment_bits, MomentBits::ALL, MomentBits::name);
-    choice(ui, "moments from", &mut s.moments_from, MomentSource::ALL, MomentSource::name);
+    choice(ui, "moment bits", &mut maps.moment_bits, MomentBits::ALL, MomentBits::name);
+    choice(ui, "moments from", &mut maps.moments_from, MomentSource::ALL, MomentSource::name);
     ui.checkbox(&mut s.contact_shadows, "contact shadows, lights without their own (J)");
     ui.add(slide(&mut s.contact_steps, 1..=crate::settings::MAX_CONTACT_STEPS).text("contact steps"));
     ui.add(slide(&mut s.contact_length, 0.0..=2.0).text("contact length (m)"));
@@ -253,16 +259,16 @@ fn bias_sliders(ui: &mut Ui, constant: &mut f32, slope: &mut f32, normal: &mut f
     ui.add(slide(scale, 0.0..=MAX_BIAS_SCALE).text("scale (share of distance)"));
 }
 
-fn cascade_settings(ui: &mut Ui, s: &mut Settings) {
+fn cascade_settings(ui: &mut Ui, s: &mut CascadeSettings, view: &mut ViewSettings) {
     ui.add(slide(&mut s.cascades, 1..=crate::shadow::MAX_CASCADES as u32).text("cascades"));
     ui.add(slide(&mut s.split_lambda, 0.0..=1.0).text("split λ (0 uniform, 1 log)"));
     choice(ui, "fit", &mut s.fit_mode, FitMode::ALL, FitMode::name);
     ui.add(slide(&mut s.cascade_blend, 0.0..=0.5).text("blend band"));
     ui.add(slide(&mut s.shadow_distance, 5.0..=200.0).logarithmic(true).text("shadow distance (m)"));
-    ui.checkbox(&mut s.cascade_debug, "tint each cascade");
+    ui.checkbox(&mut view.cascade_debug, "tint each cascade");
 }
 
-fn view_settings(ui: &mut Ui, s: &mut Settings, lab: &mut Lab, camera: &str) {
+fn view_settings(ui: &mut Ui, s: &mut ViewSettings, lab: &mut Lab, camera: &str) {
     let mut toon = s.toon_bands > 0;
     ui.horizontal(|ui| {
         ui.radio_value(&mut toon, false, "Phong");
@@ -288,7 +294,7 @@ fn view_settings(ui: &mut Ui, s: &mut Settings, lab: &mut Lab, camera: &str) {
 }
 
 /// The texel-density view: which light's, or the shading.
-fn texel_density(ui: &mut Ui, s: &mut Settings, lights: &[String]) {
+fn texel_density(ui: &mut Ui, s: &mut ViewSettings, lights: &[String]) {
     let shown = s.texel_density.clone().unwrap_or_else(|| "off (the shading)".into());
     ComboBox::from_label("texel density of (B)").selected_text(shown).show_ui(ui, |ui| {
         ui.selectable_value(&mut s.texel_density, None, "off (the shading)");
@@ -307,7 +313,7 @@ fn texel_density(ui: &mut Ui, s: &mut Settings, lights: &[String]) {
 
 /// Each light: its shadow on or off, its own method, bias and size (or the settings').
 fn lights(ui: &mut Ui, world: &mut World) {
-    let settings = world.resource::<Settings>().clone();
+    let settings = *world.resource::<ShadowSettings>();
     for light in light_list(world) {
         ui.push_id(light.entity, |ui| {
             CollapsingHeader::new(light.label.to_string()).show(ui, |ui| one_light(ui, world, &light, &settings));
@@ -315,7 +321,7 @@ fn lights(ui: &mut Ui, world: &mut World) {
     }
 }
 
-fn one_light(ui: &mut Ui, world: &mut World, light: &Light, settings: &Settings) {
+fn one_light(ui: &mut Ui, world: &mut World, light: &Light, settings: &ShadowSettings) {
     let e = light.entity;
     let mut shadowed = light.shadowed;
     ui.checkbox(&mut shadowed, "casts a shadow");
@@ -478,6 +484,7 @@ fn overlay_section(ui: &mut Ui, lab: &mut Lab, live: &Live<'_>) {
 mod tests {
     use super::*;
     use crate::components::SpotLight;
+    use crate::settings::Settings;
 
     fn run(world: &mut World, lab: &mut Lab) {
         let ctx = egui::Context::default();
@@ -502,31 +509,31 @@ mod tests {
     fn an_untouched_panel_dirties_nothing() {
         let mut app = crate::App::new(Settings::default()).unwrap();
         // Values beyond the sliders' ranges, as the command line may set them.
-        app.world.resource_mut::<Settings>().shadow_distance = 400.0;
+        app.world.resource_mut::<crate::settings::CascadeSettings>().shadow_distance = 400.0;
         let spot = light_list(&app.world)[1].entity;
         app.world.entity_mut(spot).insert(ShadowBias { constant: 20.0, ..Default::default() });
         app.world.get_mut::<SpotLight>(spot).unwrap().radius = 3.0;
         app.set_time(1.0);
         app.set_time(1.0);
         assert_eq!(dirty_layers(&mut app.world), 0, "a still scene is clean");
-        let before = app.world.resource::<Settings>().clone();
+        let before = app.settings();
         let mut lab = Lab { panel: true, ..Default::default() };
         run(&mut app.world, &mut lab);
-        assert_eq!(*app.world.resource::<Settings>(), before);
+        assert_eq!(app.settings(), before);
         assert_eq!(lab, Lab { panel: true, ..Default::default() });
         // The sections the panel opens only on a click, drawn open.
         let ctx = egui::Context::default();
-        let settings = app.world.resource::<Settings>().clone();
+        let settings = app.settings();
         for light in light_list(&app.world) {
-            ctx.run_ui(egui::RawInput::default(), |ui| one_light(ui, &mut app.world, &light, &settings))
+            ctx.run_ui(egui::RawInput::default(), |ui| one_light(ui, &mut app.world, &light, &settings.shadow))
                 .drop_without_applying_deltas();
         }
         let mut edited = settings.clone();
         ctx.run_ui(egui::RawInput::default(), |ui| {
-            budget_settings(ui, &mut edited, &app.world, &ShadowStats::default());
-            shadow_settings(ui, &mut edited);
-            cascade_settings(ui, &mut edited);
-            view_settings(ui, &mut edited, &mut lab, "fly");
+            budget_settings(ui, &mut edited.maps, &app.world, &ShadowStats::default());
+            shadow_settings(ui, &mut edited.shadow, &mut edited.maps);
+            cascade_settings(ui, &mut edited.cascade, &mut edited.view);
+            view_settings(ui, &mut edited.view, &mut lab, "fly");
         })
         .drop_without_applying_deltas();
         assert_eq!(edited, settings);

@@ -91,7 +91,10 @@ pub fn tile_shrink_sweep(
 ) -> Result<Vec<ShrinkPoint>, MeasureError> {
     let mut out = Vec::new();
     for &side in sides {
-        let fixed = Settings { tile_sizes: TileSizes::Fixed, shadow_map_size: side, ..settings.clone() };
+        let fixed = settings.clone().with(|s| {
+            s.maps.tile_sizes = TileSizes::Fixed;
+            s.maps.shadow_map_size = side;
+        });
         m.subject(TILE_SHRINK, &fixed, tile_spot_scene)?;
         let (eye, target) = over(TILE_SPOT.0, SHRINK_HEIGHTS[1]);
         let measured = measure_at(m, TILE_SHRINK, "sweep", |app| place_camera(&mut app.world, eye, target))?;
@@ -169,7 +172,7 @@ pub fn tile_resize(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, M
         .collect();
     let gpu = m.gpu();
     let (app, renderer) = m.parts(TILE_RESIZE)?;
-    let largest = settings.shadow_map_size.max(1);
+    let largest = settings.maps.shadow_map_size.max(1);
     // The edge between two classes, half an octave under the largest side.
     let edge = largest as f32 / 2f32.powf(1.5);
     let mut last: Option<Vec<bool>> = None;
@@ -225,14 +228,14 @@ fn spot_at(k: usize) -> Vec3 {
 /// [`MAX_STALE`] frames and a turn of the budget is garbage (the promise broken).
 pub fn starved_budget(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     // Everything drawn where the posts start, then the budget.
-    let unlimited = Settings { shadow_updates: 0, ..settings.clone() };
+    let unlimited = settings.clone().with(|s| s.maps.shadow_updates = 0);
     let app = &mut m.subject(STARVED, &unlimited, starved_scene)?.app;
     slide_posts(app, 0);
     measure_at(m, STARVED, "start", |_| {})?;
     let (app, _) = m.parts(STARVED)?;
     let side = app.world.query::<&ShadowMap>().iter(&app.world).map(|s| s.resolution).max().unwrap_or(1);
     let starved =
-        Settings { shadow_updates: (side * side).max(crate::settings::MIN_SHADOW_UPDATES), ..settings.clone() };
+        settings.clone().with(|s| s.maps.shadow_updates = (side * side).max(crate::settings::MIN_SHADOW_UPDATES));
     m.subject(STARVED, &starved, starved_scene)?;
     let mut score = Score::default();
     for frame in 1..=STARVED_FRAMES {

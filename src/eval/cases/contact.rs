@@ -17,7 +17,7 @@ const CONTACT_HALOS: SubjectId = SubjectId::Case(CaseScene::ContactHalos);
 /// bar's image. The score: the share of truly lit ground rendered dark. Contact shadows are on
 /// for every light here, whatever `settings` say: the case is what they would do.
 pub fn contact_halos(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
-    let settings = Settings { contact_shadows: true, ..settings.clone() };
+    let settings = settings.clone().with(|s| s.shadow.contact_shadows = true);
     let view = (Vec3::new(0.0, 1.6, 6.0), Vec3::new(0.0, 0.0, -4.0));
     m.subject(CONTACT_HALOS, &settings, |s| {
         let mut app = ground(s, 60.0, false, sun_direction(30.0, 180.0), view)?;

@@ -390,7 +390,7 @@ fn far_field(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, Measure
     })?;
     let measured = measure_at(m, FAR_FIELD, "horizon", |_| {})?;
     // Bands that end before the shadow starts fading out count; the worst of them is the score.
-    let fade = settings.shadow_distance * (1.0 - SHADOW_FADE);
+    let fade = settings.cascade.shadow_distance * (1.0 - SHADOW_FADE);
     let mut start = 0.0;
     let mut worst = Score::default();
     for end in DISTANCE_BANDS.into_iter().take_while(|&end| end <= fade) {
@@ -438,7 +438,7 @@ fn atlas_seams(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, Measu
     let (app, renderer) = m.parts(ATLAS_SEAMS)?;
     app.set_time(0.0);
     let resolution = app.world.query::<&crate::components::ShadowMap>().iter(&app.world).map(|s| s.resolution).max();
-    let resolution = resolution.unwrap_or(settings.shadow_map_size).max(1) as f32;
+    let resolution = resolution.unwrap_or(settings.maps.shadow_map_size).max(1) as f32;
     let (at, half) = (SEAMS_SPOT.0, SEAMS_SPOT.1.to_radians());
     let rim = at.y * half.tan();
     let texel = 2.0 * rim / resolution;

@@ -25,7 +25,7 @@ const DARKENING_STEPS: f64 = 1000.0;
 /// reaches is truly lit, and any darkness is false.
 pub fn soft_acne(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let view = (Vec3::new(0.0, 5.0, 10.0), Vec3::new(0.0, 0.0, -2.0));
-    let settings = Settings { method: ShadowMethod::Pcf5, ..settings.clone() };
+    let settings = settings.clone().with(|s| s.shadow.method = ShadowMethod::Pcf5);
     m.subject(SOFT_ACNE, &settings, |s| ground(s, 80.0, true, Vec3::NEG_Y, view))?;
     let mut score = Score::default();
     for elevation in [10.0, 20.0, 35.0, 60.0] {
@@ -54,7 +54,7 @@ fn partial(v: f32) -> bool {
 /// wrong where PCSS draws a penumbra the soft truth does not have, or misses one it has; the
 /// score is the share of wrong pixels among those partly lit in either.
 pub fn contact_hardening(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
-    let settings = Settings { method: ShadowMethod::Pcss, ..settings.clone() };
+    let settings = settings.clone().with(|s| s.shadow.method = ShadowMethod::Pcss);
     m.subject(CONTACT_HARDENING, &settings, pole_scene)?;
     let measured = measure_at(m, CONTACT_HARDENING, "pole", |_| {})?;
     let (app, _) = m.parts(CONTACT_HARDENING)?;
@@ -85,8 +85,8 @@ const LEAK: f32 = 0.05;
 /// shadowed ground across that edge showing any light, under the settings' method where it is a
 /// moment method and VSM otherwise.
 pub fn light_bleeding(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
-    let method = if settings.method.moments() { settings.method } else { ShadowMethod::Vsm };
-    let settings = Settings { method, ..settings.clone() };
+    let method = if settings.shadow.method.moments() { settings.shadow.method } else { ShadowMethod::Vsm };
+    let settings = settings.clone().with(|s| s.shadow.method = method);
     let view = (Vec3::new(0.0, 3.0, 0.6), Vec3::new(0.0, 0.0, 0.5));
     m.subject(LIGHT_BLEEDING, &settings, |s| {
         let mut app = ground(s, 40.0, false, Vec3::new(0.0, -1.0, 1.0).normalize(), view)?;
