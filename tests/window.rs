@@ -8,6 +8,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
+use umbra::render::Image;
 
 fn installed(tool: &str) -> bool {
     Command::new("sh")
@@ -69,16 +70,17 @@ fn xdotool(display: &str, args: &[&str]) -> String {
 }
 
 /// Presses F12 and waits for screenshot `n` to be written.
-fn screenshot(display: &str, dir: &Path, n: u32) -> image::RgbaImage {
+fn screenshot(display: &str, dir: &Path, n: u32) -> Image {
     xdotool(display, &["key", "F12"]);
     let path: PathBuf = dir.join(format!("umbra-screenshot-{n}.png"));
-    wait_for(&format!("{}", path.display()), Duration::from_secs(120), || image::open(&path).ok()).to_rgba8()
+    wait_for(&format!("{}", path.display()), Duration::from_secs(120), || common::read_png(&path))
 }
 
 /// Pixels where two pictures differ, as (x, y).
-fn differing(a: &image::RgbaImage, b: &image::RgbaImage) -> Vec<(u32, u32)> {
-    assert_eq!(a.dimensions(), b.dimensions());
-    a.enumerate_pixels().filter(|(x, y, p)| *p != b.get_pixel(*x, *y)).map(|(x, y, _)| (x, y)).collect()
+fn differing(a: &Image, b: &Image) -> Vec<(u32, u32)> {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    let texels = a.pixels.chunks_exact(4).zip(b.pixels.chunks_exact(4));
+    texels.enumerate().filter(|(_, (p, q))| p != q).map(|(i, _)| (i as u32 % a.width, i as u32 / a.width)).collect()
 }
 
 #[test]
@@ -113,7 +115,7 @@ fn keys_in_the_real_window_show_the_panel_change_the_method_and_save_screenshots
     xdotool(&display, &["windowfocus", "--sync", &window]);
 
     let plain = screenshot(&display, &dir, 1);
-    assert_eq!(plain.dimensions(), (1280, 720), "the screenshot is the window's size");
+    assert_eq!((plain.width, plain.height), (1280, 720), "the screenshot is the window's size");
     xdotool(&display, &["key", "Tab"]);
     let panel = screenshot(&display, &dir, 2);
     let changed = differing(&plain, &panel);

@@ -4,6 +4,7 @@
 pub mod character;
 pub mod clip;
 mod cookie;
+mod decode;
 mod gltf;
 mod mesh;
 pub mod model;

@@ -144,24 +144,11 @@ pub fn decode_image(
     bytes: &[u8],
     pay: impl FnOnce(u64) -> Result<(), String>,
 ) -> Result<ImageData, DecodeError> {
-    let reader = || {
-        let mut r = image::ImageReader::new(std::io::Cursor::new(bytes))
-            .with_guessed_format()
-            .map_err(|e| DecodeError::Broken(e.to_string()))?;
-        let mut limits = image::Limits::default();
-        limits.max_image_width = Some(MAX_TEXTURE_SIZE);
-        limits.max_image_height = Some(MAX_TEXTURE_SIZE);
-        r.limits(limits);
-        match r.format() {
-            Some(image::ImageFormat::Png | image::ImageFormat::Jpeg) => Ok(r),
-            Some(f) => Err(DecodeError::Broken(format!("it is {f:?}; umbra decodes PNG and JPEG only"))),
-            None => Err(DecodeError::Broken("it is neither PNG nor JPEG".into())),
-        }
-    };
-    let (width, height) = reader()?.into_dimensions().map_err(|e| DecodeError::Broken(e.to_string()))?;
+    let header = super::decode::header(bytes, MAX_TEXTURE_SIZE).map_err(DecodeError::Broken)?;
+    let (width, height) = header.size();
     pay(mipmapped_bytes(width, height)).map_err(DecodeError::TooLarge)?;
-    let rgba = reader()?.decode().map_err(|e| DecodeError::Broken(e.to_string()))?.into_rgba8();
-    Ok(ImageData::new(name, width, height, rgba.into_raw()))
+    let rgba = header.decode().map_err(DecodeError::Broken)?;
+    Ok(ImageData::new(name, width, height, rgba))
 }
 
 /// Why an image could not be decoded.

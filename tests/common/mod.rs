@@ -18,6 +18,17 @@ pub fn scratch(name: &str) -> std::path::PathBuf {
     dir
 }
 
+/// An 8-bit RGBA PNG as umbra writes them (`render --out`, screenshots), or `None` while the file
+/// is missing or not whole.
+pub fn read_png(path: &std::path::Path) -> Option<Image> {
+    let file = std::io::BufReader::new(std::fs::File::open(path).ok()?);
+    let mut reader = png::Decoder::new(file).read_info().ok()?;
+    let mut pixels = vec![0; reader.output_buffer_size()?];
+    let info = reader.next_frame(&mut pixels).ok()?;
+    let rgba8 = info.color_type == png::ColorType::Rgba && info.bit_depth == png::BitDepth::Eight;
+    rgba8.then_some(Image { width: info.width, height: info.height, pixels })
+}
+
 /// Side of the square test frames.
 pub const SIZE: u32 = 256;
 
