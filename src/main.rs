@@ -154,6 +154,11 @@ struct BenchArgs {
     /// light's error; writes lights.md and the lights charts (4 to 64 lights with --quick).
     #[arg(long, conflicts_with_all = ["cache", "lab", "shadow_pass"])]
     lights: bool,
+    /// Sweep only the configurations of this family (and the default, for the ratios); give it
+    /// again for more: "hard", "grid PCF", "moment maps", "Bevy-like" … (an unknown one is
+    /// refused with the list).
+    #[arg(long, value_name = "FAMILY", conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]
+    family: Vec<String>,
     /// Rays over each light's disc for the soft truth (default 32, 8 with --quick).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=4096))]
     soft_rays: Option<u32>,
@@ -424,6 +429,8 @@ fn sweep(args: &BenchArgs) -> Result<()> {
         );
     }
     let mut options = config::SweepOptions::new(args.quick);
+    options.families = args.family.clone();
+    let configs = options.configs().map_err(anyhow::Error::msg)?.len();
     if settings.scene.file.is_some() {
         options.views = config::views(&mut app(&args.scene)?);
         options.base = settings;
@@ -438,7 +445,6 @@ fn sweep(args: &BenchArgs) -> Result<()> {
     if let Some(r) = args.spot_radius {
         options.truth.sizes.light_radius = Some(r);
     }
-    let configs = config::configs(args.quick).len();
     let scene = match &options.base.scene.file {
         Some(path) => format!("the scene {}", path.display()),
         None => "the sample scene".to_string(),
@@ -446,8 +452,9 @@ fn sweep(args: &BenchArgs) -> Result<()> {
     let timing = if cost::timed_on_gpu(&gpu) { "GPU timestamps" } else { "the wall clock (no timestamps here)" };
     println!("adapter: {}", gpu.describe());
     println!(
-        "{} sweep: {configs} configurations; {scene} at {}x{} from {} views, failure cases at {}x{}; timed by {timing}",
+        "{} sweep{}: {configs} configurations; {scene} at {}x{} from {} views, failure cases at {}x{}; timed by {timing}",
         if args.quick { "quick" } else { "full" },
+        families(&options.families),
         options.size.0,
         options.size.1,
         options.views.len(),
@@ -469,12 +476,13 @@ fn sweep(args: &BenchArgs) -> Result<()> {
     let heading = format!(
         "# umbra bench{}
 
-{} configurations on {}, timed by {timing}; {:.0} s in all. Shadow cost: the median over {} \
+{} configurations{} on {}, timed by {timing}; {:.0} s in all. Shadow cost: the median over {} \
          frames of drawing every shadow layer (a frame with every map drawn against the same frame with every \
          map kept) plus what the lookups add (that frame against one with shadows off). Errors: pixels of {} views of {scene} at {}x{} against a ray-traced truth (every light \
          together; the soft truth from {} rays over each light's disc: {}).",
         if args.quick { " --quick" } else { "" },
         rows.len(),
+        families(&options.families),
         gpu.describe(),
         started.elapsed().as_secs_f64(),
         options.frames as usize * options.views.len(),
@@ -488,6 +496,11 @@ fn sweep(args: &BenchArgs) -> Result<()> {
     println!("{summary}");
     println!("wrote {}: results.csv, summary.md and the charts (.png and .svg)", args.out.display());
     Ok(())
+}
+
+/// The families a sweep was narrowed to, in words ("" for all).
+fn families(names: &[String]) -> String {
+    if names.is_empty() { String::new() } else { format!(" (the family {} and the default)", names.join(", ")) }
 }
 
 /// The light sizes the soft truth takes, in words.

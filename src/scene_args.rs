@@ -9,8 +9,8 @@ use umbra::reproduce::{
     LightSetting, parse_bias, parse_contact, parse_method, parse_size as parse_light_size, parse_texels,
 };
 use umbra::settings::{
-    CascadeSettings, CasterCulling, MapSettings, MomentBits, MomentSource, SceneSettings, ShadowDepth, ShadowFaces,
-    ShadowSettings, TileSizes, ViewSettings,
+    CascadeSettings, CasterCulling, MapSettings, MomentBits, MomentResolve, MomentSource, SceneSettings, ShadowDepth,
+    ShadowFaces, ShadowSettings, TileSizes, ViewSettings,
 };
 use umbra::shadow::FitMode;
 
@@ -97,6 +97,11 @@ pub struct SceneArgs {
     /// colour (drawn as a colour target of their own).
     #[arg(long, value_name = "SOURCE")]
     pub moments_from: Option<MomentSource>,
+    /// How moments resolved from depth are made: compute (one dispatch resolves and blurs in
+    /// shared memory), passes (full-screen passes: resolve, rows, columns) or auto (compute on a
+    /// GPU, passes on a software rasterizer).
+    #[arg(long, value_name = "HOW")]
+    pub moment_resolve: Option<MomentResolve>,
     /// Format of the depth maps: d32 (32-bit float) or d16 (16-bit fixed point, half the memory).
     #[arg(long, value_name = "FORMAT")]
     pub shadow_depth: Option<ShadowDepth>,
@@ -310,6 +315,7 @@ impl SceneArgs {
             caster_culling: self.culling.unwrap_or(d.maps.caster_culling),
             shadow_faces: self.shadow_faces.unwrap_or(d.maps.shadow_faces),
             moments_from: self.moments_from.unwrap_or(d.maps.moments_from),
+            moment_resolve: self.moment_resolve.unwrap_or(d.maps.moment_resolve),
             moment_bits: self.moment_bits.unwrap_or(d.maps.moment_bits),
             moment_blur: self.moment_blur.unwrap_or(d.maps.moment_blur),
             ..d.maps

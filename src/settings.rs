@@ -16,7 +16,7 @@ mod view;
 pub use cascade::{CascadeSettings, DEFAULT_SPLIT_LAMBDA};
 pub use lights::{LightBiases, LightSetting};
 pub use maps::*;
-pub use moments::{MomentBits, MomentSource};
+pub use moments::{MomentBits, MomentResolve, MomentSource};
 pub use scene::{MAX_CUBES, SceneSettings};
 pub use shadow::*;
 pub use view::{DEFAULT_TOON_BANDS, MAX_TOON_BANDS, ViewSettings};

@@ -213,3 +213,51 @@ fn moment_maps_resolved_from_depth_at_every_size_put_the_shadows_where_drawn_one
         }
     }
 }
+
+#[test]
+fn moments_made_in_compute_are_those_of_the_full_screen_passes() {
+    use umbra::settings::{MomentResolve, MomentSource};
+    let with = |method: ShadowMethod, moments_from: MomentSource, compute: bool, blur: u32| {
+        Settings::default().with(|s| {
+            s.shadow.method = method;
+            s.maps.moments_from = moments_from;
+            s.maps.moment_resolve = if compute { MomentResolve::Compute } else { MomentResolve::Passes };
+            s.maps.moment_blur = blur;
+        })
+    };
+    let cases = [
+        (ShadowMethod::Vsm, MomentSource::Depth),
+        (ShadowMethod::Vsm, MomentSource::Half),
+        (ShadowMethod::Vsm, MomentSource::Quarter),
+        (ShadowMethod::Msm, MomentSource::Depth),
+        // Half-float pairs: made in compute only where the adapter stores them.
+        (ShadowMethod::Evsm2, MomentSource::Depth),
+    ];
+    let full_floats = gpu().full_float_moments();
+    for (method, source) in cases {
+        let name = format!("{} {}", method.name(), source.name());
+        let passes = measure_app(plates_with(with(method, source, false, 2)), &format!("{name} passes"));
+        let compute = measure_app(plates_with(with(method, source, true, 2)), &format!("{name} compute"));
+        // The same means and weights: the same picture in full floats. In half floats the passes
+        // round the resolved moments and the rows' blur to the map's format before the next step,
+        // which the dispatch does not (it keeps them in shared memory): never worse there.
+        let apart = compute.tally.mae_soft() - passes.tally.mae_soft();
+        let close = if full_floats { apart.abs() < 2e-4 } else { apart < 2e-4 };
+        assert!(close, "{name}: compute {:.5} against passes {apart:+.5}", compute.tally.mae_soft());
+        let wrong = |s: &Seen| s.tally.misclassified() * s.tally.pixels as f64;
+        assert!((wrong(&compute) - wrong(&passes)).abs() < 10.0, "{name}: misclassified pixels apart");
+    }
+    // The dispatch is what made them where the device computes; never past its widest blur.
+    let gpu = gpu();
+    let computes = gpu.adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS);
+    for (compute, blur, expected) in [(true, 2, computes), (false, 2, false), (true, 9, false)] {
+        let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
+        let mut app = plates_with(with(ShadowMethod::Msm, MomentSource::Depth, compute, blur));
+        app.set_time(0.0);
+        app.hear(renderer.news());
+        let texture = gpu.target("compute", (SIZE, SIZE), HEADLESS_FORMAT).unwrap();
+        renderer.render(&gpu, &app.world, &texture.create_view(&Default::default()), SIZE, SIZE).unwrap();
+        let made = renderer.news().stats.map_or(0, |s| s.moments_in_compute);
+        assert_eq!(made > 0, expected, "compute {compute}, blur {blur}: {made} layers made in compute");
+    }
+}

@@ -6,7 +6,7 @@
 use super::measure::TruthSettings;
 use crate::App;
 use crate::components::ShadowMethod;
-use crate::settings::{MomentBits, MomentSource, Settings, ShadowDepth, ShadowFaces};
+use crate::settings::{MomentBits, MomentResolve, MomentSource, Settings, ShadowDepth, ShadowFaces};
 use crate::shadow::FitMode;
 use bevy_ecs::prelude::With;
 use glam::Vec3;
@@ -34,6 +34,8 @@ pub struct Config {
     pub moment_bits: MomentBits,
     /// How moment maps are made.
     pub moments_from: MomentSource,
+    /// How moments from depth are made.
+    pub moment_resolve: MomentResolve,
     /// Format of the depth maps.
     pub depth: ShadowDepth,
     /// Multiplicative depth offset (share of the distance to the light).
@@ -85,6 +87,7 @@ impl Config {
             blur: d.maps.moment_blur,
             moment_bits: d.maps.moment_bits,
             moments_from: d.maps.moments_from,
+            moment_resolve: d.maps.moment_resolve,
             depth: d.maps.shadow_depth,
             bias_scale: d.shadow.bias_scale,
             contact: d.shadow.contact_shadows,
@@ -110,6 +113,7 @@ impl Config {
             s.maps.moment_blur = self.blur;
             s.maps.moment_bits = self.moment_bits;
             s.maps.moments_from = self.moments_from;
+            s.maps.moment_resolve = self.moment_resolve;
             s.maps.shadow_depth = self.depth;
             s.shadow.bias_scale = self.bias_scale;
             s.maps.shadow_memory = self.memory_mib();
@@ -179,7 +183,12 @@ impl Config {
         let d = Config::default_settings();
         let from =
             if self.moments_from == d.moments_from { String::new() } else { format!(" {}", self.moments_from.name()) };
-        format!(" blur{}{bits}{from}", self.blur)
+        let resolve = if self.moments_from.from_depth() && self.moment_resolve != d.moment_resolve {
+            format!(" {}", self.moment_resolve.name())
+        } else {
+            String::new()
+        };
+        format!(" blur{}{bits}{from}{resolve}", self.blur)
     }
 
     /// Its family for the charts and the summary: the method's, or the baseline's own.
@@ -270,13 +279,22 @@ pub fn configs(quick: bool) -> Vec<Config> {
             push(Config { map_size, method, ..d });
         }
     }
+    // A moment map at half the depth map's side, resolved both ways: what the quick sweep takes
+    // of the resolves.
+    for moment_resolve in [MomentResolve::Compute, MomentResolve::Passes] {
+        push(Config { method: ShadowMethod::Vsm, moments_from: MomentSource::Half, moment_resolve, ..d });
+    }
     // Moment maps resolved from the depth map, at its side, a half and a quarter of it (the full
-    // sweep only: on lavapipe the quick sweep took 32 minutes with them).
+    // sweep only).
     if !quick {
         for &method in ShadowMethod::ALL.iter().filter(|m| m.moments()) {
             for moments_from in [MomentSource::Depth, MomentSource::Half, MomentSource::Quarter] {
                 push(Config { method, moments_from, ..d });
             }
+        }
+        // Both ways of resolving at full size, whichever auto picks here.
+        for moment_resolve in [MomentResolve::Compute, MomentResolve::Passes] {
+            push(Config { method: ShadowMethod::Vsm, moments_from: MomentSource::Depth, moment_resolve, ..d });
         }
     }
     // Moment maps: half floats against full, and a narrower and a wider blur.
@@ -372,6 +390,8 @@ pub struct SweepOptions {
     pub frames: u32,
     /// How the truth is taken.
     pub truth: TruthSettings,
+    /// Only the configurations of these families, and the default's (all when empty).
+    pub families: Vec<String>,
 }
 
 impl SweepOptions {
@@ -386,6 +406,7 @@ impl SweepOptions {
                 case_size: (192, 192),
                 frames: 4,
                 truth: TruthSettings { soft_rays: 8, ..Default::default() },
+                families: Vec::new(),
             }
         } else {
             SweepOptions {
@@ -396,8 +417,31 @@ impl SweepOptions {
                 case_size: (256, 256),
                 frames: 10,
                 truth: TruthSettings::default(),
+                families: Vec::new(),
             }
         }
+    }
+
+    /// The configurations it sweeps: [`configs`], only those of its families (and the
+    /// default's) when it names any. A family no configuration has is an error that lists
+    /// those there are.
+    pub fn configs(&self) -> Result<Vec<Config>, String> {
+        let all = configs(self.quick);
+        let known: Vec<&str> = all.iter().fold(Vec::new(), |mut names, c| {
+            if !names.contains(&c.family()) {
+                names.push(c.family());
+            }
+            names
+        });
+        if let Some(unknown) = self.families.iter().find(|f| !known.contains(&f.as_str())) {
+            return Err(format!(
+                "no configuration is of the family \"{unknown}\"; the families are: {}",
+                known.join(", ")
+            ));
+        }
+        let d = Config::default_settings();
+        let wanted = |c: &Config| self.families.is_empty() || *c == d || self.families.iter().any(|f| f == c.family());
+        Ok(all.into_iter().filter(wanted).collect())
     }
 }
 
@@ -416,6 +460,16 @@ mod tests {
             }
         }
         assert!(configs(true).len() < configs(false).len());
+        // A family chosen: its configurations and the default's, nothing else.
+        let mut options = SweepOptions::new(false);
+        options.families = vec!["moment maps".into()];
+        let some = options.configs().unwrap();
+        assert!(some.contains(&Config::default_settings()));
+        assert!(some.iter().all(|c| *c == Config::default_settings() || c.method.moments()));
+        assert_eq!(some.len(), 1 + configs(false).iter().filter(|c| c.family() == "moment maps").count());
+        options.families = vec!["moments".into()];
+        let err = options.configs().unwrap_err();
+        assert!(err.contains("\"moments\"") && err.contains("moment maps") && err.contains("Bevy-like"), "{err}");
         assert_eq!(Config::default_settings().label(), "2048 x4 stable bilinear b0.5");
         let c = Config { method: ShadowMethod::Pcf3, bias: 2.0, ..Config::default_settings() };
         assert_eq!(c.short_label(), "2048 x4 pcf3 b2");

@@ -123,6 +123,7 @@ fn timed_maps(config: &Config) -> TimedMaps {
         size: config.map_size,
         depth: config.depth,
         colour: config.method.colour_map().then_some((config.method, config.moment_bits, config.moments_from)),
+        moment_resolve: config.moment_resolve,
     }
 }
 

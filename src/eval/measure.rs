@@ -35,6 +35,9 @@ pub enum MeasureError {
     /// The scene could not be set up.
     #[error(transparent)]
     App(#[from] crate::AppError),
+    /// The sweep was asked for what it does not have (a family no configuration is of).
+    #[error("{0}")]
+    Sweep(String),
     /// A scene was asked for before it was set up (a bug in the harness, reported, not a panic).
     #[error("the measurer holds no scene {0:?}: it must be set up with `subject` first")]
     NoSubject(SubjectId),
@@ -66,6 +69,8 @@ pub struct TimedMaps {
     pub depth: crate::settings::ShadowDepth,
     /// The method, bits and source of the colour maps beside them, for a method that has them.
     pub colour: Option<(crate::components::ShadowMethod, crate::settings::MomentBits, crate::settings::MomentSource)>,
+    /// How moments from depth are made.
+    pub moment_resolve: crate::settings::MomentResolve,
 }
 
 /// The failure cases' scenes (see [`super::cases`]).

@@ -50,11 +50,13 @@ impl Gpu {
         let desc = wgpu::DeviceDescriptor {
             label: Some("umbra"),
             // Timestamps let the benchmark time each pass on the GPU; filtering 32-bit floats
-            // allows full-float moment maps. Neither is needed.
+            // allows full-float moment maps; the adapter's own format features may let compute
+            // store half-float moment pairs. None is needed.
             required_features: adapter.features()
                 & (wgpu::Features::TIMESTAMP_QUERY
                     | super::moments::FULL_FEATURES
-                    | super::main_pass::DEPTH_STENCIL_FEATURES),
+                    | super::main_pass::DEPTH_STENCIL_FEATURES
+                    | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES),
             required_limits: adapter.limits(),
             ..Default::default()
         };

@@ -277,6 +277,11 @@ gpu_struct! {
 /// Most shadow-map layers the array holds (sixteen cubes); the lights whose layers do not fit
 /// are lit without a shadow, and said so.
 pub const MAX_LAYERS: usize = 96;
+/// Side of the block of moment texels one workgroup of `cs_resolve` makes (moment_compute.wgsl).
+pub const RESOLVE_BLOCK: u32 = 16;
+/// The widest moment blur (texels each way) `cs_resolve` makes (its shared memory then fits the
+/// 16,352 bytes every device that computes gives); wider ones take the full-screen passes.
+pub const RESOLVE_MAX_RADIUS: u32 = 7;
 
 /// Words in a row of the texture that holds the clustered light lists.
 pub const LIST_WIDTH: u32 = 4096;
@@ -320,6 +325,8 @@ pub fn prelude() -> String {
     constant("SHAPE_CUBE", SHAPE_CUBE as u64);
     constant("SDSM_BINS", crate::shadow::SDSM_BINS as u64);
     constant("SDSM_WORDS", crate::shadow::SDSM_WORDS as u64);
+    constant("RESOLVE_BLOCK", RESOLVE_BLOCK as u64);
+    constant("RESOLVE_MAX_RADIUS", RESOLVE_MAX_RADIUS as u64);
     for method in ShadowMethod::ALL {
         constant(&format!("METHOD_{}", method.name().to_uppercase().replace('-', "_")), *method as u64);
     }

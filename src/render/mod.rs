@@ -19,6 +19,7 @@ pub mod lines;
 mod main_pass;
 pub mod map_view;
 mod mesh;
+mod moment_compute;
 mod moments;
 mod news;
 mod planar;

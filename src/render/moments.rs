@@ -10,14 +10,15 @@
 //! colour target instead (`fs_moments` in shadow.wgsl: where the depth is known, so what a
 //! method stores is made there), and moments are then blurred alone.
 
-use super::gpu_types::{Blur, GpuLayer};
+use super::gpu_types::{Blur, GpuLayer, RESOLVE_MAX_RADIUS};
+use super::moment_compute::{ComputeTile, ComputeWork, MomentCompute};
 use super::shaders::{BLUR_MODULE, Composed};
 use super::texture::{LayeredTarget, render_target};
 use super::timing::Stamps;
 use super::uniform_array::UniformArray;
 use crate::components::ShadowMethod;
 use crate::settings::{MomentBits, MomentSource};
-use crate::shadow::Tile;
+use crate::shadow::{Tile, distinct_pages};
 
 /// The colour maps' format: four channels for four moments, two for two, one for depth in
 /// colour, in 16- or 32-bit floats.
@@ -189,19 +190,22 @@ pub fn far_moments(layer: &GpuLayer) -> wgpu::Color {
     wgpu::Color { r, g, b, a }
 }
 
-/// What the colour atlas is: its format (`None`: no light uses one) and the depth texels along a
-/// side per colour texel.
+/// What the colour atlas is: its format (`None`: no light uses one), the depth texels along a
+/// side per colour texel, and whether compute stores moments into it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ColourLayout {
     /// The format.
     pub format: Option<ColourFormat>,
     /// Depth texels along a side per colour texel.
     pub scale: u32,
+    /// Moments resolved from depth are made by a compute dispatch, which stores into the atlas
+    /// (see [`super::moment_compute`]).
+    pub storage: bool,
 }
 
 impl ColourLayout {
     /// No colour maps.
-    pub const NONE: ColourLayout = ColourLayout { format: None, scale: 1 };
+    pub const NONE: ColourLayout = ColourLayout { format: None, scale: 1, storage: false };
 }
 
 /// The colour maps: an array page for page with the depth maps, tile for tile at `1 / scale`
@@ -212,6 +216,8 @@ pub struct ColourMaps {
     pub format: Option<ColourFormat>,
     /// Depth texels along a side per colour texel.
     pub scale: u32,
+    /// Compute stores into it.
+    pub storage: bool,
     /// One render view per layer.
     pub layer_views: Vec<wgpu::TextureView>,
     /// The whole array, for sampling.
@@ -222,20 +228,23 @@ pub struct ColourMaps {
 impl ColourMaps {
     /// `layers` layers of `(page / scale)`² texels in the layout's format, or the stand-in when
     /// it has none.
-    pub fn new(device: &wgpu::Device, ColourLayout { format, scale }: ColourLayout, page: u32, layers: u32) -> Self {
+    pub fn new(device: &wgpu::Device, layout: ColourLayout, page: u32, layers: u32) -> Self {
+        let ColourLayout { format, scale, storage } = layout;
         let scale = scale.clamp(1, page.max(1));
         let (size, layers) = if format.is_some() { (page / scale, layers) } else { (1, 2) };
         let tex_format = format.unwrap_or(ColourFormat::Half).texture();
+        let storage = storage && format.is_some();
+        let extra = if storage { wgpu::TextureUsages::STORAGE_BINDING } else { wgpu::TextureUsages::empty() };
         let LayeredTarget { layer_views, array_view, .. } =
-            LayeredTarget::new(device, "moment maps", tex_format, size, layers);
-        let scratch_view =
-            render_target(device, "moment scratch", tex_format, size, 1).create_view(&Default::default());
-        ColourMaps { format, scale, layer_views, array_view, scratch_view }
+            LayeredTarget::new(device, "moment maps", tex_format, size, layers, extra);
+        let scratch_view = render_target(device, "moment scratch", tex_format, size, 1, wgpu::TextureUsages::empty())
+            .create_view(&Default::default());
+        ColourMaps { format, scale, storage, layer_views, array_view, scratch_view }
     }
 
     /// Its layout.
     pub fn layout(&self) -> ColourLayout {
-        ColourLayout { format: self.format, scale: self.scale }
+        ColourLayout { format: self.format, scale: self.scale, storage: self.storage }
     }
 }
 
@@ -281,7 +290,7 @@ pub struct MomentWork<'a> {
     pub input: MomentInput<'a>,
 }
 
-/// The render passes [`MomentBlur::encode`] takes per page: the resolve from depth, if the
+/// The full-screen passes [`MomentBlur::encode`] takes per page: the resolve from depth, if the
 /// moments come from it, then rows and columns if they are blurred.
 #[must_use]
 pub fn passes_per_page(input: &MomentInput<'_>, radius: u32) -> usize {
@@ -297,6 +306,7 @@ pub struct MomentBlur {
     columns: wgpu::RenderPipeline,
     source_layouts: [wgpu::BindGroupLayout; 3],
     uniforms: UniformArray,
+    compute: Option<MomentCompute>,
 }
 
 fn source_layout(device: &wgpu::Device, binding: u32, dimension: wgpu::TextureViewDimension) -> wgpu::BindGroupLayout {
@@ -317,9 +327,22 @@ fn source_layout(device: &wgpu::Device, binding: u32, dimension: wgpu::TextureVi
 
 impl MomentBlur {
     /// The blur pipelines for maps of `format`; `layer_layout` is the layout of the shadow
-    /// pass's layer uniforms, which a resolve reads.
-    pub fn new(device: &wgpu::Device, format: ColourFormat, layer_layout: &wgpu::BindGroupLayout) -> Self {
-        let uniforms = UniformArray::new(device, "blur", size_of::<Blur>() as u64, wgpu::ShaderStages::FRAGMENT);
+    /// pass's layer uniforms, which a resolve reads (visible to compute where the device
+    /// `computes` moments of `format`: then the compute resolve is made too).
+    pub fn new(
+        device: &wgpu::Device,
+        format: ColourFormat,
+        layer_layout: &wgpu::BindGroupLayout,
+        computes: bool,
+    ) -> Self {
+        let stages = if computes {
+            wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE
+        } else {
+            wgpu::ShaderStages::FRAGMENT
+        };
+        let uniforms = UniformArray::new(device, "blur", size_of::<Blur>() as u64, stages);
+        let compute =
+            computes.then(|| MomentCompute::new(device, format.texture(), &uniforms.layout, layer_layout)).flatten();
         let module = Composed::new(BLUR_MODULE).module(device);
         let source_layouts = [
             source_layout(device, 0, wgpu::TextureViewDimension::D2Array),
@@ -358,7 +381,30 @@ impl MomentBlur {
         let rows = pipeline("fs_blur_rows", &[own, Some(&source_layouts[0])]);
         let columns = pipeline("fs_blur_columns", &[own, Some(&source_layouts[1])]);
         let resolve = pipeline("fs_resolve", &[own, Some(&source_layouts[2]), Some(layer_layout)]);
-        MomentBlur { format, resolve, rows, columns, source_layouts, uniforms }
+        MomentBlur { format, resolve, rows, columns, source_layouts, uniforms, compute }
+    }
+
+    /// `work` is made by its one compute dispatch: its moments come from depth into an atlas
+    /// compute stores into, blurred no wider than the dispatch reaches.
+    #[must_use]
+    pub fn in_compute(&self, work: &MomentWork<'_>) -> bool {
+        self.compute.is_some()
+            && matches!(work.input, MomentInput::Depth { .. })
+            && work.maps.storage
+            && work.radius <= RESOLVE_MAX_RADIUS
+    }
+
+    /// The passes [`MomentBlur::encode`] takes for `work`: one compute pass, or
+    /// [`passes_per_page`] full-screen passes on each page it touches.
+    #[must_use]
+    pub fn passes(&self, work: &MomentWork<'_>) -> usize {
+        if work.tiles.is_empty() {
+            0
+        } else if self.in_compute(work) {
+            1
+        } else {
+            passes_per_page(&work.input, work.radius) * distinct_pages(work.tiles.iter().map(|t| t.tile)).len()
+        }
     }
 
     /// The format its pipelines write.
@@ -366,10 +412,10 @@ impl MomentBlur {
         self.format
     }
 
-    /// Makes `work`'s tiles from its input and blurs them by its radius each way, with
-    /// [`passes_per_page`] passes a page (the resolve into the page, rows into the scratch page,
-    /// columns back), each stamped as the frame's next shadow pass. Each tile reads only its own
-    /// texels.
+    /// Makes `work`'s tiles from its input and blurs them by its radius each way, in one compute
+    /// pass where it can ([`MomentWork::in_compute`]), else with [`passes_per_page`] passes a page
+    /// (the resolve into the page, rows into the scratch page, columns back), each stamped as the
+    /// frame's next shadow pass. Each tile reads only its own texels.
     pub(super) fn encode(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
@@ -377,6 +423,7 @@ impl MomentBlur {
         work: MomentWork<'_>,
         stamps: &mut Stamps<'_>,
     ) {
+        let in_compute = self.in_compute(&work);
         let MomentWork { maps, tiles, radius, input } = work;
         let terms: Vec<Blur> = tiles
             .iter()
@@ -390,6 +437,19 @@ impl MomentBlur {
             })
             .collect();
         self.uniforms.write(device, queue, &terms);
+        if let (Some(compute), MomentInput::Depth { pages, layers }) = (&self.compute, &input)
+            && in_compute
+        {
+            let tiles: Vec<ComputeTile> = tiles
+                .iter()
+                .enumerate()
+                .map(|(blur, t)| ComputeTile { blur, layer: t.uniform, size: t.tile.size })
+                .collect();
+            let work =
+                ComputeWork { depth: pages, moments: &maps.array_view, blur: &self.uniforms, layers, tiles: &tiles };
+            compute.encode(device, encoder, work, stamps);
+            return;
+        }
         let group = |layout: &wgpu::BindGroupLayout, binding: u32, view: &wgpu::TextureView| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("blur source"),
@@ -403,10 +463,7 @@ impl MomentBlur {
         };
         let from_array = group(&self.source_layouts[0], 0, &maps.array_view);
         let from_scratch = group(&self.source_layouts[1], 1, &maps.scratch_view);
-        let mut pages: Vec<u32> = tiles.iter().map(|t| t.tile.page).collect();
-        pages.sort_unstable();
-        pages.dedup();
-        for page in pages {
+        for page in distinct_pages(tiles.iter().map(|t| t.tile)) {
             let Some(target) = maps.layer_views.get(page as usize) else { continue };
             let mut passes = Vec::new();
             if let Some((from_depth, layers)) = &resolve {

@@ -10,6 +10,7 @@ use super::lines::{LinePass, volume_lines};
 use super::main_pass::MainPass;
 use super::map_view::{self, MapView};
 use super::mesh::{Drawables, GpuMesh, JointPalette};
+use super::moment_compute::ComputeStores;
 use super::moments;
 use super::news::RenderNews;
 use super::shadow_pass::{DrawOptions, ShadowPass};
@@ -99,6 +100,11 @@ pub struct Renderer {
     reduction: Option<DepthReduction>,
     /// The device runs compute shaders.
     computes: bool,
+    /// The moment formats the device makes in compute.
+    compute_stores: ComputeStores,
+    /// The adapter is a software rasterizer (where moments are resolved by full-screen passes
+    /// unless the settings ask for compute; see [`crate::settings::MomentResolve`]).
+    software: bool,
     last_layers: Vec<(GpuLayer, LightLabel)>,
     /// A map was drawn or the layers changed since the viewer's atlas was last drawn.
     atlas_stale: bool,
@@ -136,7 +142,9 @@ impl Renderer {
         let joints = JointPalette::new(device);
         let textures = MaterialTextures::new(device, &gpu.queue);
         let reads_depth = super::static_maps::reads_depth(&gpu.adapter);
-        let shadow = ShadowPass::new(device, reads_depth, &objects.layout, &joints, &textures);
+        let computes = super::depth_reduction::computes(&gpu.adapter);
+        let compute_stores = ComputeStores::of(&gpu.adapter, device);
+        let shadow = ShadowPass::new(device, reads_depth, compute_stores, &objects.layout, &joints, &textures);
         let main = MainPass::new(device, &objects.layout, &joints, &textures, format, &shadow.maps);
         gpu.check_errors()?;
         let caps = ShadowCaps {
@@ -159,7 +167,9 @@ impl Renderer {
             bare: None,
             camera_depth: None,
             reduction: None,
-            computes: super::depth_reduction::computes(&gpu.adapter),
+            computes,
+            compute_stores,
+            software: gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu,
             last_layers: Vec::new(),
             atlas_stale: true,
             shadowless: Vec::new(),
@@ -343,7 +353,11 @@ impl Renderer {
         if shape.page > max {
             return Err(RenderError::ShadowMapTooLarge { size: shape.page, max });
         }
-        let colour = moments::ColourLayout { format, scale: moments::colour_scale(data.methods, how.moments_from) };
+        let storage = how.moments_from.from_depth()
+            && settings.maps.moment_resolve.compute(self.software)
+            && format.is_some_and(|f| self.compute_stores.stores(f.texture()));
+        let colour =
+            moments::ColourLayout { format, scale: moments::colour_scale(data.methods, how.moments_from), storage };
         if self.shadow.ensure_maps(device, shape, colour, shadow_depth) {
             self.main.rebind(device, &self.shadow.maps);
         }

@@ -25,6 +25,8 @@ pub const SKINNING: ShaderFile = shader_file!("skinning.wgsl");
 pub const MOMENTS: ShaderFile = shader_file!("moments.wgsl");
 /// The separable blur of moment maps.
 pub const BLUR: ShaderFile = shader_file!("blur.wgsl");
+/// Moment maps resolved from depth and blurred in one compute dispatch.
+pub const MOMENT_COMPUTE: ShaderFile = shader_file!("moment_compute.wgsl");
 /// The shadow pass (depth, and moments where a light uses them).
 pub const SHADOW: ShaderFile = shader_file!("shadow.wgsl");
 /// The frame uniform, the lights and the layers (bind group 0 of the main pass).
@@ -71,20 +73,20 @@ pub struct Composed {
 impl Composed {
     /// The prelude followed by `files`.
     pub fn new(files: &[ShaderFile]) -> Composed {
-        let mut text = String::new();
-        let mut starts = Vec::new();
-        let mut add = |name: &'static str, part: &str| {
-            starts.push((name, text.lines().count() + 1));
-            text.push_str(part);
-            if !part.ends_with('\n') {
-                text.push('\n');
-            }
-        };
-        add("prelude (src/render/gpu_types.rs)", &super::gpu_types::prelude());
-        for f in files {
-            add(f.name, f.text);
+        let prelude = Composed { text: String::new(), starts: Vec::new() }
+            .then("prelude (src/render/gpu_types.rs)", &super::gpu_types::prelude());
+        files.iter().fold(prelude, |composed, f| composed.then(f.name, f.text))
+    }
+
+    /// It followed by `part` (generated text, named `name` in errors).
+    #[must_use]
+    pub fn then(mut self, name: &'static str, part: &str) -> Composed {
+        self.starts.push((name, self.text.lines().count() + 1));
+        self.text.push_str(part);
+        if !part.ends_with('\n') {
+            self.text.push('\n');
         }
-        Composed { text, starts }
+        self
     }
 
     /// The file and line (both as in the file itself, 1-based) of line `line` of the joined text.

@@ -14,6 +14,7 @@ use super::frame::{FrameData, LayerDraw};
 use super::gpu_types::{Fill, GpuLayer};
 use super::instances::{InstanceBuffer, layer_calls};
 use super::mesh::{Drawables, JointPalette, Pipelines, Recipe};
+use super::moment_compute::ComputeStores;
 use super::moments::{
     ColourFormat, ColourLayout, MomentBlur, MomentInput, MomentTile, MomentWork, far_moments, passes_per_page,
 };
@@ -21,7 +22,7 @@ use super::shaders::{Composed, SHADOW_MODULE};
 use super::shadow_atlas::{Placement, ShadowMaps, depth_texture};
 use super::shadow_stats::ShadowStats;
 pub use super::shadow_tiles::DrawOptions;
-use super::shadow_tiles::{Drawing, Job, begin, distinct_pages, groups, shadow_variant};
+use super::shadow_tiles::{Drawing, Job, begin, groups, shadow_variant};
 use super::static_maps::StaticMaps;
 use super::texture::MaterialTextures;
 use super::tile_fill::{FillKind, TileFill};
@@ -29,7 +30,7 @@ use super::timing::{PassTimer, Stamps};
 use super::uniform_array::UniformArray;
 use crate::components::ShadowMethod;
 use crate::settings::ShadowDepth;
-use crate::shadow::{AtlasShape, MIN_TILE, Tile, TileState, Update, plan_updates};
+use crate::shadow::{AtlasShape, MIN_TILE, Tile, TileState, Update, distinct_pages, plan_updates};
 use std::collections::{HashMap, HashSet};
 
 /// The pipelines that draw into depth maps of one format: depth alone, and depth with a colour
@@ -58,6 +59,8 @@ pub struct ShadowPass {
     /// The pipelines for each [`ShadowDepth`] (indexed by it).
     sets: [PipelineSet; 2],
     blur: Option<MomentBlur>,
+    /// The moment formats the device makes in compute.
+    compute: ComputeStores,
     layer_uniforms: UniformArray,
     /// This frame's instanced casters: their object numbers and every object's placement.
     instances: InstanceBuffer,
@@ -103,15 +106,20 @@ struct Drawn {
 }
 
 impl ShadowPass {
-    /// Builds the shadow pipelines; `object_layout` is the per-object bind group layout.
+    /// Builds the shadow pipelines for a device that `reads_depth` (copies depth textures) and
+    /// makes moments of the formats `compute` says in compute; `object_layout` is the per-object
+    /// bind group layout.
     pub fn new(
         device: &wgpu::Device,
         reads_depth: bool,
+        compute: ComputeStores,
         object_layout: &wgpu::BindGroupLayout,
         palette: &JointPalette,
         textures: &MaterialTextures,
     ) -> Self {
-        let stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        // The moments' compute resolve reads the layers too.
+        let computes = if compute.any() { wgpu::ShaderStages::COMPUTE } else { wgpu::ShaderStages::NONE };
+        let stages = wgpu::ShaderStages::VERTEX_FRAGMENT | computes;
         let layer_uniforms = UniformArray::new(device, "shadow layers", size_of::<GpuLayer>() as u64, stages);
         let module = Composed::new(SHADOW_MODULE).module(device);
         let recipe = |fragment, targets: Vec<_>, depth: ShadowDepth| Recipe {
@@ -143,6 +151,7 @@ impl ShadowPass {
         ShadowPass {
             sets,
             blur: None,
+            compute,
             layer_uniforms,
             instances: InstanceBuffer::new(device, &palette.layout),
             fill: TileFill::new(device),
@@ -180,7 +189,12 @@ impl ShadowPass {
         if let Some(format) = colour.format.filter(|f| f.moments())
             && self.blur.as_ref().is_none_or(|b| b.format() != format)
         {
-            self.blur = Some(MomentBlur::new(device, format, &self.layer_uniforms.layout));
+            self.blur = Some(MomentBlur::new(
+                device,
+                format,
+                &self.layer_uniforms.layout,
+                self.compute.stores(format.texture()),
+            ));
         }
         true
     }
@@ -342,11 +356,14 @@ impl ShadowPass {
         let per_page = passes_per_page(&input, blur);
         let made: Vec<MomentTile> =
             jobs.iter().filter(|j| per_page > 0 && self.has_moment_map(j.layer)).map(|j| self.moment_tile(j)).collect();
-        let moment_passes = per_page * distinct_pages(made.iter().map(|t| t.tile.page)).len();
+        let work = MomentWork { maps: &self.maps.moments, tiles: &made, radius: blur, input };
+        let moment_passes = self.blur.as_ref().map_or(0, |b| b.passes(&work));
+        if self.blur.as_ref().is_some_and(|b| b.in_compute(&work)) {
+            stats.moments_in_compute = made.len() as u32;
+        }
         let mut stamps = Stamps { timer, next: 0, total: self.passes(&jobs) + moment_passes };
         self.encode_jobs(device, encoder, data, &jobs, with, &mut stamps);
         if let Some(moment_blur) = self.blur.as_mut().filter(|_| !made.is_empty()) {
-            let work = MomentWork { maps: &self.maps.moments, tiles: &made, radius: blur, input };
             moment_blur.encode((device, queue), encoder, work, &mut stamps);
         }
         for job in &jobs {
@@ -376,7 +393,7 @@ impl ShadowPass {
     /// The passes the jobs take: per page, one over the static atlas if a static map on it is
     /// redrawn, one for its depth-only tiles, one for its tiles with a colour map.
     fn passes(&self, jobs: &[Job]) -> usize {
-        let statics = distinct_pages(jobs.iter().filter(|j| j.statics.is_some()).map(|j| j.tile.page)).len();
+        let statics = distinct_pages(jobs.iter().filter(|j| j.statics.is_some()).map(|j| j.tile)).len();
         statics + groups(jobs).len()
     }
 
@@ -476,7 +493,7 @@ impl ShadowPass {
         let drawing =
             Drawing { with, items: &data.items, layers: &self.layer_uniforms, instances: self.instances.bindings() };
         let statics = self.statics.as_ref();
-        for page in distinct_pages(jobs.iter().filter(|j| j.statics.is_some()).map(|j| j.tile.page)) {
+        for page in distinct_pages(jobs.iter().filter(|j| j.statics.is_some()).map(|j| j.tile)) {
             let Some(target) = statics.and_then(|s| s.pages.layer_views.get(page as usize)) else { continue };
             let mut pass = begin(encoder, (target, None), false, stamps.next());
             for (job, &(fill, _)) in jobs.iter().zip(&fills).filter(|(j, _)| j.tile.page == page) {

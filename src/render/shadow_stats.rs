@@ -13,6 +13,9 @@ pub struct ShadowStats {
     pub lights: Vec<LightPasses>,
     /// Texels of the tiles drawn this frame.
     pub texels: u64,
+    /// Moment layers made from depth this frame by the compute dispatch (resolved and blurred
+    /// together; see [`crate::settings::MapSettings::moment_compute`]).
+    pub moments_in_compute: u32,
 }
 
 /// One light's shadow passes in a frame.

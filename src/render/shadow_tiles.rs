@@ -11,14 +11,6 @@ use crate::components::AlphaMode;
 use crate::settings::{MomentSource, ShadowFaces};
 use crate::shadow::Tile;
 
-/// The pages, each once, in order.
-pub(super) fn distinct_pages(pages: impl Iterator<Item = u32>) -> Vec<u32> {
-    let mut pages: Vec<u32> = pages.collect();
-    pages.sort_unstable();
-    pages.dedup();
-    pages
-}
-
 /// The (page, with a colour map) groups the jobs' tiles fall in, each once, in order.
 pub(super) fn groups(jobs: &[Job]) -> Vec<(u32, bool)> {
     let mut groups: Vec<(u32, bool)> = jobs.iter().map(|j| (j.tile.page, j.colour.is_some())).collect();

@@ -168,13 +168,15 @@ pub struct LayeredTarget {
     pub array_view: wgpu::TextureView,
 }
 
-/// A texture of `size`² texels and `layers` layers in `format`, drawn into and sampled.
+/// A texture of `size`² texels and `layers` layers in `format`, drawn into and sampled (and used
+/// as `extra` says too).
 pub fn render_target(
     device: &wgpu::Device,
     label: &str,
     format: wgpu::TextureFormat,
     size: u32,
     layers: u32,
+    extra: wgpu::TextureUsages,
 ) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
@@ -183,15 +185,23 @@ pub fn render_target(
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | extra,
         view_formats: &[],
     })
 }
 
 impl LayeredTarget {
-    /// `layers` layers of `size`² texels in `format` (the views keep the texture alive).
-    pub fn new(device: &wgpu::Device, label: &str, format: wgpu::TextureFormat, size: u32, layers: u32) -> Self {
-        let texture = render_target(device, label, format, size, layers);
+    /// `layers` layers of `size`² texels in `format`, used as `extra` says too (the views keep the
+    /// texture alive).
+    pub fn new(
+        device: &wgpu::Device,
+        label: &str,
+        format: wgpu::TextureFormat,
+        size: u32,
+        layers: u32,
+        extra: wgpu::TextureUsages,
+    ) -> Self {
+        let texture = render_target(device, label, format, size, layers, extra);
         let layer_views = (0..layers)
             .map(|layer| {
                 texture.create_view(&wgpu::TextureViewDescriptor {

@@ -195,4 +195,13 @@ impl Stamps<'_> {
         self.next += 1;
         self.timer.as_deref_mut()?.shadow_writes(i, self.total)
     }
+
+    /// The same for a compute pass.
+    pub(super) fn next_compute(&mut self) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        self.next().map(|w| wgpu::ComputePassTimestampWrites {
+            query_set: w.query_set,
+            beginning_of_pass_write_index: w.beginning_of_pass_write_index,
+            end_of_pass_write_index: w.end_of_pass_write_index,
+        })
+    }
 }

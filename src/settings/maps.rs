@@ -1,7 +1,7 @@
 //! The maps' settings: the shadow memory and how it is spent, and how each map is drawn, kept
 //! and made.
 
-use super::{MomentBits, MomentSource, SettingsError, SettingsGroup, bad};
+use super::{MomentBits, MomentResolve, MomentSource, SettingsError, SettingsGroup, bad};
 use bevy_ecs::prelude::*;
 
 /// How shadow maps are sized, drawn, kept and made.
@@ -59,6 +59,9 @@ pub struct MapSettings {
     /// How moment maps are made: resolved from the depth map (at its size, or a half or a
     /// quarter of it), or drawn as colour targets of their own.
     pub moments_from: MomentSource,
+    /// How moments resolved from depth are made: by one compute dispatch that resolves and
+    /// blurs in shared memory, or by full-screen passes (auto: each where it is faster).
+    pub moment_resolve: MomentResolve,
     /// Float bits per moment: each method's own choice (auto), 16 or 32.
     pub moment_bits: MomentBits,
     /// Radius in texels of the Gaussian blur a moment map gets after it is made (0: none).
@@ -87,6 +90,7 @@ impl Default for MapSettings {
             spot_map_limit: crate::shadow::MAX_MAP_HALF_ANGLE,
             cube_seams: true,
             moments_from: MomentSource::Colour,
+            moment_resolve: MomentResolve::Auto,
             moment_bits: MomentBits::Auto,
             moment_blur: DEFAULT_MOMENT_BLUR,
         }

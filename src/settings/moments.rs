@@ -57,6 +57,35 @@ impl MomentSource {
     }
 }
 
+/// How moments resolved from depth are made.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum MomentResolve {
+    /// By the compute dispatch on a GPU, by the full-screen passes on a software rasterizer
+    /// (where lavapipe runs the dispatch 2 to 4 times slower than the passes: its compute
+    /// invocations load and store texels one lane at a time).
+    #[default]
+    Auto,
+    /// One compute dispatch resolves and blurs in shared memory, where the device can (compute
+    /// shaders, a format it stores into, a blur of at most 7 texels; else the passes).
+    Compute,
+    /// Full-screen passes: the resolve, the blur's rows into a scratch page, its columns back.
+    Passes,
+}
+
+impl MomentResolve {
+    /// The compute dispatch is asked for on an adapter that is (`software`) or is not a
+    /// software rasterizer.
+    #[must_use]
+    pub fn compute(self, software: bool) -> bool {
+        match self {
+            MomentResolve::Auto => !software,
+            MomentResolve::Compute => true,
+            MomentResolve::Passes => false,
+        }
+    }
+}
+
+named_choices!(MomentResolve, "a moment resolve", Auto = "auto", Compute = "compute", Passes = "passes");
 named_choices!(MomentBits, "a moment-map precision", Auto = "auto", Half = "16", Full = "32");
 named_choices!(
     MomentSource,
@@ -66,3 +95,20 @@ named_choices!(
     Half = "depth/2",
     Quarter = "depth/4"
 );
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn auto_resolves_in_compute_on_a_gpu_only() {
+        assert!(MomentResolve::Auto.compute(false));
+        assert!(!MomentResolve::Auto.compute(true));
+        for software in [false, true] {
+            assert!(MomentResolve::Compute.compute(software));
+            assert!(!MomentResolve::Passes.compute(software));
+        }
+        assert_eq!("passes".parse::<MomentResolve>(), Ok(MomentResolve::Passes));
+        assert!("gpu".parse::<MomentResolve>().is_err());
+    }
+}

@@ -78,6 +78,15 @@ pub struct Tile {
     pub size: u32,
 }
 
+/// The pages of `tiles`, each once, in order.
+#[must_use]
+pub fn distinct_pages(tiles: impl Iterator<Item = Tile>) -> Vec<u32> {
+    let mut pages: Vec<u32> = tiles.map(|t| t.page).collect();
+    pages.sort_unstable();
+    pages.dedup();
+    pages
+}
+
 /// A quadtree node's state.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Node {

@@ -10,8 +10,8 @@ use crate::eval::metrics::Tally;
 use crate::light::{Kind, Light, light_list};
 use crate::render::{AtlasTile, ShadowStats};
 use crate::settings::{
-    CascadeSettings, CasterCulling, MAX_BIAS_SCALE, MapSettings, MomentBits, MomentSource, SettingsGroup, ShadowDepth,
-    ShadowFaces, ShadowSettings, ViewSettings,
+    CascadeSettings, CasterCulling, MAX_BIAS_SCALE, MapSettings, MomentBits, MomentResolve, MomentSource,
+    SettingsGroup, ShadowDepth, ShadowFaces, ShadowSettings, ViewSettings,
 };
 use crate::shadow::FitMode;
 use bevy_ecs::prelude::*;
@@ -246,6 +246,7 @@ fn shadow_settings(ui: &mut Ui, s: &mut ShadowSettings, maps: &mut MapSettings) 
     ui.add(slide(&mut s.light_bleeding, 0.0..=0.9).text("light-bleeding cut"));
     choice(ui, "moment bits", &mut maps.moment_bits, MomentBits::ALL, MomentBits::name);
     choice(ui, "moments from", &mut maps.moments_from, MomentSource::ALL, MomentSource::name);
+    choice(ui, "moments resolved by", &mut maps.moment_resolve, MomentResolve::ALL, MomentResolve::name);
     ui.checkbox(&mut s.contact_shadows, "contact shadows, lights without their own (J)");
     ui.add(slide(&mut s.contact_steps, 1..=crate::settings::MAX_CONTACT_STEPS).text("contact steps"));
     ui.add(slide(&mut s.contact_length, 0.0..=2.0).text("contact length (m)"));
