@@ -51,9 +51,13 @@ fn instanced_and_one_by_one_drawing_give_the_same_frames() {
 }
 
 #[test]
-fn layers_with_a_colour_map_draw_one_by_one_and_stay_the_same() {
-    let (a, b) = compare(Settings::default().with(|s| s.shadow.method = ShadowMethod::Vsm));
-    assert_eq!(a, b, "no layer is batched");
+fn layers_drawn_as_colour_targets_draw_one_by_one_and_moments_from_depth_are_batched() {
+    let vsm = Settings::default().with(|s| s.shadow.method = ShadowMethod::Vsm);
+    let (a, b) = compare(vsm.clone().with(|s| s.maps.moments_from = umbra::settings::MomentSource::Colour));
+    assert_eq!(a, b, "no layer drawn as a colour target is batched");
+    // Resolved from depth (the default), a moment layer is drawn depth-only, instanced like any.
+    let (a, b) = compare(vsm);
+    assert!(b > 0 && a > 10 * b, "moment layers drawn depth-only take far fewer calls: {b} against {a}");
 }
 
 #[test]

@@ -279,16 +279,17 @@ pub fn configs(quick: bool) -> Vec<Config> {
             push(Config { map_size, method, ..d });
         }
     }
-    // A moment map at half the depth map's side, resolved both ways: what the quick sweep takes
-    // of the resolves.
+    // VSM drawn as a colour target, and a moment map at half the depth map's side resolved both
+    // ways: what the quick sweep takes of the ways to make them.
+    push(Config { method: ShadowMethod::Vsm, moments_from: MomentSource::Colour, ..d });
     for moment_resolve in [MomentResolve::Compute, MomentResolve::Passes] {
         push(Config { method: ShadowMethod::Vsm, moments_from: MomentSource::Half, moment_resolve, ..d });
     }
-    // Moment maps resolved from the depth map, at its side, a half and a quarter of it (the full
-    // sweep only).
+    // Moment maps drawn as colour targets, and resolved from the depth map at a half and a
+    // quarter of its side (the full sweep only).
     if !quick {
         for &method in ShadowMethod::ALL.iter().filter(|m| m.moments()) {
-            for moments_from in [MomentSource::Depth, MomentSource::Half, MomentSource::Quarter] {
+            for moments_from in [MomentSource::Colour, MomentSource::Half, MomentSource::Quarter] {
                 push(Config { method, moments_from, ..d });
             }
         }

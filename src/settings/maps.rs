@@ -89,7 +89,7 @@ impl Default for MapSettings {
             shadow_faces: ShadowFaces::Both,
             spot_map_limit: crate::shadow::MAX_MAP_HALF_ANGLE,
             cube_seams: true,
-            moments_from: MomentSource::Colour,
+            moments_from: MomentSource::Depth,
             moment_resolve: MomentResolve::Auto,
             moment_bits: MomentBits::Auto,
             moment_blur: DEFAULT_MOMENT_BLUR,
