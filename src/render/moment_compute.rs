@@ -15,6 +15,9 @@ use super::uniform_array::UniformArray;
 /// block's side plus the widest blur's reach each side.
 pub const WORKGROUP_BYTES: u32 = (RESOLVE_BLOCK + 2 * RESOLVE_MAX_RADIUS).pow(2) * 16;
 
+// Each invocation keeps at most two texels of the rows' blur (`rows` in `cs_resolve`).
+const _: () = assert!((RESOLVE_BLOCK + 2 * RESOLVE_MAX_RADIUS) * RESOLVE_BLOCK <= 2 * RESOLVE_BLOCK * RESOLVE_BLOCK);
+
 /// The WGSL name of `format` as a storage texture's, for the moment formats compute may store.
 #[must_use]
 pub fn storage_name(format: wgpu::TextureFormat) -> Option<&'static str> {
@@ -222,8 +225,6 @@ mod tests {
         let least = wgpu::Limits::downlevel_defaults();
         assert!(WORKGROUP_BYTES <= least.max_compute_workgroup_storage_size);
         assert!(RESOLVE_BLOCK * RESOLVE_BLOCK <= least.max_compute_invocations_per_workgroup);
-        // Each invocation keeps at most two texels of the rows' blur.
-        assert!((RESOLVE_BLOCK + 2 * RESOLVE_MAX_RADIUS) * RESOLVE_BLOCK <= 2 * RESOLVE_BLOCK * RESOLVE_BLOCK);
     }
 
     #[test]

@@ -5,7 +5,8 @@
 //!
 //! A moment layer is made from its depth map once that is drawn: [`MomentBlur`] reads the depth,
 //! turns it into moments (at the depth map's size or smaller, each moment texel the mean of the
-//! depth texels it covers) and blurs them along rows into a scratch map and along columns back.
+//! depth texels it covers) and blurs them: in one compute dispatch where the device can
+//! ([`super::moment_compute`]), else along rows into a scratch map and along columns back.
 //! Depth in colour, and moments with [`MomentSource::Colour`], are drawn by the shadow pass as a
 //! colour target instead (`fs_moments` in shadow.wgsl: where the depth is known, so what a
 //! method stores is made there), and moments are then blurred alone.
@@ -413,7 +414,7 @@ impl MomentBlur {
     }
 
     /// Makes `work`'s tiles from its input and blurs them by its radius each way, in one compute
-    /// pass where it can ([`MomentWork::in_compute`]), else with [`passes_per_page`] passes a page
+    /// pass where it can ([`MomentBlur::in_compute`]), else with [`passes_per_page`] passes a page
     /// (the resolve into the page, rows into the scratch page, columns back), each stamped as the
     /// frame's next shadow pass. Each tile reads only its own texels.
     pub(super) fn encode(

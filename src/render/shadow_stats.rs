@@ -14,7 +14,7 @@ pub struct ShadowStats {
     /// Texels of the tiles drawn this frame.
     pub texels: u64,
     /// Moment layers made from depth this frame by the compute dispatch (resolved and blurred
-    /// together; see [`crate::settings::MapSettings::moment_compute`]).
+    /// together; see [`crate::settings::MapSettings::moment_resolve`]).
     pub moments_in_compute: u32,
 }
 
