@@ -241,6 +241,24 @@ fn contact_shadows_leave_no_halo_behind_a_thin_bar_unless_surfaces_are_taken_thi
 }
 
 #[test]
+fn contact_shadows_miss_a_caster_past_the_screens_edge_and_never_darken_what_they_cannot_see() {
+    let gpu = common::gpu();
+    let [whole, cut] = umbra::eval::cases::contact_edge(&mut measurer(&gpu), &Settings::default()).unwrap();
+    eprintln!("contact-edge: {whole:?} lit seen whole, {cut:?} cut by the screen's edge");
+    assert!(whole.of > 100 && cut.of > 100, "too few samples: {whole:?} {cut:?}");
+    // With the wall in view the march closes the gap the bias opens (a march too short to reach
+    // the wall leaves it open: the closing is the march's doing).
+    assert!(whole.value() < 0.05, "seen whole, contact shadows should close the gap: {whole:?}");
+    let short = Settings::default().with(|s| s.shadow.contact_length = 0.01);
+    let [open, _] = umbra::eval::cases::contact_edge(&mut measurer(&gpu), &short).unwrap();
+    assert!(open.value() > 0.5, "the bias should open a gap: {open:?}");
+    // With the wall past the screen's edge the march leaves the screen first: a step off screen is
+    // taken as lit, so the gap stays open (were it taken as blocked, every screen edge would
+    // draw a false shadow).
+    assert!(cut.value() > 0.5, "cut by the edge, the march cannot see the cube: {cut:?}");
+}
+
+#[test]
 fn contact_shadows_close_the_gap_a_large_bias_opens_at_a_cubes_foot() {
     // A slope bias of 30 texels pushes the ground's lookups past the cube's side. (A normal bias
     // opens no gap here: it lifts a ground point straight up, still under the cube's shadow.)

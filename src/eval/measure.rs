@@ -114,6 +114,9 @@ pub enum CaseScene {
     TileResize,
     /// A thin bar near the camera over a far ground, with contact shadows.
     ContactHalos,
+    /// A cube whose foot a depth bias lifts the map's shadow from, seen whole and cut by the
+    /// screen's edge, with contact shadows.
+    ContactEdge,
     /// Three spots over sliding posts sharing a starved update budget.
     StarvedBudget,
 }

@@ -6,6 +6,7 @@
 
 pub mod budget;
 mod contact;
+pub use contact::contact_edge;
 pub mod precision;
 pub mod scenes;
 mod soft;
