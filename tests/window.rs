@@ -36,11 +36,14 @@ impl Drop for Killed {
     }
 }
 
-/// Starts Xvfb on a display it picks itself (free of every other server's), and names it.
+/// Starts Xvfb on a display it picks itself (free of every other server's), and names it. It
+/// keeps running as it is when its last client leaves (`-noreset`): by default an X server resets
+/// then, and a client connecting meanwhile (umbra, just after the readiness probe's xdotool
+/// left) is refused.
 fn start_xvfb() -> (Killed, String) {
     use std::io::BufRead;
     let mut xvfb = Command::new("Xvfb")
-        .args(["-displayfd", "1", "-screen", "0", "1400x900x24", "-nolisten", "tcp"])
+        .args(["-displayfd", "1", "-screen", "0", "1400x900x24", "-nolisten", "tcp", "-noreset"])
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
