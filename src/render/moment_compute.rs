@@ -18,25 +18,19 @@ pub const WORKGROUP_BYTES: u32 = (RESOLVE_BLOCK + 2 * RESOLVE_MAX_RADIUS).pow(2)
 // Each invocation keeps at most two texels of the rows' blur (`rows` in `cs_resolve`).
 const _: () = assert!((RESOLVE_BLOCK + 2 * RESOLVE_MAX_RADIUS) * RESOLVE_BLOCK <= 2 * RESOLVE_BLOCK * RESOLVE_BLOCK);
 
+/// The moment formats compute may store into, with their WGSL names.
+const STORED: [(wgpu::TextureFormat, &str); 4] = [
+    (wgpu::TextureFormat::Rgba16Float, "rgba16float"),
+    (wgpu::TextureFormat::Rgba32Float, "rgba32float"),
+    (wgpu::TextureFormat::Rg16Float, "rg16float"),
+    (wgpu::TextureFormat::Rg32Float, "rg32float"),
+];
+
 /// The WGSL name of `format` as a storage texture's, for the moment formats compute may store.
 #[must_use]
 pub fn storage_name(format: wgpu::TextureFormat) -> Option<&'static str> {
-    match format {
-        wgpu::TextureFormat::Rgba16Float => Some("rgba16float"),
-        wgpu::TextureFormat::Rgba32Float => Some("rgba32float"),
-        wgpu::TextureFormat::Rg16Float => Some("rg16float"),
-        wgpu::TextureFormat::Rg32Float => Some("rg32float"),
-        _ => None,
-    }
+    STORED.iter().find(|(f, _)| *f == format).map(|(_, name)| *name)
 }
-
-/// The moment formats compute may store into.
-const STORED: [wgpu::TextureFormat; 4] = [
-    wgpu::TextureFormat::Rgba16Float,
-    wgpu::TextureFormat::Rgba32Float,
-    wgpu::TextureFormat::Rg16Float,
-    wgpu::TextureFormat::Rg32Float,
-];
 
 /// True when a device with `limits` that runs compute shaders (`computes`) and allows `usages`
 /// of `format` can make moment maps of that format in compute: it stores into the format and
@@ -69,14 +63,14 @@ impl ComputeStores {
             }
         };
         let limits = device.limits();
-        let bits = STORED.iter().enumerate().filter(|(_, f)| stores(**f, usages(**f), computes, &limits));
+        let bits = STORED.iter().enumerate().filter(|(_, (f, _))| stores(*f, usages(*f), computes, &limits));
         ComputeStores(bits.fold(0, |b, (i, _)| b | 1 << i))
     }
 
     /// Moments of `format` are made in compute here.
     #[must_use]
     pub fn stores(self, format: wgpu::TextureFormat) -> bool {
-        STORED.iter().position(|f| *f == format).is_some_and(|i| self.0 & 1 << i != 0)
+        STORED.iter().position(|(f, _)| *f == format).is_some_and(|i| self.0 & 1 << i != 0)
     }
 
     /// Some moments are.
