@@ -97,10 +97,7 @@ impl BareDepth {
     ) {
         let key = (shape.page, array_layers(shape.pages), self.format);
         if self.maps.as_ref().is_none_or(|(_, s)| *s != key) {
-            self.maps = Some((
-                LayeredTarget::new(device, "bare depth", self.format, key.0, key.1, wgpu::TextureUsages::empty()),
-                key,
-            ));
+            self.maps = Some((LayeredTarget::new(device, "bare depth", self.format, key.0, key.1), key));
         }
         let matrices: Vec<Mat4> = data.draws.iter().map(|d| d.clip_from_world).collect();
         self.layers.write(device, queue, &matrices);

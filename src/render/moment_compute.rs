@@ -53,7 +53,7 @@ impl ComputeStores {
     /// channels and for two 32-bit floats; half-float pairs where the device has
     /// `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES` and the adapter says so.
     pub fn of(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Self {
-        let computes = adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS);
+        let computes = super::depth_reduction::computes(adapter);
         let features = device.features();
         let usages = |f: wgpu::TextureFormat| {
             if features.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {

@@ -237,7 +237,7 @@ impl ColourMaps {
         let storage = storage && format.is_some();
         let extra = if storage { wgpu::TextureUsages::STORAGE_BINDING } else { wgpu::TextureUsages::empty() };
         let LayeredTarget { layer_views, array_view, .. } =
-            LayeredTarget::new(device, "moment maps", tex_format, size, layers, extra);
+            LayeredTarget::of(&render_target(device, "moment maps", tex_format, size, layers, extra), "moment maps");
         let scratch_view = render_target(device, "moment scratch", tex_format, size, 1, wgpu::TextureUsages::empty())
             .create_view(&Default::default());
         ColourMaps { format, scale, storage, layer_views, array_view, scratch_view }

@@ -41,14 +41,7 @@ impl ShadowMaps {
     /// Pages of `shape` in `depth`, with colour pages of `colour`.
     pub fn new(device: &wgpu::Device, shape: AtlasShape, colour: ColourLayout, depth: ShadowDepth) -> Self {
         let layers = array_layers(shape.pages);
-        let pages = LayeredTarget::new(
-            device,
-            "shadow atlas",
-            depth_texture(depth),
-            shape.page,
-            layers,
-            wgpu::TextureUsages::empty(),
-        );
+        let pages = LayeredTarget::new(device, "shadow atlas", depth_texture(depth), shape.page, layers);
         let moments = ColourMaps::new(device, colour, shape.page, layers);
         ShadowMaps { shape, depth, pages, moments }
     }

@@ -30,8 +30,7 @@ pub struct StaticMaps {
 impl StaticMaps {
     /// `pages` pages of `side`² texels of `format` depth, holding nothing yet.
     pub fn new(device: &wgpu::Device, side: u32, pages: u32, format: wgpu::TextureFormat) -> Self {
-        let pages_target =
-            LayeredTarget::new(device, "static shadow atlas", format, side, pages, wgpu::TextureUsages::empty());
+        let pages_target = LayeredTarget::new(device, "static shadow atlas", format, side, pages);
         StaticMaps { pages: pages_target, shape: (side, pages, format), drawn: HashMap::new() }
     }
 

@@ -191,18 +191,14 @@ pub fn render_target(
 }
 
 impl LayeredTarget {
-    /// `layers` layers of `size`² texels in `format`, used as `extra` says too (the views keep the
-    /// texture alive).
-    pub fn new(
-        device: &wgpu::Device,
-        label: &str,
-        format: wgpu::TextureFormat,
-        size: u32,
-        layers: u32,
-        extra: wgpu::TextureUsages,
-    ) -> Self {
-        let texture = render_target(device, label, format, size, layers, extra);
-        let layer_views = (0..layers)
+    /// `layers` layers of `size`² texels in `format` (the views keep the texture alive).
+    pub fn new(device: &wgpu::Device, label: &str, format: wgpu::TextureFormat, size: u32, layers: u32) -> Self {
+        Self::of(&render_target(device, label, format, size, layers, wgpu::TextureUsages::empty()), label)
+    }
+
+    /// The views of `texture`, a [`render_target`] (one per layer, and the whole array).
+    pub fn of(texture: &wgpu::Texture, label: &str) -> Self {
+        let layer_views = (0..texture.depth_or_array_layers())
             .map(|layer| {
                 texture.create_view(&wgpu::TextureViewDescriptor {
                     label: Some(label),
