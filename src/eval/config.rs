@@ -169,6 +169,14 @@ impl Config {
             || !(self.method.colour_depth_bits() > 16 || self.method.moments() && self.moment_bits == MomentBits::Full)
     }
 
+    /// This configuration as an adapter that is a software rasterizer (`software`) or not runs
+    /// it: an `auto` moment resolve replaced by the way auto picks there.
+    #[must_use]
+    pub fn as_run(&self, software: bool) -> Config {
+        let compute = self.moment_resolve.compute(software);
+        Config { moment_resolve: if compute { MomentResolve::Compute } else { MomentResolve::Passes }, ..*self }
+    }
+
     /// How its moment maps are made (blur radius, bits, source when not the default), for
     /// moment methods only.
     fn moment_label(&self) -> String {
@@ -340,6 +348,23 @@ pub fn configs(quick: bool) -> Vec<Config> {
     out
 }
 
+/// `configs` less each that runs as an earlier one does on an adapter that is a software
+/// rasterizer (`software`) or not: an explicit moment resolve naming what auto picks there
+/// measures its auto twin again.
+#[must_use]
+pub fn distinct_as_run(configs: Vec<Config>, software: bool) -> Vec<Config> {
+    let mut seen = Vec::new();
+    configs
+        .into_iter()
+        .filter(|c| {
+            let run = c.as_run(software);
+            let new = !seen.contains(&run);
+            seen.push(run);
+            new
+        })
+        .collect()
+}
+
 /// A view of a measured scene: a camera and a time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
@@ -476,6 +501,36 @@ mod tests {
         assert_eq!(c.short_label(), "2048 x4 pcf3 b2");
         let c = Config { depth: ShadowDepth::Unorm16, bias_scale: 0.05, ..Config::default_settings() };
         assert_eq!(c.label(), "2048 x4 stable bilinear b0.5 d16 s0.05");
+    }
+
+    #[test]
+    fn a_resolve_named_as_auto_picks_it_is_measured_once() {
+        let all = configs(false);
+        let d = Config::default_settings();
+        let vsm = |moment_resolve| Config {
+            method: ShadowMethod::Vsm,
+            moments_from: MomentSource::Half,
+            moment_resolve,
+            ..d
+        };
+        assert!(
+            [MomentResolve::Auto, MomentResolve::Compute, MomentResolve::Passes].iter().all(|&r| all.contains(&vsm(r)))
+        );
+        for (software, twin, other) in [
+            (false, MomentResolve::Compute, MomentResolve::Passes),
+            (true, MomentResolve::Passes, MomentResolve::Compute),
+        ] {
+            let kept = distinct_as_run(all.clone(), software);
+            // Auto and the resolve it picks here: the first of the two kept, the other way too.
+            let twins = [vsm(MomentResolve::Auto), vsm(twin)].iter().filter(|c| kept.contains(c)).count();
+            assert_eq!(twins, 1, "software {software}: auto and its explicit twin both measured");
+            assert!(kept.contains(&vsm(other)));
+            // Only twins go: every configuration that runs differently stays, in order.
+            let runs: Vec<Config> = all.iter().map(|c| c.as_run(software)).collect();
+            let distinct = runs.iter().enumerate().filter(|(i, r)| !runs[..*i].contains(r)).count();
+            assert_eq!(kept.len(), distinct);
+            assert_eq!(kept[0], all[0]);
+        }
     }
 
     #[test]

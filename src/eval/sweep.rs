@@ -2,7 +2,7 @@
 //! sample scene and in each failure case, measured in one run.
 
 use super::cases::{CASES, Score};
-use super::config::{Config, SweepOptions, View};
+use super::config::{Config, SweepOptions, View, distinct_as_run};
 use super::cost::{Cost, time_all};
 use super::measure::{MeasureError, Measurer, SubjectId, TruthSettings, place_camera};
 use super::metrics::{LightReport, report};
@@ -70,7 +70,8 @@ pub fn run(
     base.validate()?;
     let full_floats = gpu.full_float_moments();
     let configs = options.configs().map_err(MeasureError::Sweep)?;
-    let configs: Vec<Config> = configs.into_iter().filter(|c| c.supported(full_floats)).collect();
+    let supported = configs.into_iter().filter(|c| c.supported(full_floats)).collect();
+    let configs = distinct_as_run(supported, gpu.software());
     let rounds = (options.frames as usize + 2) * options.views.len();
     let steps = rounds + configs.len();
     let costs = time_all(gpu, base, &configs, options, |round| progress(round, steps, "timing every configuration"))?;

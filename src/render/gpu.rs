@@ -76,6 +76,11 @@ impl Gpu {
         format!("{} ({:?}, {:?} backend)", info.name, info.device_type, info.backend)
     }
 
+    /// True when the adapter is a software rasterizer (lavapipe, llvmpipe).
+    pub fn software(&self) -> bool {
+        self.adapter.get_info().device_type == wgpu::DeviceType::Cpu
+    }
+
     /// True when moment maps can be 32-bit floats here (GL cannot render into them).
     pub fn full_float_moments(&self) -> bool {
         super::moments::full_supported(&self.adapter, self.device.features())

@@ -169,7 +169,7 @@ impl Renderer {
             reduction: None,
             computes,
             compute_stores,
-            software: gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu,
+            software: gpu.software(),
             last_layers: Vec::new(),
             atlas_stale: true,
             shadowless: Vec::new(),
