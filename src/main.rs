@@ -430,7 +430,8 @@ fn sweep(args: &BenchArgs) -> Result<()> {
     }
     let mut options = config::SweepOptions::new(args.quick);
     options.families = args.family.clone();
-    let configs = options.configs().map_err(anyhow::Error::msg)?.len();
+    // An unknown family is refused before a GPU is looked for.
+    options.configs().map_err(anyhow::Error::msg)?;
     if settings.scene.file.is_some() {
         options.views = config::views(&mut app(&args.scene)?);
         options.base = settings;
@@ -449,6 +450,7 @@ fn sweep(args: &BenchArgs) -> Result<()> {
         Some(path) => format!("the scene {}", path.display()),
         None => "the sample scene".to_string(),
     };
+    let configs = sweep::configs_on(&gpu, &options)?.len();
     let timing = if cost::timed_on_gpu(&gpu) { "GPU timestamps" } else { "the wall clock (no timestamps here)" };
     println!("adapter: {}", gpu.describe());
     println!(

@@ -334,10 +334,20 @@ pub fn configs(quick: bool) -> Vec<Config> {
     }
     push(Config { faces: ShadowFaces::Back, bias: 0.0, ..d });
     push(Config { bevy_like: true, ..d });
-    // Contact shadows over the default, a member of each family and Bevy-like (full sweep only).
+    // Contact shadows over the default, a member of every family with a map (two moment maps)
+    // and Bevy-like (full sweep only).
     if !quick {
         push(Config { contact: true, ..d });
-        for method in [ShadowMethod::Pcf5, ShadowMethod::Pcss, ShadowMethod::Evsm, ShadowMethod::Msm] {
+        let members = [
+            ShadowMethod::Pcf5,
+            ShadowMethod::Gauss5,
+            ShadowMethod::Poisson32,
+            ShadowMethod::Pcss,
+            ShadowMethod::RadialR16f,
+            ShadowMethod::Evsm,
+            ShadowMethod::Msm,
+        ];
+        for method in members {
             push(Config { method, contact: true, ..d });
         }
         push(Config { bevy_like: true, contact: true, ..d });
@@ -501,6 +511,17 @@ mod tests {
         assert_eq!(c.short_label(), "2048 x4 pcf3 b2");
         let c = Config { depth: ShadowDepth::Unorm16, bias_scale: 0.05, ..Config::default_settings() };
         assert_eq!(c.label(), "2048 x4 stable bilinear b0.5 d16 s0.05");
+    }
+
+    #[test]
+    fn contact_shadows_are_swept_with_every_family_that_has_a_map() {
+        let all = configs(false);
+        for method in ShadowMethod::ALL.iter().filter(|m| **m != ShadowMethod::Planar) {
+            let family = method.family();
+            assert!(all.iter().any(|c| c.contact && !c.bevy_like && c.method.family() == family), "{family}");
+        }
+        assert!(all.iter().any(|c| c.contact && c.bevy_like));
+        assert!(configs(true).iter().all(|c| !c.contact), "the quick sweep leaves them out");
     }
 
     #[test]

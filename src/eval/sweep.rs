@@ -59,6 +59,15 @@ pub fn scene_accuracy(
     Ok((total, names))
 }
 
+/// The configurations of `options` the sweep measures on `gpu`: those it supports, each that
+/// runs as an earlier one does left out.
+pub fn configs_on(gpu: &Gpu, options: &SweepOptions) -> Result<Vec<Config>, MeasureError> {
+    let full_floats = gpu.full_float_moments();
+    let configs = options.configs().map_err(MeasureError::Sweep)?;
+    let supported = configs.into_iter().filter(|c| c.supported(full_floats)).collect();
+    Ok(distinct_as_run(supported, gpu.software()))
+}
+
 /// Runs the sweep on `gpu`: first every configuration's cost, timed in interleaved rounds, then
 /// each one's accuracy; `progress` hears each step as it starts (done, of, what).
 pub fn run(
@@ -68,10 +77,7 @@ pub fn run(
 ) -> Result<Vec<Row>, MeasureError> {
     let base = &options.base;
     base.validate()?;
-    let full_floats = gpu.full_float_moments();
-    let configs = options.configs().map_err(MeasureError::Sweep)?;
-    let supported = configs.into_iter().filter(|c| c.supported(full_floats)).collect();
-    let configs = distinct_as_run(supported, gpu.software());
+    let configs = configs_on(gpu, options)?;
     let rounds = (options.frames as usize + 2) * options.views.len();
     let steps = rounds + configs.len();
     let costs = time_all(gpu, base, &configs, options, |round| progress(round, steps, "timing every configuration"))?;
