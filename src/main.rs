@@ -469,16 +469,22 @@ fn sweep(args: &BenchArgs) -> Result<()> {
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     let started = Instant::now();
+    let mut timed = None;
     let rows = sweep::run(&gpu, &options, |done, of, what| {
+        if what != sweep::TIMING && timed.is_none() {
+            timed = Some(started.elapsed().as_secs_f64());
+        }
         bar.set_length(of as u64);
         bar.set_position(done as u64);
         bar.set_message(what.to_string());
     })?;
+    let total = started.elapsed().as_secs_f64();
+    let timed = timed.unwrap_or(total);
     bar.finish_and_clear();
     let heading = format!(
         "# umbra bench{}
 
-{} configurations{} on {}, timed by {timing}; {:.0} s in all. Shadow cost: the median over {} \
+{} configurations{} on {}, timed by {timing}; {:.0} s in all ({:.0} s timing, {:.0} s measuring errors). Shadow cost: the median over {} \
          frames of drawing every shadow layer (a frame with every map drawn against the same frame with every \
          map kept) plus what the lookups add (that frame against one with shadows off). Errors: pixels of {} views of {scene} at {}x{} against a ray-traced truth (every light \
          together; the soft truth from {} rays over each light's disc: {}).",
@@ -486,7 +492,9 @@ fn sweep(args: &BenchArgs) -> Result<()> {
         rows.len(),
         families(&options.families),
         gpu.describe(),
-        started.elapsed().as_secs_f64(),
+        total,
+        timed,
+        total - timed,
         options.frames as usize * options.views.len(),
         options.views.len(),
         options.size.0,

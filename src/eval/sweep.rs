@@ -59,6 +59,10 @@ pub fn scene_accuracy(
     Ok((total, names))
 }
 
+/// What [`run`] tells its progress while it times the configurations (then it names the one
+/// being measured).
+pub const TIMING: &str = "timing every configuration";
+
 /// The configurations of `options` the sweep measures on `gpu`: those it supports, each that
 /// runs as an earlier one does left out.
 pub fn configs_on(gpu: &Gpu, options: &SweepOptions) -> Result<Vec<Config>, MeasureError> {
@@ -80,7 +84,7 @@ pub fn run(
     let configs = configs_on(gpu, options)?;
     let rounds = (options.frames as usize + 2) * options.views.len();
     let steps = rounds + configs.len();
-    let costs = time_all(gpu, base, &configs, options, |round| progress(round, steps, "timing every configuration"))?;
+    let costs = time_all(gpu, base, &configs, options, |round| progress(round, steps, TIMING))?;
     let mut scene = Measurer::new(gpu, options.size, options.truth);
     let mut cases = Measurer::new(gpu, options.case_size, TruthSettings { soft_rays: 0, ..options.truth });
     let mut rows = Vec::new();
