@@ -159,6 +159,10 @@ struct BenchArgs {
     /// refused with the list).
     #[arg(long, value_name = "FAMILY", conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]
     family: Vec<String>,
+    /// Configurations whose errors the sweep measures at once, each on a thread of its own
+    /// (default: one per four cores, one to four; the timing is never shared).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=64), conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]
+    threads: Option<u32>,
     /// Rays over each light's disc for the soft truth (default 32, 8 with --quick).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=4096))]
     soft_rays: Option<u32>,
@@ -430,6 +434,9 @@ fn sweep(args: &BenchArgs) -> Result<()> {
     }
     let mut options = config::SweepOptions::new(args.quick);
     options.families = args.family.clone();
+    if let Some(n) = args.threads {
+        options.workers = n as usize;
+    }
     // An unknown family is refused before a GPU is looked for.
     options.configs().map_err(anyhow::Error::msg)?;
     if settings.scene.file.is_some() {

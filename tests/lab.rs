@@ -303,3 +303,26 @@ fn texel_density_is_red_for_a_coarse_map_and_blue_for_a_fine_one() {
         "2048² at 480x270 puts texels to spare in a pixel: red {fine_red}, blue {fine_blue}"
     );
 }
+
+#[test]
+fn the_sweeps_errors_are_the_same_whether_one_thread_measures_them_or_several() {
+    let gpu = gpu();
+    let mut options = SweepOptions::new(true);
+    // The default and planar shadows, one small view, small cases, one timed frame.
+    options.families = vec!["planar".into()];
+    options.views = vec![VIEWS[0]];
+    options.size = (160, 90);
+    options.case_size = (128, 128);
+    options.frames = 1;
+    let run = |workers| {
+        let options = SweepOptions { workers, ..options.clone() };
+        umbra::eval::sweep::run(&gpu, &options, |_, _, _| {}).unwrap()
+    };
+    let (one, two) = (run(1), run(2));
+    assert_eq!(one.len(), 2);
+    assert!(one.iter().zip(&two).all(|(a, b)| a.config == b.config), "rows in the order of the configurations");
+    for (a, b) in one.iter().zip(&two) {
+        // The second configuration: measured after the first by one thread, first by its own.
+        assert_eq!((&a.scene, &a.lights, &a.cases), (&b.scene, &b.lights, &b.cases), "{}", a.config.label());
+    }
+}

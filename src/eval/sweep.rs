@@ -9,6 +9,8 @@ use super::metrics::{LightReport, report};
 use crate::App;
 use crate::render::Gpu;
 use crate::settings::Settings;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// One configuration's results.
 #[derive(Clone, Debug, PartialEq)]
@@ -73,11 +75,12 @@ pub fn configs_on(gpu: &Gpu, options: &SweepOptions) -> Result<Vec<Config>, Meas
 }
 
 /// Runs the sweep on `gpu`: first every configuration's cost, timed in interleaved rounds, then
-/// each one's accuracy; `progress` hears each step as it starts (done, of, what).
+/// each one's accuracy (`options.workers` configurations at once); `progress` hears each step
+/// as it starts (done, of, what).
 pub fn run(
     gpu: &Gpu,
     options: &SweepOptions,
-    mut progress: impl FnMut(usize, usize, &str),
+    mut progress: impl FnMut(usize, usize, &str) + Send,
 ) -> Result<Vec<Row>, MeasureError> {
     let base = &options.base;
     base.validate()?;
@@ -85,18 +88,57 @@ pub fn run(
     let rounds = (options.frames as usize + 2) * options.views.len();
     let steps = rounds + configs.len();
     let costs = time_all(gpu, base, &configs, options, |round| progress(round, steps, TIMING))?;
-    let mut scene = Measurer::new(gpu, options.size, options.truth);
-    let mut cases = Measurer::new(gpu, options.case_size, TruthSettings { soft_rays: 0, ..options.truth });
-    let mut rows = Vec::new();
-    for ((i, config), cost) in configs.iter().enumerate().zip(costs) {
-        progress(rounds + i, steps, &config.label());
-        let settings = config.settings(base);
-        let (accuracy, lights) = scene_accuracy(&mut scene, &settings, &options.views)?;
-        let scores = CASES.iter().map(|c| (c.run)(&mut cases, &settings)).collect::<Result<Vec<_>, _>>()?;
-        rows.push(Row { config: *config, cost, scene: accuracy, lights, cases: scores });
+    let timed: Vec<(Config, Cost)> = configs.into_iter().zip(costs).collect();
+    let progress = Mutex::new(progress);
+    let begun = AtomicUsize::new(rounds);
+    let rows = measure_all(gpu, options, &timed, |label| {
+        let done = begun.fetch_add(1, Ordering::Relaxed);
+        if let Ok(mut progress) = progress.lock() {
+            progress(done, steps, label);
+        }
+    })?;
+    if let Ok(mut progress) = progress.lock() {
+        progress(steps, steps, "done");
     }
-    progress(steps, steps, "done");
     Ok(rows)
+}
+
+/// The errors of every timed configuration of `timed`, measured by `options.workers` threads at
+/// once, each taking the next configuration not yet taken and measuring it with measurers (and
+/// renderers) of its own; `begins` hears each configuration's label as it is taken. Rows in the
+/// order of `timed`.
+fn measure_all(
+    gpu: &Gpu,
+    options: &SweepOptions,
+    timed: &[(Config, Cost)],
+    begins: impl Fn(&str) + Sync,
+) -> Result<Vec<Row>, MeasureError> {
+    let next = AtomicUsize::new(0);
+    let worker = || -> Result<Vec<(usize, Row)>, MeasureError> {
+        let mut scene = Measurer::new(gpu, options.size, options.truth);
+        let mut cases = Measurer::new(gpu, options.case_size, TruthSettings { soft_rays: 0, ..options.truth });
+        let mut rows = Vec::new();
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            let Some(&(config, cost)) = timed.get(i) else { return Ok(rows) };
+            begins(&config.label());
+            let settings = config.settings(&options.base);
+            let (accuracy, lights) = scene_accuracy(&mut scene, &settings, &options.views)?;
+            let scores = CASES.iter().map(|c| (c.run)(&mut cases, &settings)).collect::<Result<Vec<_>, _>>()?;
+            rows.push((i, Row { config, cost, scene: accuracy, lights, cases: scores }));
+        }
+    };
+    let workers = options.workers.clamp(1, timed.len().max(1));
+    let done: Vec<Result<Vec<(usize, Row)>, MeasureError>> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..workers).map(|_| s.spawn(&worker)).collect();
+        handles.into_iter().map(|h| h.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))).collect()
+    });
+    let mut rows = Vec::with_capacity(timed.len());
+    for worker_rows in done {
+        rows.extend(worker_rows?);
+    }
+    rows.sort_by_key(|(i, _)| *i);
+    Ok(rows.into_iter().map(|(_, row)| row).collect())
 }
 
 /// Indices of the rows on the Pareto front of (cost, error): none is both cheaper and more
