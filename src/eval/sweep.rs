@@ -130,7 +130,7 @@ fn measure_all(
     };
     let workers = options.workers.clamp(1, timed.len().max(1));
     let done: Vec<Result<Vec<(usize, Row)>, MeasureError>> = std::thread::scope(|s| {
-        let handles: Vec<_> = (0..workers).map(|_| s.spawn(&worker)).collect();
+        let handles: Vec<_> = (0..workers).map(|_| s.spawn(worker)).collect();
         handles.into_iter().map(|h| h.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))).collect()
     });
     let mut rows = Vec::with_capacity(timed.len());
