@@ -1,0 +1,118 @@
+//! `umbra bench`'s sweep: every configuration's cost and error, the summary, table and charts.
+
+use super::{BenchArgs, app};
+use anyhow::Result;
+use std::time::Instant;
+use umbra::Settings;
+use umbra::render::Gpu;
+
+/// Runs the sweep `args` asks for and writes its results.
+pub(super) fn sweep(args: &BenchArgs) -> Result<()> {
+    use umbra::eval::{config, cost, results, sweep};
+    let settings = args.scene.settings()?;
+    let d = Settings::default();
+    if (settings.clone().with(|s| {
+        s.scene.file = None;
+        s.scene.exposure = d.scene.exposure;
+    })) != d
+    {
+        anyhow::bail!(
+            "the sweep sets the shadow settings itself; of the scene options it takes --scene and --exposure, the rest apply to `bench --cache` only"
+        );
+    }
+    let mut options = config::SweepOptions::new(args.quick);
+    options.families = args.family.clone();
+    if let Some(n) = args.threads {
+        options.workers = n as usize;
+    }
+    // An unknown family is refused before a GPU is looked for.
+    options.configs().map_err(anyhow::Error::msg)?;
+    if settings.scene.file.is_some() {
+        options.views = config::views(&mut app(&args.scene)?);
+        options.base = settings;
+    }
+    let gpu = Gpu::headless()?;
+    if let Some(n) = args.soft_rays {
+        options.truth.soft_rays = n as usize;
+    }
+    if let Some(degrees) = args.sun_radius {
+        options.truth.sizes.sun_angular_radius = Some(degrees.to_radians());
+    }
+    if let Some(r) = args.spot_radius {
+        options.truth.sizes.light_radius = Some(r);
+    }
+    let scene = match &options.base.scene.file {
+        Some(path) => format!("the scene {}", path.display()),
+        None => "the sample scene".to_string(),
+    };
+    let configs = sweep::configs_on(&gpu, &options)?.len();
+    let timing = if cost::timed_on_gpu(&gpu) { "GPU timestamps" } else { "the wall clock (no timestamps here)" };
+    println!("adapter: {}", gpu.describe());
+    println!(
+        "{} sweep{}: {configs} configurations; {scene} at {}x{} from {} views, failure cases at {}x{}; timed by {timing}",
+        if args.quick { "quick" } else { "full" },
+        families(&options.families),
+        options.size.0,
+        options.size.1,
+        options.views.len(),
+        options.case_size.0,
+        options.case_size.1,
+    );
+    let bar = indicatif::ProgressBar::new(1);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed_precise} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let started = Instant::now();
+    let mut timed = None;
+    let rows = sweep::run(&gpu, &options, |done, of, what| {
+        if what != sweep::TIMING && timed.is_none() {
+            timed = Some(started.elapsed().as_secs_f64());
+        }
+        bar.set_length(of as u64);
+        bar.set_position(done as u64);
+        bar.set_message(what.to_string());
+    })?;
+    let total = started.elapsed().as_secs_f64();
+    let timed = timed.unwrap_or(total);
+    bar.finish_and_clear();
+    let heading = format!(
+        "# umbra bench{}
+
+{} configurations{} on {}, timed by {timing}; {:.0} s in all ({:.0} s timing, {:.0} s measuring errors). Shadow cost: the median over {} \
+         frames of drawing every shadow layer (a frame with every map drawn against the same frame with every \
+         map kept) plus what the lookups add (that frame against one with shadows off). Errors: pixels of {} views of {scene} at {}x{} against a ray-traced truth (every light \
+         together; the soft truth from {} rays over each light's disc: {}).",
+        if args.quick { " --quick" } else { "" },
+        rows.len(),
+        families(&options.families),
+        gpu.describe(),
+        total,
+        timed,
+        total - timed,
+        options.frames as usize * options.views.len(),
+        options.views.len(),
+        options.size.0,
+        options.size.1,
+        options.truth.soft_rays,
+        light_sizes(options.truth.sizes),
+    );
+    let summary = results::write_all(&rows, &args.out, &heading, &gpu.describe())?;
+    println!("{summary}");
+    println!("wrote {}: results.csv, summary.md and the charts (.png and .svg)", args.out.display());
+    Ok(())
+}
+
+/// The families a sweep was narrowed to, in words ("" for all).
+fn families(names: &[String]) -> String {
+    if names.is_empty() { String::new() } else { format!(" (the family {} and the default)", names.join(", ")) }
+}
+
+/// The light sizes the soft truth takes, in words.
+fn light_sizes(sizes: umbra::eval::truth::SizeOverride) -> String {
+    let sun = sizes
+        .sun_angular_radius
+        .map_or("each sun its own size".to_string(), |r| format!("a {:.2}° sun", r.to_degrees()));
+    let local = sizes.light_radius.map_or("each other light its own".to_string(), |r| format!("{r} m lights"));
+    format!("{sun}, {local}")
+}
