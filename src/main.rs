@@ -161,8 +161,7 @@ struct BenchArgs {
     #[arg(long, value_name = "FAMILY", conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]
     family: Vec<String>,
     /// Configurations whose errors the sweep measures at once, each on a thread of its own
-    /// (default 1; the timing is never shared). SDSM's errors can differ with more than one, as
-    /// its fit reads the camera's depth of earlier frames.
+    /// (default: one per four cores, one to four; the timing is never shared).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=64), conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]
     threads: Option<u32>,
     /// Rays over each light's disc for the soft truth (default 32, 8 with --quick).

@@ -433,12 +433,17 @@ pub struct SweepOptions {
     pub workers: usize,
 }
 
+/// Threads that measure errors at once on a machine of `cores` cores: one per four cores, one
+/// to four (a two-core machine's software rasterizer already takes both).
+#[must_use]
+pub fn error_workers(cores: usize) -> usize {
+    (cores / 4).clamp(1, 4)
+}
+
 impl SweepOptions {
     /// The full sweep, or the quick one.
     pub fn new(quick: bool) -> SweepOptions {
-        // One: SDSM's errors came out different measured by two threads (its fit reads the
-        // camera's depth of earlier frames), so more are asked for by hand (`bench --threads`).
-        let workers = 1;
+        let workers = error_workers(std::thread::available_parallelism().map_or(1, |n| n.get()));
         if quick {
             SweepOptions {
                 base: Settings::default(),
@@ -519,6 +524,11 @@ mod tests {
         assert_eq!(c.short_label(), "2048 x4 pcf3 b2");
         let c = Config { depth: ShadowDepth::Unorm16, bias_scale: 0.05, ..Config::default_settings() };
         assert_eq!(c.label(), "2048 x4 stable bilinear b0.5 d16 s0.05");
+    }
+
+    #[test]
+    fn errors_are_measured_one_thread_per_four_cores() {
+        assert_eq!([0, 1, 2, 3, 4, 8, 16, 64].map(error_workers), [1, 1, 1, 1, 1, 2, 4, 4]);
     }
 
     #[test]

@@ -99,11 +99,15 @@ pub fn render_headless(
 
 /// With the SDSM fit the cascades follow what the camera saw a frame before: a headless frame
 /// first draws the view once to see it, reads the reduction back and refits the lights (the
-/// clock held), so the frame it returns is fitted to itself and the same every time.
+/// clock held), so the frame it returns is fitted to itself and the same every time. A reduction
+/// of an earlier frame still under way is waited for first and dropped: else this view's would
+/// not be made, and the fit would follow whatever the renderer drew before (another view,
+/// another configuration's frame).
 fn prime_sdsm(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u32)) -> Result<(), RenderError> {
     if app.settings().cascade.fit_mode != crate::shadow::FitMode::Sdsm {
         return Ok(());
     }
+    renderer.wait_for_samples(gpu);
     let texture = gpu.target("sdsm priming", (w, h), HEADLESS_FORMAT)?;
     renderer.render(gpu, &app.world, &texture.create_view(&Default::default()), w, h)?;
     renderer.wait_for_samples(gpu);
