@@ -15,6 +15,11 @@ struct Blur {
     // The tile's first texel on the colour page, and the layer's on the depth page.
     origin: vec2<u32>,
     depth_origin: vec2<u32>,
+    // Samples per texel of the multisampled depth (`depth_samples`) a resolve of samples reads.
+    samples: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 };
 
 @group(0) @binding(0) var<uniform> blur: Blur;
@@ -22,6 +27,8 @@ struct Blur {
 @group(1) @binding(1) var scratch: texture_2d<f32>;
 // The depth atlas, bound as unfilterable floats (GLSL cannot load from a depth texture).
 @group(1) @binding(2) var depth_pages: texture_2d_array<f32>;
+// Or one layer's depth drawn multisampled at the moment map's size, its corner the tile's.
+@group(1) @binding(3) var depth_samples: texture_multisampled_2d<f32>;
 // The layer being resolved: how its depth becomes moments.
 @group(2) @binding(0) var<uniform> resolve_layer: GpuLayer;
 
@@ -63,6 +70,17 @@ fn resolved(q: vec2<i32>) -> vec4<f32> {
     return sum / f32(s * s);
 }
 
+// The same from the multisampled depth: the mean of the moments of texel `q`'s samples, an MSAA
+// resolve of moments (MJP's "Shadows" sample makes its moment maps so from an MSAA depth map).
+fn resolved_samples(q: vec2<i32>) -> vec4<f32> {
+    let at = q - tile_first();
+    var sum = vec4<f32>(0.0);
+    for (var i = 0u; i < blur.samples; i += 1u) {
+        sum += encode_moments(resolve_layer, textureLoad(depth_samples, at, i).r, vec3<f32>(0.0));
+    }
+    return sum / f32(max(blur.samples, 1u));
+}
+
 @fragment
 fn fs_blur_rows(@builtin(position) at: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(at.xy);
@@ -81,6 +99,11 @@ fn fs_blur_rows(@builtin(position) at: vec4<f32>) -> @location(0) vec4<f32> {
 @fragment
 fn fs_resolve(@builtin(position) at: vec4<f32>) -> @location(0) vec4<f32> {
     return resolved(vec2<i32>(at.xy));
+}
+
+@fragment
+fn fs_resolve_samples(@builtin(position) at: vec4<f32>) -> @location(0) vec4<f32> {
+    return resolved_samples(vec2<i32>(at.xy));
 }
 
 @fragment

@@ -7,8 +7,9 @@
 // classic one of GPU post-processing; the moments-from-depth resolve follows MJP's "Shadows"
 // sample (a compute conversion of a depth-only map, blurred on the way).
 //
-// The storage texture the blocks are stored into (`moments_out`, group 1 binding 3) is
-// declared by the renderer after this file, in the moment maps' format.
+// The storage texture the blocks are stored into (`moments_out`, group 1 binding 4) is
+// declared by the renderer after this file, in the moment maps' format, with `resolved_here`:
+// `resolved` from the depth atlas, or `resolved_samples` from one layer's multisampled depth.
 
 // Texels of the moment map a workgroup stores along a side (its invocations are one per texel).
 const BLOCK: i32 = i32(RESOLVE_BLOCK);
@@ -42,7 +43,7 @@ fn cs_resolve(@builtin(local_invocation_id) local: vec3<u32>, @builtin(workgroup
     let corner = tile_first() + vec2<i32>(group.xy) * BLOCK - r;
     for (var k = me; k < side * side; k += INVOCATIONS) {
         let q = clamp(corner + vec2<i32>(k % side, k / side), tile_first(), tile_last());
-        span[k] = resolved(q);
+        span[k] = resolved_here(q);
     }
     workgroupBarrier();
     // Along rows: every row of the span, the block's columns only. At most two texels an

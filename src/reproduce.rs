@@ -246,6 +246,7 @@ fn settings_options(s: &Settings) -> Vec<String> {
     value(s.maps.moment_bits != d.maps.moment_bits, "moment-bits", s.maps.moment_bits.name().into());
     value(s.maps.moments_from != d.maps.moments_from, "moments-from", s.maps.moments_from.name().into());
     value(s.maps.moment_resolve != d.maps.moment_resolve, "moment-resolve", s.maps.moment_resolve.name().into());
+    value(s.maps.moment_samples != d.maps.moment_samples, "moment-samples", s.maps.moment_samples.to_string());
     value(s.shadow.contact_steps != d.shadow.contact_steps, "contact-steps", s.shadow.contact_steps.to_string());
     value(s.shadow.contact_length != d.shadow.contact_length, "contact-length", s.shadow.contact_length.to_string());
     value(

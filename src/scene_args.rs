@@ -102,6 +102,10 @@ pub struct SceneArgs {
     /// GPU, passes on a software rasterizer).
     #[arg(long, value_name = "HOW")]
     pub moment_resolve: Option<MomentResolve>,
+    /// Samples per texel of moment maps resolved from depth: 1, or 2, 4 or 8 (the depth map
+    /// drawn multisampled at the moment map's size, each texel the mean of its samples).
+    #[arg(long, value_name = "N")]
+    pub moment_samples: Option<u32>,
     /// Format of the depth maps: d32 (32-bit float) or d16 (16-bit fixed point, half the memory).
     #[arg(long, value_name = "FORMAT")]
     pub shadow_depth: Option<ShadowDepth>,
@@ -318,6 +322,7 @@ impl SceneArgs {
             moment_resolve: self.moment_resolve.unwrap_or(d.maps.moment_resolve),
             moment_bits: self.moment_bits.unwrap_or(d.maps.moment_bits),
             moment_blur: self.moment_blur.unwrap_or(d.maps.moment_blur),
+            moment_samples: self.moment_samples.unwrap_or(d.maps.moment_samples),
             ..d.maps
         };
         let cascade = CascadeSettings {

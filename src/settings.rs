@@ -171,7 +171,7 @@ mod tests {
     #[test]
     fn nonsense_is_named() {
         type Case = (fn(&mut Settings), &'static str);
-        let cases: [Case; 29] = [
+        let cases: [Case; 31] = [
             (|s| s.maps.spot_map_limit = 0.0, "spot_map_limit"),
             (|s| s.shadow.depth_bias_metres = -1.0, "depth_bias_metres"),
             (|s| s.cascade.first_cascade_far = Some(1000.0), "first_cascade_far"),
@@ -184,6 +184,8 @@ mod tests {
             (|s| s.shadow.bias_scale = 0.9, "bias_scale"),
             (|s| s.view.toon_bands = 1, "toon_bands"),
             (|s| s.maps.moment_blur = 99, "moment_blur"),
+            (|s| s.maps.moment_samples = 3, "moment_samples"),
+            (|s| s.maps.moment_samples = 0, "moment_samples"),
             (|s| s.shadow.light_bleeding = f32::NAN, "light_bleeding"),
             (|s| s.cascade.cascades = 5, "cascades"),
             (|s| s.cascade.split_lambda = -0.1, "split_lambda"),

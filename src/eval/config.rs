@@ -36,6 +36,8 @@ pub struct Config {
     pub moments_from: MomentSource,
     /// How moments from depth are made.
     pub moment_resolve: MomentResolve,
+    /// Samples per moment texel of moments from depth (MSAA).
+    pub moment_samples: u32,
     /// Format of the depth maps.
     pub depth: ShadowDepth,
     /// Multiplicative depth offset (share of the distance to the light).
@@ -88,6 +90,7 @@ impl Config {
             moment_bits: d.maps.moment_bits,
             moments_from: d.maps.moments_from,
             moment_resolve: d.maps.moment_resolve,
+            moment_samples: d.maps.moment_samples,
             depth: d.maps.shadow_depth,
             bias_scale: d.shadow.bias_scale,
             contact: d.shadow.contact_shadows,
@@ -114,6 +117,7 @@ impl Config {
             s.maps.moment_bits = self.moment_bits;
             s.maps.moments_from = self.moments_from;
             s.maps.moment_resolve = self.moment_resolve;
+            s.maps.moment_samples = self.moment_samples;
             s.maps.shadow_depth = self.depth;
             s.shadow.bias_scale = self.bias_scale;
             s.maps.shadow_memory = self.memory_mib();
@@ -163,10 +167,13 @@ impl Config {
         out
     }
 
-    /// The device can draw it: R32F and explicit 32-bit moments need full floats.
-    pub fn supported(&self, full_floats: bool) -> bool {
-        full_floats
-            || !(self.method.colour_depth_bits() > 16 || self.method.moments() && self.moment_bits == MomentBits::Full)
+    /// The device can draw it: R32F and explicit 32-bit moments need full floats, moments
+    /// from multisampled depth a sample count among `sample_counts`
+    /// ([`crate::render::sample_counts`]).
+    pub fn supported(&self, full_floats: bool, sample_counts: u32) -> bool {
+        let floats = full_floats
+            || !(self.method.colour_depth_bits() > 16 || self.method.moments() && self.moment_bits == MomentBits::Full);
+        floats && (self.moment_samples == 1 || sample_counts & self.moment_samples != 0)
     }
 
     /// This configuration as an adapter that is a software rasterizer (`software`) or not runs
@@ -196,7 +203,12 @@ impl Config {
         } else {
             String::new()
         };
-        format!(" blur{}{bits}{from}{resolve}", self.blur)
+        let samples = if self.moments_from.from_depth() && self.moment_samples != d.moment_samples {
+            format!(" msaa{}", self.moment_samples)
+        } else {
+            String::new()
+        };
+        format!(" blur{}{bits}{from}{samples}{resolve}", self.blur)
     }
 
     /// Its family for the charts and the summary: the method's, or the baseline's own.
@@ -293,6 +305,9 @@ pub fn configs(quick: bool) -> Vec<Config> {
     for moment_resolve in [MomentResolve::Compute, MomentResolve::Passes] {
         push(Config { method: ShadowMethod::Vsm, moments_from: MomentSource::Half, moment_resolve, ..d });
     }
+    // And at half its side from depth drawn there with 4x MSAA (the four samples every device
+    // allows): a moment texel of four samples, as depth/2's, from a quarter of the raster.
+    push(Config { method: ShadowMethod::Vsm, moments_from: MomentSource::Half, moment_samples: 4, ..d });
     // Moment maps drawn as colour targets, and resolved from the depth map at a half and a
     // quarter of its side (the full sweep only).
     if !quick {
@@ -300,6 +315,14 @@ pub fn configs(quick: bool) -> Vec<Config> {
             for moments_from in [MomentSource::Colour, MomentSource::Half, MomentSource::Quarter] {
                 push(Config { method, moments_from, ..d });
             }
+        }
+        // 4x MSAA at full size and at a quarter of the side for VSM, at half the side for the
+        // others.
+        for moments_from in [MomentSource::Depth, MomentSource::Quarter] {
+            push(Config { method: ShadowMethod::Vsm, moments_from, moment_samples: 4, ..d });
+        }
+        for method in [ShadowMethod::Evsm, ShadowMethod::Msm] {
+            push(Config { method, moments_from: MomentSource::Half, moment_samples: 4, ..d });
         }
         // Both ways of resolving at full size, whichever auto picks here.
         for moment_resolve in [MomentResolve::Compute, MomentResolve::Passes] {
@@ -586,7 +609,9 @@ mod tests {
         // Resolved at half the side, four depth texels share a moment texel.
         let half = Config { method: ShadowMethod::Msm, moments_from: MomentSource::Half, ..d };
         assert_eq!(half.texel_bytes(), 4 + 4);
-        assert!(!Config { method: ShadowMethod::DepthR32f, ..d }.supported(false));
-        assert!(Config { method: ShadowMethod::Vsm, ..d }.supported(false));
+        assert!(!Config { method: ShadowMethod::DepthR32f, ..d }.supported(false, 4));
+        assert!(Config { method: ShadowMethod::Vsm, ..d }.supported(false, 4));
+        let msaa = Config { method: ShadowMethod::Vsm, moment_samples: 4, ..d };
+        assert!(msaa.supported(true, 4) && !msaa.supported(true, 0) && !msaa.supported(true, 2 | 8));
     }
 }

@@ -70,7 +70,8 @@ pub const TIMING: &str = "timing every configuration";
 pub fn configs_on(gpu: &Gpu, options: &SweepOptions) -> Result<Vec<Config>, MeasureError> {
     let full_floats = gpu.full_float_moments();
     let configs = options.configs().map_err(MeasureError::Sweep)?;
-    let supported = configs.into_iter().filter(|c| c.supported(full_floats)).collect();
+    let counts = crate::render::sample_counts(&gpu.adapter, gpu.device.features());
+    let supported = configs.into_iter().filter(|c| c.supported(full_floats, counts)).collect();
     Ok(distinct_as_run(supported, gpu.software()))
 }
 

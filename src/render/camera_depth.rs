@@ -87,6 +87,7 @@ impl CameraDepth {
                 bias: Default::default(),
             },
             samples_shadows: false,
+            samples: 1,
         };
         let pipelines = Pipelines::new(device, recipe, [&camera.layout, object_layout], palette, textures);
         CameraDepth { pipelines, camera, instances: InstanceBuffer::new(device, &palette.layout), target: None }

@@ -237,6 +237,12 @@ gpu_struct! {
         pub origin: [u32; 2],
         /// The layer's first texel on the depth page (a resolve's).
         pub depth_origin: [u32; 2],
+        /// Samples per texel of the multisampled depth a resolve of samples reads (its own
+        /// texture, the tile's first texel at its corner).
+        pub samples: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 }
 

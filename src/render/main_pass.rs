@@ -310,6 +310,7 @@ impl MainPass {
             targets: vec![Some(format.into())],
             depth: depth_test(depth_format),
             samples_shadows: true,
+            samples: 1,
         };
         let pipelines = Pipelines::new(device, recipe, [&frame.layout, object_layout], palette, textures);
         let bind_group = frame.bind(device, maps);
@@ -347,6 +348,7 @@ impl MainPass {
             targets: vec![Some(DEBUG_FORMAT.into()); 3],
             depth: depth_test(self.depth_format),
             samples_shadows: true,
+            samples: 1,
         };
         let groups = [&self.frame.layout, &self.object_layout];
         self.debug = Some(Pipelines::new(device, recipe, groups, palette, textures));

@@ -211,6 +211,8 @@ pub struct Recipe {
     pub depth: wgpu::DepthStencilState,
     /// Its fragment stage looks shadows up (takes the `SHADOW_METHODS` constant).
     pub samples_shadows: bool,
+    /// Samples per pixel of its targets (1: not multisampled).
+    pub samples: u32,
 }
 
 /// The pipelines of one pass, built from one [`Recipe`] for each [`Variant`] the scene needs.
@@ -309,7 +311,7 @@ impl Pipelines {
             },
             primitive: wgpu::PrimitiveState { cull_mode: v.cull, ..Default::default() },
             depth_stencil: Some(depth),
-            multisample: Default::default(),
+            multisample: wgpu::MultisampleState { count: r.samples, ..Default::default() },
             fragment,
             multiview_mask: None,
             cache: None,

@@ -19,7 +19,9 @@ pub mod lines;
 mod main_pass;
 pub mod map_view;
 mod mesh;
+mod moment_blur;
 mod moment_compute;
+mod moment_samples;
 mod moments;
 mod news;
 mod planar;
@@ -39,6 +41,7 @@ mod uniform_array;
 pub use extract::{extract, extract_shadow_maps};
 pub use frame::{DrawItem, FrameData, FrameLight, LayerDraw, SHADOW_FADE, Shadowless};
 pub use gpu::{Gpu, colour_pass, instance};
+pub use moment_samples::sample_counts;
 pub use news::RenderNews;
 pub use readback::{
     DebugFrame, HEADLESS_FORMAT, Image, probe_visibility, read_picture, render_debug_frame, render_headless, render_png,

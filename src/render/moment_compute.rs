@@ -80,12 +80,18 @@ impl ComputeStores {
     }
 }
 
-/// The composed module of `cs_resolve` storing into `format`: the moments and the blur's
-/// functions, the dispatch's own file, and the declaration of the atlas it stores into.
+/// The composed module of `cs_resolve` storing into `format`, reading depth from the atlas or
+/// (with `multisampled`) from one layer's multisampled depth: the moments and the blur's
+/// functions, the dispatch's own file, and the declarations of the atlas it stores into and of
+/// where its moments come from.
 #[must_use]
-pub fn module_text(format: wgpu::TextureFormat) -> Option<Composed> {
+pub fn module_text(format: wgpu::TextureFormat, multisampled: bool) -> Option<Composed> {
     let name = storage_name(format)?;
-    let out = format!("@group(1) @binding(3) var moments_out: texture_storage_2d_array<{name}, write>;\n");
+    let source = if multisampled { "resolved_samples" } else { "resolved" };
+    let out = format!(
+        "@group(1) @binding(4) var moments_out: texture_storage_2d_array<{name}, write>;\n\
+         fn resolved_here(q: vec2<i32>) -> vec4<f32> {{ return {source}(q); }}\n"
+    );
     Some(Composed::new(&[MOMENTS, BLUR, MOMENT_COMPUTE]).then("the moment atlas (src/render/moment_compute.rs)", &out))
 }
 
@@ -103,8 +109,10 @@ pub struct ComputeTile {
 
 /// What one dispatch of `cs_resolve` reads and writes.
 pub struct ComputeWork<'a> {
-    /// The depth atlas, its whole array.
+    /// The depth atlas, its whole array; or, when `multisampled`, one layer's multisampled depth.
     pub depth: &'a wgpu::TextureView,
+    /// `depth` is multisampled.
+    pub multisampled: bool,
     /// The moment atlas, its whole array (made with storage use).
     pub moments: &'a wgpu::TextureView,
     /// The tiles' `Blur` blocks.
@@ -121,11 +129,11 @@ pub fn groups(size: u32) -> u32 {
     size.div_ceil(RESOLVE_BLOCK)
 }
 
-/// The compute pipeline and the layout of what it reads (the depth atlas) and writes (the moment
-/// atlas).
+/// The compute pipelines and the layouts of what they read (the depth atlas, or one layer's
+/// multisampled depth) and write (the moment atlas), indexed by whether depth is multisampled.
 pub struct MomentCompute {
-    pipeline: wgpu::ComputePipeline,
-    io_layout: wgpu::BindGroupLayout,
+    pipelines: [wgpu::ComputePipeline; 2],
+    io_layouts: [wgpu::BindGroupLayout; 2],
 }
 
 impl MomentCompute {
@@ -137,22 +145,35 @@ impl MomentCompute {
         blur: &wgpu::BindGroupLayout,
         layers: &wgpu::BindGroupLayout,
     ) -> Option<Self> {
-        let module = module_text(format)?.module(device);
+        let both = [false, true].map(|multisampled| Self::pipeline(device, format, [blur, layers], multisampled));
+        let [Some((plain, plain_io)), Some((samples, samples_io))] = both else { return None };
+        Some(MomentCompute { pipelines: [plain, samples], io_layouts: [plain_io, samples_io] })
+    }
+
+    fn pipeline(
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+        [blur, layers]: [&wgpu::BindGroupLayout; 2],
+        multisampled: bool,
+    ) -> Option<(wgpu::ComputePipeline, wgpu::BindGroupLayout)> {
+        let module = module_text(format, multisampled)?.module(device);
+        let (binding, view_dimension) =
+            if multisampled { (3, wgpu::TextureViewDimension::D2) } else { (2, wgpu::TextureViewDimension::D2Array) };
         let io_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("moment compute io"),
             entries: &[
                 wgpu::BindGroupLayoutEntry {
-                    binding: 2,
+                    binding,
                     visibility: wgpu::ShaderStages::COMPUTE,
                     ty: wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
+                        view_dimension,
+                        multisampled,
                     },
                     count: None,
                 },
                 wgpu::BindGroupLayoutEntry {
-                    binding: 3,
+                    binding: 4,
                     visibility: wgpu::ShaderStages::COMPUTE,
                     ty: wgpu::BindingType::StorageTexture {
                         access: wgpu::StorageTextureAccess::WriteOnly,
@@ -176,7 +197,7 @@ impl MomentCompute {
             compilation_options: Default::default(),
             cache: None,
         });
-        Some(MomentCompute { pipeline, io_layout })
+        Some((pipeline, io_layout))
     }
 
     /// Makes `work`'s tiles in one compute pass, stamped as the frame's next shadow pass.
@@ -187,20 +208,24 @@ impl MomentCompute {
         work: ComputeWork<'_>,
         stamps: &mut Stamps<'_>,
     ) {
-        let ComputeWork { depth, moments, blur, layers, tiles } = work;
+        let ComputeWork { depth, multisampled, moments, blur, layers, tiles } = work;
+        let which = usize::from(multisampled);
         let io = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("moment compute io"),
-            layout: &self.io_layout,
+            layout: &self.io_layouts[which],
             entries: &[
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(depth) },
-                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(moments) },
+                wgpu::BindGroupEntry {
+                    binding: if multisampled { 3 } else { 2 },
+                    resource: wgpu::BindingResource::TextureView(depth),
+                },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(moments) },
             ],
         });
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("moments from depth"),
             timestamp_writes: stamps.next_compute(),
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(&self.pipelines[which]);
         pass.set_bind_group(1, &io, &[]);
         for t in tiles {
             pass.set_bind_group(0, &blur.bind_group, &[blur.offset(t.blur)]);

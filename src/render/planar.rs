@@ -154,6 +154,7 @@ impl PlanarPass {
             targets,
             depth: depth.clone(),
             samples_shadows: false,
+            samples: 1,
         };
         let groups = [&layout, object_layout];
         let picture_target =

@@ -85,6 +85,10 @@ pub struct Renderer {
     depth: Option<DepthBuffer>,
     /// The user was told the SDSM fit cannot run here.
     sdsm_told: bool,
+    /// The sample counts moment maps may be resolved from here (a bit per count: 2, 4, 8).
+    sample_counts: u32,
+    /// The moment samples last asked for that the device does not allow, once told.
+    samples_told: Option<u32>,
     timer: Option<PassTimer>,
     /// The picture's format, and the light volumes' lines, made the first time they are shown.
     format: wgpu::TextureFormat,
@@ -160,6 +164,8 @@ impl Renderer {
             main,
             depth: None,
             sdsm_told: false,
+            sample_counts: super::moment_samples::sample_counts(&gpu.adapter, gpu.device.features()),
+            samples_told: None,
             timer: None,
             format,
             lines: None,
@@ -329,7 +335,8 @@ impl Renderer {
         if settings.maps.shadow_map_size > max {
             return Err(RenderError::ShadowMapTooLarge { size: settings.maps.shadow_map_size, max });
         }
-        let how = DrawOptions::from(settings.maps);
+        let mut how = DrawOptions::from(settings.maps);
+        how.samples = self.usable_samples(how.samples);
         let (moment_bits, shadow_depth, shadows) =
             (settings.maps.moment_bits, settings.maps.shadow_depth, settings.shadow.enabled);
         let (sdsm, light_volumes) = (settings.cascade.fit_mode == FitMode::Sdsm, settings.view.light_volumes);
@@ -429,6 +436,18 @@ impl Renderer {
         queue.submit([encoder.finish()]);
         self.news.stats = Some(stats);
         gpu.check_errors()
+    }
+
+    /// The moment samples a texel the device allows for `wanted`; says so once when fewer.
+    fn usable_samples(&mut self, wanted: u32) -> u32 {
+        let usable = super::moment_samples::usable(self.sample_counts, wanted);
+        if usable != wanted && self.samples_told != Some(wanted) {
+            self.samples_told = Some(wanted);
+            let line =
+                format!("moment maps resolved from {wanted} samples a texel are not allowed here: {usable} instead");
+            self.news.notices.push(line);
+        }
+        usable
     }
 
     /// Says which shadowed lights are lit without their shadow and why, whenever that changes.

@@ -169,6 +169,14 @@ mod tests {
     #[test]
     fn the_blur_and_the_lines_parse_and_validate() {
         check(&Composed::new(BLUR_MODULE)).unwrap();
+        // The compute resolve, storing into every format it may, from the atlas or multisampled.
+        use wgpu::TextureFormat as F;
+        for format in [F::Rgba16Float, F::Rgba32Float, F::Rg16Float, F::Rg32Float] {
+            for multisampled in [false, true] {
+                let composed = super::super::moment_compute::module_text(format, multisampled).unwrap();
+                check(&composed).unwrap_or_else(|e| panic!("{format:?} multisampled {multisampled}: {e}"));
+            }
+        }
         check(&Composed::new(&[LINES])).unwrap();
         check(&Composed::new(&[BARE_DEPTH])).unwrap();
         check(&Composed::new(&[TILE])).unwrap();

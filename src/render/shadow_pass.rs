@@ -14,10 +14,10 @@ use super::frame::{FrameData, LayerDraw};
 use super::gpu_types::{Fill, GpuLayer};
 use super::instances::{InstanceBuffer, layer_calls};
 use super::mesh::{Drawables, JointPalette, Pipelines, Recipe};
+use super::moment_blur::{MomentBlur, MomentInput, MomentTile, MomentWork, passes_per_page};
 use super::moment_compute::ComputeStores;
-use super::moments::{
-    ColourFormat, ColourLayout, MomentBlur, MomentInput, MomentTile, MomentWork, far_moments, passes_per_page,
-};
+use super::moment_samples::SampleScratch;
+use super::moments::{ColourFormat, ColourLayout, far_moments};
 use super::shaders::{Composed, SHADOW_MODULE};
 use super::shadow_atlas::{Placement, ShadowMaps, depth_texture};
 use super::shadow_stats::ShadowStats;
@@ -33,11 +33,18 @@ use crate::settings::ShadowDepth;
 use crate::shadow::{AtlasShape, MIN_TILE, Tile, TileState, Update, distinct_pages, plan_updates};
 use std::collections::{HashMap, HashSet};
 
-/// The pipelines that draw into depth maps of one format: depth alone, and depth with a colour
-/// map of each [`ColourFormat`] (indexed by it).
+/// The pipelines that draw into depth maps of one format: depth alone, depth with a colour
+/// map of each [`ColourFormat`] (indexed by it), and depth alone multisampled (2, 4 and 8
+/// samples a texel, for moments resolved from it).
 struct PipelineSet {
     depth: Pipelines,
     colour: [Pipelines; ColourFormat::ALL.len()],
+    multisampled: [Pipelines; 3],
+}
+
+/// Where the pipelines of `samples` samples a texel are in [`PipelineSet::multisampled`].
+fn multisampled(samples: u32) -> usize {
+    (samples.trailing_zeros() as usize).clamp(1, 3) - 1
 }
 
 impl PipelineSet {
@@ -46,8 +53,9 @@ impl PipelineSet {
         colour.map_or(&self.depth, |f| &self.colour[f as usize])
     }
 
-    fn get_mut(&mut self, colour: Option<ColourFormat>) -> &mut Pipelines {
+    fn get_mut(&mut self, colour: Option<ColourFormat>, samples: u32) -> &mut Pipelines {
         match colour {
+            _ if samples > 1 => &mut self.multisampled[multisampled(samples)],
             Some(f) => &mut self.colour[f as usize],
             None => &mut self.depth,
         }
@@ -72,6 +80,8 @@ pub struct ShadowPass {
     drawn: HashMap<LayerKey, Drawn>,
     /// The static atlas, made when first needed.
     statics: Option<StaticMaps>,
+    /// The multisampled depth moment layers are drawn into, made when first needed.
+    scratch: Option<SampleScratch>,
     /// The device can read a depth texture's values, which putting a static map back needs.
     reads_depth: bool,
     /// Frames planned so far: the clock stale layers' ages are counted in.
@@ -93,7 +103,8 @@ struct Planned {
 }
 
 /// What a layer's tile holds: the version of its light's layer it was drawn at, where, for a
-/// moment layer the method whose moments it stores and the blur it got, and the layer's uniform
+/// moment layer the method whose moments it stores, the blur it got and the samples a texel it
+/// was resolved from, and the layer's uniform
 /// as it was drawn (a stale map is sampled with it). A light's method or the blur can change with
 /// no layer dirty (they do not move a shadow); a moment map drawn for another of them must be
 /// drawn again all the same.
@@ -101,7 +112,7 @@ struct Planned {
 struct Drawn {
     version: u64,
     tile: Tile,
-    moments: Option<(ShadowMethod, u32)>,
+    moments: Option<(ShadowMethod, u32, u32)>,
     gpu: GpuLayer,
 }
 
@@ -122,7 +133,7 @@ impl ShadowPass {
         let stages = wgpu::ShaderStages::VERTEX_FRAGMENT | computes;
         let layer_uniforms = UniformArray::new(device, "shadow layers", size_of::<GpuLayer>() as u64, stages);
         let module = Composed::new(SHADOW_MODULE).module(device);
-        let recipe = |fragment, targets: Vec<_>, depth: ShadowDepth| Recipe {
+        let recipe = |fragment, targets: Vec<_>, depth: ShadowDepth, samples| Recipe {
             label: "shadow",
             module: module.clone(),
             vertex: "vs_shadow",
@@ -137,13 +148,16 @@ impl ShadowPass {
                 bias: Default::default(),
             },
             samples_shadows: false,
+            samples,
         };
         let groups = [&layer_uniforms.layout, object_layout];
         let set = |depth: ShadowDepth| {
-            let pipelines =
-                |fragment, targets| Pipelines::new(device, recipe(fragment, targets, depth), groups, palette, textures);
-            let colour = ColourFormat::ALL.map(|f| pipelines("fs_moments", vec![Some(f.texture().into())]));
-            PipelineSet { depth: pipelines("fs_shadow", Vec::new()), colour }
+            let pipelines = |fragment, targets, samples| {
+                Pipelines::new(device, recipe(fragment, targets, depth, samples), groups, palette, textures)
+            };
+            let colour = ColourFormat::ALL.map(|f| pipelines("fs_moments", vec![Some(f.texture().into())], 1));
+            let multisampled = [2, 4, 8].map(|n| pipelines("fs_shadow", Vec::new(), n));
+            PipelineSet { depth: pipelines("fs_shadow", Vec::new(), 1), colour, multisampled }
         };
         let sets = [set(ShadowDepth::Float32), set(ShadowDepth::Unorm16)];
         let shape = AtlasShape { page: MIN_TILE, pages: 1 };
@@ -159,6 +173,7 @@ impl ShadowPass {
             placement: Placement::new(shape),
             drawn: HashMap::new(),
             statics: None,
+            scratch: None,
             reads_depth,
             frame: 0,
             planned_for: None,
@@ -259,9 +274,7 @@ impl ShadowPass {
         let Some(drawn) = self.drawn.get(&layer.key).filter(|_| how.reuse && !layer.fresh) else {
             return TileState::Empty;
         };
-        let blur = if layer.method.moments() { how.blur } else { 0 };
-        let moments = self.colour_format(layer).map(|_| (layer.method, blur));
-        if drawn.tile != tile || drawn.moments != moments {
+        if drawn.tile != tile || drawn.moments != self.moments_of(layer, how) {
             TileState::Empty
         } else if drawn.version == layer.version {
             TileState::Current
@@ -297,12 +310,17 @@ impl ShadowPass {
         self.colour_format(layer).filter(|_| !(from_depth && layer.method.moments()))
     }
 
-    /// What `layer` is drawn as in `tile` with moment maps blurred by `blur` texels, with `gpu`
-    /// its uniform.
-    fn drawn_as(&self, layer: &LayerDraw, tile: Tile, blur: u32, gpu: GpuLayer) -> Drawn {
-        let blur = if layer.method.moments() { blur } else { 0 };
-        let moments = self.colour_format(layer).map(|_| (layer.method, blur));
-        Drawn { version: layer.version, tile, moments, gpu }
+    /// Samples a texel of the multisampled depth `layer`'s moments are resolved from as `how`
+    /// says (1: its depth map's, not multisampled).
+    fn samples(&self, layer: &LayerDraw, how: DrawOptions) -> u32 {
+        if self.has_moment_map(layer) && how.moments_from.from_depth() { how.samples.max(1) } else { 1 }
+    }
+
+    /// What `layer`'s colour map holds drawn as `how` says: its method, its blur and the
+    /// samples its moments were resolved from (no blur for depth in colour).
+    fn moments_of(&self, layer: &LayerDraw, how: DrawOptions) -> Option<(ShadowMethod, u32, u32)> {
+        let blur = if layer.method.moments() { how.blur } else { 0 };
+        self.colour_format(layer).map(|_| (layer.method, blur, self.samples(layer, how)))
     }
 
     /// Draws the layers [`ShadowPass::plan`] chose, each tile filled and then given the casters
@@ -348,26 +366,56 @@ impl ShadowPass {
         }
         let jobs = self.jobs((device, queue), data, &todo, how, split);
         self.prepare((device, queue), data, &jobs, &mut stats);
+        // Layers resolved from multisampled depth are drawn apart, each into the scratch.
+        let (sampled, jobs): (Vec<Job>, Vec<Job>) = jobs.into_iter().partition(|j| j.samples > 1);
+        self.ensure_scratch(device, &sampled);
         let input = if from_depth {
             MomentInput::Depth { pages: &self.maps.pages.array_view, layers: &self.layer_uniforms }
         } else {
             MomentInput::Drawn
         };
         let per_page = passes_per_page(&input, blur);
-        let made: Vec<MomentTile> =
-            jobs.iter().filter(|j| per_page > 0 && self.has_moment_map(j.layer)).map(|j| self.moment_tile(j)).collect();
-        let work = MomentWork { maps: &self.maps.moments, tiles: &made, radius: blur, input };
-        let moment_passes = self.blur.as_ref().map_or(0, |b| b.passes(&work));
-        if self.blur.as_ref().is_some_and(|b| b.in_compute(&work)) {
-            stats.moments_in_compute = made.len() as u32;
+        let made: Vec<MomentTile> = (jobs.iter().filter(|j| per_page > 0 && self.has_moment_map(j.layer)))
+            .chain(&sampled)
+            .map(|j| self.moment_tile(j))
+            .collect();
+        let atlas = made.len() - sampled.len();
+        let work = MomentWork { maps: &self.maps.moments, tiles: &made[..atlas], first: 0, radius: blur, input };
+        let mut passes = self.passes(&jobs);
+        if let Some(b) = &self.blur {
+            passes += b.passes(&work);
+            stats.moments_in_compute = if b.in_compute(&work) { atlas as u32 } else { 0 };
         }
-        let mut stamps = Stamps { timer, next: 0, total: self.passes(&jobs) + moment_passes };
+        if let (Some(b), Some(scratch)) = (&self.blur, &self.scratch) {
+            for (i, tile) in made.iter().enumerate().skip(atlas) {
+                let input = MomentInput::Samples { depth: &scratch.view, layers: &self.layer_uniforms };
+                let work = MomentWork {
+                    maps: &self.maps.moments,
+                    tiles: std::slice::from_ref(tile),
+                    first: i,
+                    radius: blur,
+                    input,
+                };
+                passes += 1 + b.passes(&work);
+                stats.moments_in_compute += u32::from(b.in_compute(&work));
+            }
+        }
+        let mut stamps = Stamps { timer, next: 0, total: passes };
         self.encode_jobs(device, encoder, data, &jobs, with, &mut stamps);
         if let Some(moment_blur) = self.blur.as_mut().filter(|_| !made.is_empty()) {
-            moment_blur.encode((device, queue), encoder, work, &mut stamps);
+            moment_blur.write((device, queue), &made, self.maps.moments.scale, blur);
         }
-        for job in &jobs {
-            let done = self.drawn_as(job.layer, job.tile, blur, uniforms[job.uniform]);
+        if let Some(moment_blur) = self.blur.as_ref().filter(|_| atlas > 0) {
+            moment_blur.encode(device, encoder, work, &mut stamps);
+        }
+        self.encode_sampled(device, encoder, (data, with), (&sampled, &made[atlas..], atlas), blur, &mut stamps);
+        for job in jobs.iter().chain(&sampled) {
+            let done = Drawn {
+                version: job.layer.version,
+                tile: job.tile,
+                moments: self.moments_of(job.layer, how),
+                gpu: uniforms[job.uniform],
+            };
             self.drawn.insert(job.layer.key, done);
             if job.statics.is_some()
                 && let Some(statics) = self.statics.as_mut()
@@ -375,10 +423,53 @@ impl ShadowPass {
                 statics.mark_drawn(job.layer.key, job.tile, job.layer.static_version);
             }
         }
-        for job in jobs.iter().filter(|j| blur > 0 && self.has_moment_map(j.layer)) {
+        for job in jobs.iter().chain(&sampled).filter(|j| blur > 0 && self.has_moment_map(j.layer)) {
             stats.count_blur(job.layer.light);
         }
         stats
+    }
+
+    /// Makes sure the multisampled scratch holds the largest moment tile of `sampled`.
+    fn ensure_scratch(&mut self, device: &wgpu::Device, sampled: &[Job]) {
+        let Some(samples) = sampled.first().map(|j| j.samples) else { return };
+        let side = sampled.iter().map(|j| self.moment_tile(j).tile.size).max().unwrap_or(1);
+        let format = depth_texture(self.maps.depth);
+        if self.scratch.as_ref().is_none_or(|s| !s.fits(samples, side, format)) {
+            self.scratch = Some(SampleScratch::new(device, samples, side, format));
+        }
+    }
+
+    /// Draws each of the `sampled` jobs into the multisampled scratch at its moment `tiles`'
+    /// size and resolves its moments from it (their terms from `first` on in what the blur
+    /// wrote), blurred by `radius`: one job after another, as they share the scratch.
+    fn encode_sampled(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        (data, with): (&FrameData, Drawables<'_>),
+        (sampled, tiles, first): (&[Job], &[MomentTile], usize),
+        radius: u32,
+        stamps: &mut Stamps<'_>,
+    ) {
+        let (Some(blur), Some(scratch)) = (&self.blur, &self.scratch) else { return };
+        let set = &self.sets[self.maps.depth as usize];
+        let drawing =
+            Drawing { with, items: &data.items, layers: &self.layer_uniforms, instances: self.instances.bindings() };
+        for (i, (job, tile)) in sampled.iter().zip(tiles).enumerate() {
+            {
+                let mut pass = begin(encoder, (&scratch.view, None), true, stamps.next());
+                let pipelines = &set.multisampled[multisampled(job.samples)];
+                drawing.tile(&mut pass, job, (0, 0, tile.tile.size), None, (pipelines, &job.calls));
+            }
+            let input = MomentInput::Samples { depth: &scratch.view, layers: &self.layer_uniforms };
+            let tiles = std::slice::from_ref(tile);
+            blur.encode(
+                device,
+                encoder,
+                MomentWork { maps: &self.maps.moments, tiles, first: first + i, radius, input },
+                stamps,
+            );
+        }
     }
 
     /// Where `job`'s moments go in the colour atlas (its tile, as wide as the layer draws,
@@ -387,7 +478,8 @@ impl ShadowPass {
         let scale = self.maps.moments.scale;
         let Tile { page, x, y, .. } = job.tile;
         let size = (job.layer.resolution / scale).max(1);
-        MomentTile { tile: Tile { page, x: x / scale, y: y / scale, size }, depth_origin: [x, y], uniform: job.uniform }
+        let tile = Tile { page, x: x / scale, y: y / scale, size };
+        MomentTile { tile, depth_origin: [x, y], uniform: job.uniform, samples: job.samples }
     }
 
     /// The passes the jobs take: per page, one over the static atlas if a static map on it is
@@ -419,10 +511,20 @@ impl ShadowPass {
             .enumerate()
             .map(|(uniform, &(layer, tile))| {
                 let colour = self.colour_target(layer, from_depth);
+                let samples = self.samples(layer, how);
                 let batch = instancing && colour.is_none();
-                let job =
-                    |statics, over_static, calls| Job { layer, tile, uniform, colour, statics, over_static, calls };
-                if !(split && colour.is_none()) {
+                let job = |statics, over_static, calls| Job {
+                    layer,
+                    tile,
+                    uniform,
+                    colour,
+                    samples,
+                    statics,
+                    over_static,
+                    calls,
+                };
+                // A multisampled layer is drawn whole into the scratch: no static map.
+                if !(split && colour.is_none() && samples == 1) {
                     return job(None, false, calls_of(&layer.casters, batch));
                 }
                 let (rest, moving): (Vec<usize>, Vec<usize>) =
@@ -438,7 +540,8 @@ impl ShadowPass {
     }
 
     /// Builds the pipelines the jobs draw with and uploads their fills: a static map's clear
-    /// first, then the tile's own fill (its casters at rest put back, or a clear), job by job.
+    /// first, then the tile's own fill (its casters at rest put back, or a clear), job by job
+    /// (none for a multisampled job: its scratch is cleared by its pass).
     fn prepare(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
@@ -449,13 +552,16 @@ impl ShadowPass {
         let depth = depth_texture(self.maps.depth);
         let mut fills = Vec::new();
         for job in jobs {
-            let pipelines = self.sets[self.maps.depth as usize].get_mut(job.colour);
+            let pipelines = self.sets[self.maps.depth as usize].get_mut(job.colour, job.samples);
             for calls in job.statics.iter().chain([&job.calls]) {
                 pipelines
                     .prepare(device, calls.singles.iter().map(|s| s.1).chain(calls.batches.iter().map(|b| b.variant)));
                 stats.count_calls(job.layer.light, calls.calls());
             }
             stats.count_static(job.layer.light, job.over_static);
+            if job.samples > 1 {
+                continue;
+            }
             let page = job.tile.page;
             if job.statics.is_some() {
                 self.fill.prepare(device, depth, FillKind::Clear(None));
@@ -499,7 +605,7 @@ impl ShadowPass {
             for (job, &(fill, _)) in jobs.iter().zip(&fills).filter(|(j, _)| j.tile.page == page) {
                 if let Some(calls) = &job.statics {
                     let fill = Some((&self.fill, (depth, FillKind::Clear(None)), fill, None));
-                    drawing.tile(&mut pass, job, fill, (set.get(None), calls));
+                    drawing.tile(&mut pass, job, job.place(), fill, (set.get(None), calls));
                 }
             }
         }
@@ -523,7 +629,7 @@ impl ShadowPass {
                 let kind = job.fill_kind();
                 let filled = cleared.contains(&page) && kind == FillKind::Clear(None);
                 let fill = (!filled).then_some((&self.fill, (depth, kind), fill, restore.as_ref()));
-                drawing.tile(&mut pass, job, fill, (set.get(job.colour), &job.calls));
+                drawing.tile(&mut pass, job, job.place(), fill, (set.get(job.colour), &job.calls));
             }
         }
     }

@@ -70,6 +70,9 @@ pub struct DrawOptions {
     pub max_stale: u32,
     /// How moment maps are made.
     pub moments_from: MomentSource,
+    /// Samples a texel of the multisampled depth moments from depth are resolved from (1: the
+    /// depth map's own texels); the renderer lowers it to what the device allows.
+    pub samples: u32,
 }
 
 impl From<&crate::settings::MapSettings> for DrawOptions {
@@ -83,6 +86,7 @@ impl From<&crate::settings::MapSettings> for DrawOptions {
             updates: s.shadow_updates,
             max_stale: s.max_stale,
             moments_from: s.moments_from,
+            samples: s.moment_samples,
         }
     }
 }
@@ -96,6 +100,9 @@ pub(super) struct Job<'a> {
     pub(super) uniform: usize,
     /// Its colour map's format, if it has one.
     pub(super) colour: Option<ColourFormat>,
+    /// Samples a texel of the multisampled depth its moments are resolved from (1: drawn into
+    /// its tile of the atlas).
+    pub(super) samples: u32,
     /// The calls that draw its static map first, when that must be drawn again.
     pub(super) statics: Option<LayerCalls>,
     /// Drawn over its casters at rest put back (`calls` are then its moving casters only).
@@ -105,6 +112,11 @@ pub(super) struct Job<'a> {
 }
 
 impl Job<'_> {
+    /// Its tile's corner on the page and side.
+    pub(super) fn place(&self) -> (u32, u32, u32) {
+        (self.tile.x, self.tile.y, self.layer.resolution)
+    }
+
     /// How its tile is filled before its casters are drawn.
     pub(super) fn fill_kind(&self) -> FillKind {
         if self.over_static { FillKind::Restore } else { FillKind::Clear(self.colour.map(ColourFormat::texture)) }
@@ -125,16 +137,17 @@ pub(super) type FillWith<'a> =
     Option<(&'a TileFill, (wgpu::TextureFormat, FillKind), usize, Option<&'a wgpu::BindGroup>)>;
 
 impl Drawing<'_> {
-    /// Draws `job` into its tile of `pass`: the viewport and scissor on the tile, the tile
-    /// filled (unless it is clear already), then `calls` with `pipelines` and the layer's uniform.
+    /// Draws `job` at `(x, y, side)` of `pass` (its tile, [`Job::place`], or a scratch's
+    /// corner): the viewport and scissor there, the tile filled (unless it is clear already),
+    /// then `calls` with `pipelines` and the layer's uniform.
     pub(super) fn tile(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         job: &Job,
+        (x, y, side): (u32, u32, u32),
         fill: FillWith<'_>,
         (pipelines, calls): (&Pipelines, &LayerCalls),
     ) {
-        let (x, y, side) = (job.tile.x, job.tile.y, job.layer.resolution);
         pass.set_viewport(x as f32, y as f32, side as f32, side as f32, 0.0, 1.0);
         pass.set_scissor_rect(x, y, side, side);
         if let Some((fills, which, index, statics)) = fill {

@@ -66,6 +66,10 @@ pub struct MapSettings {
     pub moment_bits: MomentBits,
     /// Radius in texels of the Gaussian blur a moment map gets after it is made (0: none).
     pub moment_blur: u32,
+    /// Samples per texel of a moment map resolved from depth: 1, or 2, 4 or 8 for a depth map
+    /// drawn multisampled at the moment map's size, each moment texel the mean of its samples'
+    /// moments (an MSAA resolve; the device may allow fewer: 4 everywhere).
+    pub moment_samples: u32,
 }
 
 impl Default for MapSettings {
@@ -93,6 +97,7 @@ impl Default for MapSettings {
             moment_resolve: MomentResolve::Auto,
             moment_bits: MomentBits::Auto,
             moment_blur: DEFAULT_MOMENT_BLUR,
+            moment_samples: 1,
         }
     }
 }
@@ -116,6 +121,8 @@ pub const CUBE_MARGIN: u32 = 4;
 pub const DEFAULT_MOMENT_BLUR: u32 = 2;
 /// Largest blur radius of moment maps, in texels.
 pub const MAX_MOMENT_BLUR: u32 = 16;
+/// The samples per texel a moment map may be resolved from.
+pub const MOMENT_SAMPLES: [u32; 4] = [1, 2, 4, 8];
 
 impl SettingsGroup for MapSettings {
     /// Checks every setting of the maps; the first bad one is named in the error.
@@ -145,6 +152,9 @@ impl SettingsGroup for MapSettings {
         }
         if self.moment_blur > MAX_MOMENT_BLUR {
             return bad("moment_blur", self.moment_blur, "must be between 0 and 16 texels");
+        }
+        if !MOMENT_SAMPLES.contains(&self.moment_samples) {
+            return bad("moment_samples", self.moment_samples, "must be 1, 2, 4 or 8 samples");
         }
         Ok(())
     }

@@ -247,6 +247,12 @@ fn shadow_settings(ui: &mut Ui, s: &mut ShadowSettings, maps: &mut MapSettings) 
     choice(ui, "moment bits", &mut maps.moment_bits, MomentBits::ALL, MomentBits::name);
     choice(ui, "moments from", &mut maps.moments_from, MomentSource::ALL, MomentSource::name);
     choice(ui, "moments resolved by", &mut maps.moment_resolve, MomentResolve::ALL, MomentResolve::name);
+    let samples = &mut maps.moment_samples;
+    ComboBox::from_label("moment samples (MSAA)").selected_text(samples.to_string()).show_ui(ui, |ui| {
+        for n in crate::settings::MOMENT_SAMPLES {
+            ui.selectable_value(samples, n, n.to_string());
+        }
+    });
     ui.checkbox(&mut s.contact_shadows, "contact shadows, lights without their own (J)");
     ui.add(slide(&mut s.contact_steps, 1..=crate::settings::MAX_CONTACT_STEPS).text("contact steps"));
     ui.add(slide(&mut s.contact_length, 0.0..=2.0).text("contact length (m)"));
