@@ -302,8 +302,11 @@ fn moments_resolved_from_multisampled_depth_put_the_shadows_where_the_truth_does
     // A moment texel of one depth sample puts an aslant edge on the texels' stairs; of four
     // samples (4x MSAA, which every device but GL allows), nearer where the edge crosses it.
     let (one, four) = (turned(MomentSource::Depth, 1), turned(MomentSource::Depth, 4));
-    let gpu = gpu();
-    if umbra::render::sample_counts(&gpu.adapter, gpu.device.features()) & 4 == 0 {
+    let counts = {
+        let gpu = gpu();
+        umbra::render::sample_counts(&gpu.adapter, gpu.device.features())
+    };
+    if counts & 4 == 0 {
         // Not allowed: one sample a texel instead, the same picture.
         assert_eq!(wrong(&four), wrong(&one));
         eprintln!("SKIPPED the rest: this device resolves no moments from multisampled depth");
