@@ -33,6 +33,8 @@ use crate::settings::ShadowDepth;
 use crate::shadow::{AtlasShape, MIN_TILE, Tile, TileState, Update, distinct_pages, plan_updates};
 use std::collections::{HashMap, HashSet};
 
+mod sampled;
+
 /// The pipelines that draw into depth maps of one format: depth alone, depth with a colour
 /// map of each [`ColourFormat`] (indexed by it), and depth alone multisampled (2, 4 and 8
 /// samples a texel, for moments resolved from it).
@@ -386,20 +388,7 @@ impl ShadowPass {
             passes += b.passes(&work);
             stats.moments_in_compute = if b.in_compute(&work) { atlas as u32 } else { 0 };
         }
-        if let (Some(b), Some(scratch)) = (&self.blur, &self.scratch) {
-            for (i, tile) in made.iter().enumerate().skip(atlas) {
-                let input = MomentInput::Samples { depth: &scratch.view, layers: &self.layer_uniforms };
-                let work = MomentWork {
-                    maps: &self.maps.moments,
-                    tiles: std::slice::from_ref(tile),
-                    first: i,
-                    radius: blur,
-                    input,
-                };
-                passes += 1 + b.passes(&work);
-                stats.moments_in_compute += u32::from(b.in_compute(&work));
-            }
-        }
+        passes += self.sampled_passes(&made, atlas, blur, &mut stats);
         let mut stamps = Stamps { timer, next: 0, total: passes };
         self.encode_jobs(device, encoder, data, &jobs, with, &mut stamps);
         if let Some(moment_blur) = self.blur.as_mut().filter(|_| !made.is_empty()) {
@@ -427,49 +416,6 @@ impl ShadowPass {
             stats.count_blur(job.layer.light);
         }
         stats
-    }
-
-    /// Makes sure the multisampled scratch holds the largest moment tile of `sampled`.
-    fn ensure_scratch(&mut self, device: &wgpu::Device, sampled: &[Job]) {
-        let Some(samples) = sampled.first().map(|j| j.samples) else { return };
-        let side = sampled.iter().map(|j| self.moment_tile(j).tile.size).max().unwrap_or(1);
-        let format = depth_texture(self.maps.depth);
-        if self.scratch.as_ref().is_none_or(|s| !s.fits(samples, side, format)) {
-            self.scratch = Some(SampleScratch::new(device, samples, side, format));
-        }
-    }
-
-    /// Draws each of the `sampled` jobs into the multisampled scratch at its moment `tiles`'
-    /// size and resolves its moments from it (their terms from `first` on in what the blur
-    /// wrote), blurred by `radius`: one job after another, as they share the scratch.
-    fn encode_sampled(
-        &self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        (data, with): (&FrameData, Drawables<'_>),
-        (sampled, tiles, first): (&[Job], &[MomentTile], usize),
-        radius: u32,
-        stamps: &mut Stamps<'_>,
-    ) {
-        let (Some(blur), Some(scratch)) = (&self.blur, &self.scratch) else { return };
-        let set = &self.sets[self.maps.depth as usize];
-        let drawing =
-            Drawing { with, items: &data.items, layers: &self.layer_uniforms, instances: self.instances.bindings() };
-        for (i, (job, tile)) in sampled.iter().zip(tiles).enumerate() {
-            {
-                let mut pass = begin(encoder, (&scratch.view, None), true, stamps.next());
-                let pipelines = &set.multisampled[multisampled(job.samples)];
-                drawing.tile(&mut pass, job, (0, 0, tile.tile.size), None, (pipelines, &job.calls));
-            }
-            let input = MomentInput::Samples { depth: &scratch.view, layers: &self.layer_uniforms };
-            let tiles = std::slice::from_ref(tile);
-            blur.encode(
-                device,
-                encoder,
-                MomentWork { maps: &self.maps.moments, tiles, first: first + i, radius, input },
-                stamps,
-            );
-        }
     }
 
     /// Where `job`'s moments go in the colour atlas (its tile, as wide as the layer draws,
