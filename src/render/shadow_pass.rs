@@ -368,8 +368,12 @@ impl ShadowPass {
         }
         let jobs = self.jobs((device, queue), data, &todo, how, split);
         self.prepare((device, queue), data, &jobs, &mut stats);
-        // Layers resolved from multisampled depth are drawn apart, each into the scratch.
+        // Layers resolved from multisampled depth are drawn apart, each into the scratch (let
+        // go of when MSAA is off).
         let (sampled, jobs): (Vec<Job>, Vec<Job>) = jobs.into_iter().partition(|j| j.samples > 1);
+        if how.samples <= 1 {
+            self.scratch = None;
+        }
         self.ensure_scratch(device, &sampled);
         let input = if from_depth {
             MomentInput::Depth { pages: &self.maps.pages.array_view, layers: &self.layer_uniforms }
