@@ -68,7 +68,7 @@ pub struct MapSettings {
     pub moment_blur: u32,
     /// Samples per texel of a moment map resolved from depth: 1, or 2, 4 or 8 for a depth map
     /// drawn multisampled at the moment map's size, each moment texel the mean of its samples'
-    /// moments (an MSAA resolve; the device may allow fewer: 4 everywhere).
+    /// moments (an MSAA resolve; the device may allow fewer: 4 everywhere but GL, where none).
     pub moment_samples: u32,
 }
 
