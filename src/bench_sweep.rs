@@ -8,7 +8,7 @@ use umbra::render::Gpu;
 
 /// Runs the sweep `args` asks for and writes its results.
 pub(super) fn sweep(args: &BenchArgs) -> Result<()> {
-    use umbra::eval::{config, cost, results, sweep};
+    use umbra::eval::{cost, results, sweep, sweep_options};
     let settings = args.scene.settings()?;
     let d = Settings::default();
     if (settings.clone().with(|s| {
@@ -20,7 +20,7 @@ pub(super) fn sweep(args: &BenchArgs) -> Result<()> {
             "the sweep sets the shadow settings itself; of the scene options it takes --scene and --exposure, the rest apply to `bench --cache` only"
         );
     }
-    let mut options = config::SweepOptions::new(args.quick);
+    let mut options = sweep_options::SweepOptions::new(args.quick);
     options.families = args.family.clone();
     if let Some(n) = args.threads {
         options.workers = n as usize;
@@ -28,7 +28,7 @@ pub(super) fn sweep(args: &BenchArgs) -> Result<()> {
     // An unknown family is refused before a GPU is looked for.
     options.configs().map_err(anyhow::Error::msg)?;
     if settings.scene.file.is_some() {
-        options.views = config::views(&mut app(&args.scene)?);
+        options.views = sweep_options::views(&mut app(&args.scene)?);
         options.base = settings;
     }
     let gpu = Gpu::headless()?;

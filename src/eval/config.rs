@@ -1,15 +1,11 @@
-//! What a sweep is made of: the shadow configurations `umbra bench` compares (each a set of
-//! shadow settings, with its label and its memory), which of them a sweep takes, the views of
-//! the measured scene and the sweep's options. Timing ([`super::cost`]) and the sweep itself
-//! ([`super::sweep`]) both read these.
+//! The shadow configurations `umbra bench` compares (each a set of shadow settings, with its
+//! label and its memory) and which of them a sweep takes; its views and options are in
+//! [`super::sweep_options`]. Timing ([`super::cost`]) and the sweep itself ([`super::sweep`])
+//! both read these.
 
-use super::measure::TruthSettings;
-use crate::App;
 use crate::components::ShadowMethod;
 use crate::settings::{MomentBits, MomentResolve, MomentSource, Settings, ShadowDepth, ShadowFaces};
 use crate::shadow::FitMode;
-use bevy_ecs::prelude::With;
-use glam::Vec3;
 
 /// One shadow configuration.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -398,125 +394,6 @@ pub fn distinct_as_run(configs: Vec<Config>, software: bool) -> Vec<Config> {
         .collect()
 }
 
-/// A view of a measured scene: a camera and a time.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct View {
-    /// Its name.
-    pub name: &'static str,
-    /// Where the camera is.
-    pub eye: Vec3,
-    /// What it looks at.
-    pub target: Vec3,
-    /// Scene time in seconds.
-    pub time: f64,
-}
-
-/// The fixed views of the sample scene that every configuration is measured from.
-pub const VIEWS: [View; 4] = [
-    View { name: "overview", eye: Vec3::new(2.0, 5.5, 12.5), target: Vec3::new(-0.5, 1.0, 0.0), time: 6.0 },
-    View { name: "character", eye: Vec3::new(3.0, 2.5, 7.5), target: Vec3::new(0.0, 0.8, 3.0), time: 3.0 },
-    View { name: "far", eye: Vec3::new(-12.0, 1.8, 14.0), target: Vec3::new(4.0, 0.5, -6.0), time: 2.0 },
-    View { name: "above", eye: Vec3::new(0.5, 18.0, 6.0), target: Vec3::ZERO, time: 9.0 },
-];
-
-/// The views `app`'s scene is measured from: the sample scene's four, or a scene file's own
-/// camera (or the one that frames it) at 2 s.
-pub fn views(app: &mut App) -> Vec<View> {
-    if app.world.resource::<crate::settings::SceneSettings>().file.is_none() {
-        return VIEWS.to_vec();
-    }
-    let mut cameras = app.world.query_filtered::<&crate::components::Transform, With<crate::components::Camera>>();
-    cameras
-        .iter(&app.world)
-        .map(|t| View { name: "scene camera", eye: t.translation, target: t.translation + t.forward(), time: 2.0 })
-        .collect()
-}
-
-/// What the sweep measures, how big and how long.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SweepOptions {
-    /// The settings every configuration starts from (which scene, its exposure).
-    pub base: Settings,
-    /// The views of the scene measured.
-    pub views: Vec<View>,
-    /// Fewer configurations, smaller frames, fewer timed frames.
-    pub quick: bool,
-    /// Size of the sample-scene frames.
-    pub size: (u32, u32),
-    /// Size of the failure cases' frames.
-    pub case_size: (u32, u32),
-    /// Timed frames per view after two untimed ones.
-    pub frames: u32,
-    /// How the truth is taken.
-    pub truth: TruthSettings,
-    /// Only the configurations of these families, and the default's (all when empty).
-    pub families: Vec<String>,
-    /// Configurations whose errors are measured at once, each by a thread with renderers of
-    /// its own (the timing is never shared).
-    pub workers: usize,
-}
-
-/// Threads that measure errors at once on a machine of `cores` cores: one per four cores, one
-/// to four (a two-core machine's software rasterizer already takes both).
-#[must_use]
-pub fn error_workers(cores: usize) -> usize {
-    (cores / 4).clamp(1, 4)
-}
-
-impl SweepOptions {
-    /// The full sweep, or the quick one.
-    pub fn new(quick: bool) -> SweepOptions {
-        let workers = error_workers(std::thread::available_parallelism().map_or(1, |n| n.get()));
-        if quick {
-            SweepOptions {
-                base: Settings::default(),
-                views: VIEWS.to_vec(),
-                quick,
-                size: (320, 180),
-                case_size: (192, 192),
-                frames: 4,
-                truth: TruthSettings { soft_rays: 8, ..Default::default() },
-                families: Vec::new(),
-                workers,
-            }
-        } else {
-            SweepOptions {
-                base: Settings::default(),
-                views: VIEWS.to_vec(),
-                quick,
-                size: (640, 360),
-                case_size: (256, 256),
-                frames: 10,
-                truth: TruthSettings::default(),
-                families: Vec::new(),
-                workers,
-            }
-        }
-    }
-
-    /// The configurations it sweeps: [`configs`], only those of its families (and the
-    /// default's) when it names any. A family no configuration has is an error that lists
-    /// those there are.
-    pub fn configs(&self) -> Result<Vec<Config>, String> {
-        let all = configs(self.quick);
-        let known: Vec<&str> = all.iter().fold(Vec::new(), |mut names, c| {
-            if !names.contains(&c.family()) {
-                names.push(c.family());
-            }
-            names
-        });
-        if let Some(unknown) = self.families.iter().find(|f| !known.contains(&f.as_str())) {
-            return Err(format!(
-                "no configuration is of the family \"{unknown}\"; the families are: {}",
-                known.join(", ")
-            ));
-        }
-        let d = Config::default_settings();
-        let wanted = |c: &Config| self.families.is_empty() || *c == d || self.families.iter().any(|f| f == c.family());
-        Ok(all.into_iter().filter(wanted).collect())
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -532,26 +409,11 @@ mod tests {
             }
         }
         assert!(configs(true).len() < configs(false).len());
-        // A family chosen: its configurations and the default's, nothing else.
-        let mut options = SweepOptions::new(false);
-        options.families = vec!["moment maps".into()];
-        let some = options.configs().unwrap();
-        assert!(some.contains(&Config::default_settings()));
-        assert!(some.iter().all(|c| *c == Config::default_settings() || c.method.moments()));
-        assert_eq!(some.len(), 1 + configs(false).iter().filter(|c| c.family() == "moment maps").count());
-        options.families = vec!["moments".into()];
-        let err = options.configs().unwrap_err();
-        assert!(err.contains("\"moments\"") && err.contains("moment maps") && err.contains("Bevy-like"), "{err}");
         assert_eq!(Config::default_settings().label(), "2048 x4 stable bilinear b0.5");
         let c = Config { method: ShadowMethod::Pcf3, bias: 2.0, ..Config::default_settings() };
         assert_eq!(c.short_label(), "2048 x4 pcf3 b2");
         let c = Config { depth: ShadowDepth::Unorm16, bias_scale: 0.05, ..Config::default_settings() };
         assert_eq!(c.label(), "2048 x4 stable bilinear b0.5 d16 s0.05");
-    }
-
-    #[test]
-    fn errors_are_measured_one_thread_per_four_cores() {
-        assert_eq!([0, 1, 2, 3, 4, 8, 16, 64].map(error_workers), [1, 1, 1, 1, 1, 2, 4, 4]);
     }
 
     #[test]

@@ -6,8 +6,9 @@
 //! shadows off. A machine whose speed drifts over the run slows all configurations alike and the
 //! ratios stay fair.
 
-use super::config::{Config, SweepOptions};
+use super::config::Config;
 use super::measure::{MeasureError, Measurer, Subject, SubjectId, TimedMaps, place_camera};
+use super::sweep_options::SweepOptions;
 use crate::App;
 use crate::render::{Gpu, HEADLESS_FORMAT, Renderer};
 use crate::settings::Settings;

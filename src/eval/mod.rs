@@ -14,5 +14,6 @@ pub mod metrics;
 pub mod passes;
 pub mod results;
 pub mod sweep;
+pub mod sweep_options;
 pub mod truth;
 pub mod tune;

@@ -2,10 +2,11 @@
 //! sample scene and in each failure case, measured in one run.
 
 use super::cases::{CASES, Score};
-use super::config::{Config, SweepOptions, View, distinct_as_run};
+use super::config::{Config, distinct_as_run};
 use super::cost::{Cost, time_all};
 use super::measure::{MeasureError, Measurer, SubjectId, TruthSettings, place_camera};
 use super::metrics::{LightReport, report};
+use super::sweep_options::{SweepOptions, View};
 use crate::App;
 use crate::render::Gpu;
 use crate::settings::Settings;

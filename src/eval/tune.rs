@@ -12,9 +12,9 @@
 //! also reported on the other half, views the search never saw: the gain there is the one to
 //! expect elsewhere.
 
-use super::config::{View, views};
 use super::measure::{MeasureError, Measurer, SubjectId, TruthSettings, place_camera};
 use super::metrics::{Tally, tally};
+use super::sweep_options::{View, views};
 use crate::App;
 use crate::biases::LightBiases;
 use crate::components::ShadowBias;
