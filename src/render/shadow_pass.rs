@@ -392,7 +392,7 @@ impl ShadowPass {
             passes += b.passes(&work);
             stats.moments_in_compute = if b.in_compute(&work) { atlas as u32 } else { 0 };
         }
-        passes += self.sampled_passes(&made, atlas, blur, &mut stats);
+        passes += self.sampled_passes((&made[atlas..], atlas), blur, &mut stats);
         let mut stamps = Stamps { timer, next: 0, total: passes };
         self.encode_jobs(device, encoder, data, &jobs, with, &mut stamps);
         if let Some(moment_blur) = self.blur.as_mut().filter(|_| !made.is_empty()) {

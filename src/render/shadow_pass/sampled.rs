@@ -13,21 +13,32 @@ use super::super::timing::Stamps;
 use super::{ShadowPass, multisampled};
 
 impl ShadowPass {
-    /// The passes the multisampled jobs' tiles (`made` from `first` on) take, each drawn and
-    /// then resolved and blurred by `radius`; counts those the dispatch makes in `stats`.
+    /// The resolve of multisampled `tile` from the scratch, its terms at `index` in what the
+    /// blur wrote, blurred by `radius`.
+    fn sampled_work<'a>(
+        &'a self,
+        scratch: &'a SampleScratch,
+        tile: &'a MomentTile,
+        index: usize,
+        radius: u32,
+    ) -> MomentWork<'a> {
+        let input = MomentInput::Samples { depth: &scratch.view, layers: &self.layer_uniforms };
+        MomentWork { maps: &self.maps.moments, tiles: std::slice::from_ref(tile), first: index, radius, input }
+    }
+
+    /// The passes the multisampled jobs' moment `tiles` (their terms from `first` on) take, each
+    /// drawn and then resolved and blurred by `radius`; counts those the dispatch makes in
+    /// `stats`.
     pub(super) fn sampled_passes(
         &self,
-        made: &[MomentTile],
-        first: usize,
+        (tiles, first): (&[MomentTile], usize),
         radius: u32,
         stats: &mut ShadowStats,
     ) -> usize {
         let (Some(b), Some(scratch)) = (&self.blur, &self.scratch) else { return 0 };
         let mut passes = 0;
-        for (i, tile) in made.iter().enumerate().skip(first) {
-            let input = MomentInput::Samples { depth: &scratch.view, layers: &self.layer_uniforms };
-            let work =
-                MomentWork { maps: &self.maps.moments, tiles: std::slice::from_ref(tile), first: i, radius, input };
+        for (i, tile) in tiles.iter().enumerate() {
+            let work = self.sampled_work(scratch, tile, first + i, radius);
             passes += 1 + b.passes(&work);
             stats.moments_in_compute += u32::from(b.in_compute(&work));
         }
@@ -66,14 +77,7 @@ impl ShadowPass {
                 let pipelines = &set.multisampled[multisampled(job.samples)];
                 drawing.tile(&mut pass, job, (0, 0, tile.tile.size), None, (pipelines, &job.calls));
             }
-            let input = MomentInput::Samples { depth: &scratch.view, layers: &self.layer_uniforms };
-            let tiles = std::slice::from_ref(tile);
-            blur.encode(
-                device,
-                encoder,
-                MomentWork { maps: &self.maps.moments, tiles, first: first + i, radius, input },
-                stamps,
-            );
+            blur.encode(device, encoder, self.sampled_work(scratch, tile, first + i, radius), stamps);
         }
     }
 }
