@@ -195,6 +195,32 @@ fn evsm_and_msm_leak_less_light_than_vsm_between_stacked_casters_without_bleedin
 }
 
 #[test]
+fn evsms_negative_warp_keeps_a_ledges_shadowed_end_dark_where_the_positive_warp_alone_lights_it() {
+    let positive_only = Settings::default().with(|s| s.shadow.method = ShadowMethod::Evsm2);
+    let (_, evsm2) = holds_and_breaks("ledge-bleeding", positive_only);
+    let gpu = common::gpu();
+    let case = case("ledge-bleeding").unwrap();
+    let light = |method| {
+        let score = (case.run)(&mut measurer(&gpu), &Settings::default().with(|s| s.shadow.method = method)).unwrap();
+        eprintln!("{method:?}: mean false light {:.4} on the ledge's end ({score:?})", score.value());
+        score.value()
+    };
+    let [pcf5, vsm, evsm, msm, hausdorff] =
+        [ShadowMethod::Pcf5, ShadowMethod::Vsm, ShadowMethod::Evsm, ShadowMethod::Msm, ShadowMethod::MsmHausdorff]
+            .map(light);
+    let evsm2 = evsm2.value();
+    // The ground's share of a 5x5 footprint leaks by any filter; Chebyshev on plain depths lets
+    // in more than that share, the positive warp alone more still (here every pixel it reaches is
+    // fully lit), both warps together less than the plain filter.
+    assert!(evsm2 > vsm && vsm > pcf5, "EVSM2 {evsm2}, VSM {vsm}, PCF 5x5 {pcf5}");
+    assert!(evsm < pcf5 && evsm2 > 4.0 * evsm, "EVSM {evsm}, EVSM2 {evsm2}, PCF 5x5 {pcf5}");
+    assert!(evsm <= case.threshold && msm <= case.threshold, "EVSM {evsm}, MSM {msm}");
+    // Hausdorff's bound knows the depths lie in 0..1: never looser than Hamburger's (up to the
+    // rounding of a pixel or two).
+    assert!(hausdorff <= msm + 1e-3, "MSM Hamburger {msm}, Hausdorff {hausdorff}");
+}
+
+#[test]
 fn a_spots_error_grows_as_its_tile_shrinks_and_passes_the_threshold_near_the_predicted_side() {
     // With every tile held at 32², the spot's edges land half a 17 cm texel off.
     holds_and_breaks("tile-shrink", Settings::default().with(|s| s.maps.shadow_map_size = 32));

@@ -104,6 +104,8 @@ pub enum CaseScene {
     ContactHardening,
     /// Two stacked plates under the sun, sampled by VSM.
     LightBleeding,
+    /// A plate's shadow over the end of a ledge, the ground far below.
+    LedgeBleeding,
     /// Walls at 1 m to 32 m from a spot.
     Precision,
     /// A hard-edged spot over an open ground, probed at the edge of its tile.

@@ -62,7 +62,7 @@ pub struct Case {
 }
 
 /// Every case, in the order the issues list them.
-pub const CASES: [Case; 19] = [
+pub const CASES: [Case; 20] = [
     Case {
         name: "acne", measures: "false-shadow share of an open plane, sun at 2°..89°", threshold: 0.001, run: acne
     },
@@ -137,6 +137,12 @@ pub const CASES: [Case; 19] = [
         measures: "share of the ground in two stacked plates' shadow, across the high one's edge, showing light (VSM, or the moment method in use)",
         threshold: 0.01,
         run: soft::light_bleeding,
+    },
+    Case {
+        name: "ledge-bleeding",
+        measures: "mean false light on a ledge's shadowed end, where the filter takes in the ground far below (the method in use)",
+        threshold: 0.05,
+        run: soft::ledge_bleeding,
     },
     Case {
         name: "atlas-seams",

@@ -1,7 +1,8 @@
 //! The failure cases of soft and filtered shadows: a wide filter darkening the lit slope it samples
 //! (soft acne), a penumbra that stays one width however far its caster is (no contact
-//! hardening), and light leaking through two stacked casters from a variance map (light
-//! bleeding).
+//! hardening), light leaking through two stacked casters from a variance map (light
+//! bleeding), and light a filter takes from a far surface behind a shadowed receiver's end
+//! (ledge bleeding).
 
 use super::scenes::{add_box, ground, pole_scene, set_sun, sun_direction};
 use super::{Score, measure_at, on_ground};
@@ -15,9 +16,16 @@ use glam::Vec3;
 const SOFT_ACNE: SubjectId = SubjectId::Case(CaseScene::SoftAcne);
 const CONTACT_HARDENING: SubjectId = SubjectId::Case(CaseScene::ContactHardening);
 const LIGHT_BLEEDING: SubjectId = SubjectId::Case(CaseScene::LightBleeding);
+const LEDGE_BLEEDING: SubjectId = SubjectId::Case(CaseScene::LedgeBleeding);
 
-/// Darkening is scored in thousandths: `hits / of` is the mean.
-const DARKENING_STEPS: f64 = 1000.0;
+/// Shares of light are scored in thousandths: `hits / of` is their mean.
+const STEPS: f64 = 1000.0;
+
+/// Adds one pixel's share `share` (clamped to 0..1) to a mean kept in thousandths.
+fn add_share(score: &mut Score, share: f32) {
+    score.of += STEPS as u64;
+    score.hits += (share.clamp(0.0, 1.0) as f64 * STEPS).round() as u64;
+}
 
 /// A wide filter compares depths up to 2.5 texels from its centre; on a plane the light meets at
 /// a slant those depths differ from the centre's by more than the bias, so without the receiver
@@ -33,8 +41,7 @@ pub fn soft_acne(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, Mea
             measure_at(m, SOFT_ACNE, &format!("{elevation}"), |app| set_sun(app, sun_direction(elevation, 30.0)))?;
         for i in (0..measured.frame.position.len()).filter(|&i| on_ground(&measured)(i)) {
             if let Some(r) = rendered(&measured.frame, 0, i) {
-                score.of += DARKENING_STEPS as u64;
-                score.hits += ((1.0 - r as f64).clamp(0.0, 1.0) * DARKENING_STEPS).round() as u64;
+                add_share(&mut score, 1.0 - r);
             }
         }
     }
@@ -106,6 +113,55 @@ pub fn light_bleeding(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score
         {
             score.of += 1;
             score.hits += (r > LEAK) as u64;
+        }
+    }
+    Ok(score)
+}
+
+/// The ledge-bleeding case's sun: 20° up, shining along +Z.
+const LEDGE_SUN_ELEVATION: f32 = 20.0;
+/// Height of the plate's top face, whose edge at z = 0 throws the shadow's edge.
+const PLATE_TOP: f32 = 1.31;
+/// Height of the ledge's top face.
+const LEDGE_TOP: f32 = 1.0;
+
+/// How far along +Z the plate's shadow edge falls on the ledge, and so where the ledge ends.
+fn ledge_end() -> f32 {
+    (PLATE_TOP - LEDGE_TOP) / LEDGE_SUN_ELEVATION.to_radians().tan()
+}
+
+/// A ledge 1 m up ends exactly where a plate 31 cm above it throws its shadow's edge, under a sun
+/// 20° up; the ground lies a metre below. In the map, the plate's edge borders the ground, far
+/// behind the ledge: a filter at the ledge's shadowed end mixes the plate's depth with the
+/// ground's. Filtering the comparisons lets in the ground's share of light (PCF); Chebyshev's
+/// bound on plain depths more; a positive exponential warp alone (EVSM2) all of it, since the far
+/// ground's huge warped depth outweighs the plate's in the mean, while EVSM's negative warp,
+/// dominated by the plate, keeps it near the ground's share. The score is the mean false light
+/// on the ledge's truly shadowed top within 10 cm of its end, under the settings' own method.
+pub fn ledge_bleeding(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
+    let end = ledge_end();
+    let view = (Vec3::new(0.0, 1.5, end + 0.5), Vec3::new(0.0, LEDGE_TOP, end - 0.1));
+    m.subject(LEDGE_BLEEDING, settings, |s| {
+        let mut app = ground(s, 40.0, false, sun_direction(LEDGE_SUN_ELEVATION, 180.0), view)?;
+        add_box(&mut app, Vec3::new(0.0, PLATE_TOP - 0.01, -0.5), Vec3::new(0.5, 0.01, 0.5));
+        add_box(&mut app, Vec3::new(0.0, LEDGE_TOP - 0.01, (end - 1.5) / 2.0), Vec3::new(0.5, 0.01, (end + 1.5) / 2.0));
+        Ok(app)
+    })?;
+    let measured = measure_at(m, LEDGE_BLEEDING, "ledge", |_| {})?;
+    let on_ledge_end = |i: usize| {
+        let p = measured.frame.position[i];
+        measured.frame.covered(i)
+            && (p.y - LEDGE_TOP).abs() < 1e-3
+            && measured.frame.normal[i].y > 0.99
+            && p.x.abs() < 0.3
+            && (end - 0.1..end).contains(&p.z)
+    };
+    let mut score = Score::default();
+    for (i, t) in measured.truth[0].iter().enumerate() {
+        if let (Some(t), Some(r), true) = (t, rendered(&measured.frame, 0, i), on_ledge_end(i))
+            && !t.lit
+        {
+            add_share(&mut score, r);
         }
     }
     Ok(score)
