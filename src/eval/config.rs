@@ -302,8 +302,12 @@ pub fn configs(quick: bool) -> Vec<Config> {
         push(Config { method: ShadowMethod::Vsm, moments_from: MomentSource::Half, moment_resolve, ..d });
     }
     // And at half its side from depth drawn there with 4x MSAA (the four samples every device
-    // allows): a moment texel of four samples, as depth/2's, from a quarter of the raster.
-    push(Config { method: ShadowMethod::Vsm, moments_from: MomentSource::Half, moment_samples: 4, ..d });
+    // allows): a moment texel of four samples, as depth/2's, from a quarter of the raster. VSM,
+    // and EVSM with both warps and with the positive one alone, which the bleeding cases tell
+    // apart (the cheapest moment maps on a software rasterizer).
+    for method in [ShadowMethod::Vsm, ShadowMethod::Evsm, ShadowMethod::Evsm2] {
+        push(Config { method, moments_from: MomentSource::Half, moment_samples: 4, ..d });
+    }
     // Moment maps drawn as colour targets, and resolved from the depth map at a half and a
     // quarter of its side (the full sweep only).
     if !quick {
@@ -312,14 +316,11 @@ pub fn configs(quick: bool) -> Vec<Config> {
                 push(Config { method, moments_from, ..d });
             }
         }
-        // 4x MSAA at full size and at a quarter of the side for VSM, at half the side for the
-        // others.
+        // 4x MSAA at full size and at a quarter of the side for VSM, at half the side for MSM.
         for moments_from in [MomentSource::Depth, MomentSource::Quarter] {
             push(Config { method: ShadowMethod::Vsm, moments_from, moment_samples: 4, ..d });
         }
-        for method in [ShadowMethod::Evsm, ShadowMethod::Msm] {
-            push(Config { method, moments_from: MomentSource::Half, moment_samples: 4, ..d });
-        }
+        push(Config { method: ShadowMethod::Msm, moments_from: MomentSource::Half, moment_samples: 4, ..d });
         // Both ways of resolving at full size, whichever auto picks here.
         for moment_resolve in [MomentResolve::Compute, MomentResolve::Passes] {
             push(Config { method: ShadowMethod::Vsm, moments_from: MomentSource::Depth, moment_resolve, ..d });
