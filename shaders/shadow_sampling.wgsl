@@ -112,7 +112,8 @@ fn shadow_gauss5(c: ShadowCoord) -> f32 {
             sum += w[i].x * w[j].y * compare_at(c, at);
         }
     }
-    return sum / 144.0;
+    // The weights add up to 144 only up to rounding: clamped, a lit point never reads above 1.
+    return clamp(sum / 144.0, 0.0, 1.0);
 }
 
 // Interleaved gradient noise (Jimenez 2014, "Next generation post processing in Call of Duty:

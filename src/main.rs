@@ -157,7 +157,8 @@ struct BenchArgs {
     lights: bool,
     /// Sweep only the configurations of this family (and the default, for the ratios); give it
     /// again for more: "hard", "grid PCF", "moment maps", "Bevy-like" … (an unknown one is
-    /// refused with the list).
+    /// refused with the list); "contact shadows" takes every configuration with them and its
+    /// twin without.
     #[arg(long, value_name = "FAMILY", conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]
     family: Vec<String>,
     /// Configurations whose errors the sweep measures at once, each on a thread of its own

@@ -56,6 +56,8 @@ struct Seen {
     partial_high: usize,
     truth_low: usize,
     truth_high: usize,
+    /// Pixels the light reaches whose visibility is not a number in 0..=1.
+    out_of_range: usize,
 }
 
 fn measure(method: ShadowMethod) -> Seen {
@@ -85,6 +87,11 @@ fn measure_app(mut app: App, name: &str) -> Seen {
         partial_high: count(true, &rendered),
         truth_low: count(false, &soft),
         truth_high: count(true, &soft),
+        out_of_range: (0..truth[0].len())
+            .filter(|&i| frame.covered(i))
+            .map(|i| frame.visibility[0][i])
+            .filter(|&v| v != -1.0 && !(0.0..=1.0).contains(&v))
+            .count(),
     };
     eprintln!(
         "{}: misclassified {:.4} %, MAE soft {:.4}; partly lit pixels low/high {}/{} (truth {}/{})",
@@ -112,6 +119,9 @@ fn every_method_puts_the_plates_shadows_where_the_truth_does() {
             bilinear_mae = Some(seen.tally.mae_soft());
         }
         assert!(seen.tally.pixels > 30_000, "{method:?}: {} ground pixels", seen.tally.pixels);
+        // A visibility is a share of light: never above 1 (the failure cases count such a pixel
+        // as garbage, a whole case lost), however the filter's weights round.
+        assert_eq!(seen.out_of_range, 0, "{method:?}: visibility outside 0..=1");
         // Edges are the only place a method can be wrong here: a few hundred pixels of 65,000.
         assert!(seen.tally.misclassified() < 0.01, "{method:?}: {:.4} misclassified", seen.tally.misclassified());
         // And each draws the edge it should: a comparison per texel none partly lit, a filter that

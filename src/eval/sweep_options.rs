@@ -8,6 +8,10 @@ use crate::settings::Settings;
 use bevy_ecs::prelude::With;
 use glam::Vec3;
 
+/// What `--family` takes for the configurations with contact shadows beside their twins
+/// without (they belong to their methods' families).
+pub const CONTACT_GROUP: &str = "contact shadows";
+
 /// A view of a measured scene: a camera and a time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
@@ -105,16 +109,20 @@ impl SweepOptions {
     }
 
     /// The configurations it sweeps: [`configs`], only those of its families (and the
-    /// default's) when it names any. A family no configuration has is an error that lists
-    /// those there are.
+    /// default's) when it names any. [`CONTACT_GROUP`] names every configuration with contact
+    /// shadows and each one's twin without them, whatever their families. A name no
+    /// configuration has is an error that lists those there are.
     pub fn configs(&self) -> Result<Vec<Config>, String> {
         let all = configs(self.quick);
-        let known: Vec<&str> = all.iter().fold(Vec::new(), |mut names, c| {
+        let mut known: Vec<&str> = all.iter().fold(Vec::new(), |mut names, c| {
             if !names.contains(&c.family()) {
                 names.push(c.family());
             }
             names
         });
+        if all.iter().any(|c| c.contact) {
+            known.push(CONTACT_GROUP);
+        }
         if let Some(unknown) = self.families.iter().find(|f| !known.contains(&f.as_str())) {
             return Err(format!(
                 "no configuration is of the family \"{unknown}\"; the families are: {}",
@@ -122,8 +130,15 @@ impl SweepOptions {
             ));
         }
         let d = Config::default_settings();
-        let wanted = |c: &Config| self.families.is_empty() || *c == d || self.families.iter().any(|f| f == c.family());
-        Ok(all.into_iter().filter(wanted).collect())
+        let contact = self.families.iter().any(|f| f == CONTACT_GROUP);
+        let has_contact_twin = |c: &Config| all.contains(&Config { contact: true, ..*c });
+        let wanted = |c: &Config| {
+            self.families.is_empty()
+                || *c == d
+                || self.families.iter().any(|f| f == c.family())
+                || (contact && has_contact_twin(c))
+        };
+        Ok(all.iter().copied().filter(wanted).collect())
     }
 }
 
@@ -142,6 +157,26 @@ mod tests {
         options.families = vec!["moments".into()];
         let err = options.configs().unwrap_err();
         assert!(err.contains("\"moments\"") && err.contains("moment maps") && err.contains("Bevy-like"), "{err}");
+    }
+
+    #[test]
+    fn the_contact_group_takes_each_configuration_with_contact_shadows_beside_its_twin_without() {
+        let mut options = SweepOptions::new(false);
+        options.families = vec![CONTACT_GROUP.into()];
+        let some = options.configs().unwrap();
+        let with: Vec<&Config> = some.iter().filter(|c| c.contact).collect();
+        assert_eq!(with.len(), configs(false).iter().filter(|c| c.contact).count());
+        assert!(with.len() >= 8, "{}", with.len());
+        for c in &with {
+            assert!(some.contains(&Config { contact: false, ..**c }), "{}", c.label());
+        }
+        assert_eq!(some.len(), 2 * with.len(), "each twin once, the default among them");
+        options.quick = true;
+        let err = options.configs().unwrap_err();
+        assert!(
+            err.starts_with(&format!("no configuration is of the family \"{CONTACT_GROUP}\"")),
+            "the quick sweep has none: {err}"
+        );
     }
 
     #[test]
