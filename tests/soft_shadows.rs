@@ -87,11 +87,7 @@ fn measure_app(mut app: App, name: &str) -> Seen {
         partial_high: count(true, &rendered),
         truth_low: count(false, &soft),
         truth_high: count(true, &soft),
-        out_of_range: (0..truth[0].len())
-            .filter(|&i| frame.covered(i))
-            .map(|i| frame.visibility[0][i])
-            .filter(|&v| v != -1.0 && !(0.0..=1.0).contains(&v))
-            .count(),
+        out_of_range: (0..truth[0].len()).filter(|&i| metrics::out_of_range(&frame, 0, i)).count(),
     };
     eprintln!(
         "{}: misclassified {:.4} %, MAE soft {:.4}; partly lit pixels low/high {}/{} (truth {}/{})",

@@ -110,6 +110,15 @@ pub fn rendered(frame: &DebugFrame, light: usize, i: usize) -> Option<f32> {
     (frame.covered(i) && v >= 0.0).then_some(v)
 }
 
+/// Whether pixel `i` shows `light` yet its visibility is no share of light: NaN, infinite, or
+/// outside 0..=1 (-1 marks a pixel the light does not reach). The failure cases count such a
+/// pixel as garbage.
+#[must_use]
+pub fn out_of_range(frame: &DebugFrame, light: usize, i: usize) -> bool {
+    let v = frame.visibility[light][i];
+    frame.covered(i) && !(v.is_finite() && (v == -1.0 || (0.0..=1.0).contains(&v)))
+}
+
 /// The errors of `light` over the pixels `keep` accepts, where both the renderer and the truth
 /// have a value.
 pub fn tally(frame: &DebugFrame, truth: &[Option<Truth>], light: usize, keep: impl Fn(usize) -> bool) -> Tally {
@@ -223,5 +232,22 @@ mod tests {
         assert_eq!(r.all.pixels, 2, "the renderer made no test at the third pixel");
         assert_eq!((r.bands[0].pixels, r.bands[0].false_shadow), (1, 0));
         assert_eq!((r.bands[2].pixels, r.bands[2].false_shadow), (1, 1));
+    }
+
+    #[test]
+    fn a_visibility_that_is_no_share_of_light_is_garbage_only_where_the_pixel_shows_the_light() {
+        let odd = [0.0, 1.0, -1.0, 0.5, 1.000_000_1, -0.5, f32::NAN, f32::INFINITY, f32::MAX];
+        let expected = [false, false, false, false, true, true, true, true, true];
+        let mut frame = DebugFrame {
+            width: odd.len() as u32,
+            height: 1,
+            position: vec![Vec4::W; odd.len()],
+            normal: vec![Vec4::Y; odd.len()],
+            visibility: vec![odd.to_vec()],
+        };
+        let seen: Vec<bool> = (0..odd.len()).map(|i| out_of_range(&frame, 0, i)).collect();
+        assert_eq!(seen, expected);
+        frame.position = vec![Vec4::ZERO; odd.len()];
+        assert!((0..odd.len()).all(|i| !out_of_range(&frame, 0, i)), "a pixel showing nothing is never garbage");
     }
 }

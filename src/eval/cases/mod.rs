@@ -12,7 +12,7 @@ pub mod scenes;
 mod soft;
 
 use super::measure::{CaseScene, MeasureError, Measured, Measurer, SubjectId, place_camera};
-use super::metrics::{DISTANCE_BANDS, rendered};
+use super::metrics::{DISTANCE_BANDS, out_of_range, rendered};
 use crate::App;
 use crate::assets::Vertex;
 use crate::components::{Joints, ModelInstance, ModelPart, WorldBounds};
@@ -205,13 +205,12 @@ fn missing_shadow(m: &Measured, light: usize, keep: impl Fn(usize) -> bool) -> S
     s
 }
 
-/// Misclassified pixels of `light` (dark but lit, or lit but dark) over `keep`, with NaNs as
-/// garbage.
+/// Misclassified pixels of `light` (dark but lit, or lit but dark) over `keep`, with any
+/// visibility that is no share of light as garbage.
 fn misclassified(m: &Measured, light: usize, keep: impl Fn(usize) -> bool) -> Score {
     let mut s = Score::default();
     for (i, t) in m.truth[light].iter().enumerate() {
-        let v = m.frame.visibility[light][i];
-        if m.frame.covered(i) && !(v.is_finite() && (v == -1.0 || (0.0..=1.0).contains(&v))) {
+        if out_of_range(&m.frame, light, i) {
             s.garbage += 1;
         }
         if let (Some(t), Some(r), true) = (t, rendered(&m.frame, light, i), keep(i)) {
