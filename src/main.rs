@@ -5,7 +5,8 @@ use clap::{Args, Parser, Subcommand};
 use scene_args::{SceneArgs, parse_angle, parse_radius, parse_size, parse_time};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use umbra::components::{ModelInstance, Transform};
+use umbra::assets::ModelInstance;
+use umbra::components::Transform;
 use umbra::render::{Gpu, render_headless, render_png};
 use umbra::{App, Settings};
 
@@ -309,7 +310,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
     if !args.cache && !args.lab {
         return bench_sweep::sweep(args);
     }
-    use umbra::eval::bench::{LAB_SCENARIOS, SCENARIOS};
+    use umbra::play::bench::{LAB_SCENARIOS, SCENARIOS};
     let scenarios = if args.lab { &LAB_SCENARIOS[..] } else { &SCENARIOS[..] };
     let settings = args.scene.settings()?;
     settings.validate()?;
@@ -325,13 +326,13 @@ fn bench(args: &BenchArgs) -> Result<()> {
         settings.cascade.fit_mode.name()
     );
     let frames = args.frames.unwrap_or(60);
-    let rows = umbra::eval::bench::run(&gpu, &settings, scenarios, frames, args.width, args.height, |done, all| {
+    let rows = umbra::play::bench::run(&gpu, &settings, scenarios, frames, args.width, args.height, |done, all| {
         if done == all || done % 10 == 0 {
             eprint!("\r{done}/{all} rounds");
         }
     })?;
     eprintln!();
-    print!("{}", umbra::eval::bench::table(&rows));
+    print!("{}", umbra::play::bench::table(&rows));
     Ok(())
 }
 

@@ -5,7 +5,9 @@
 
 use crate::assets::character::WALK_SPEED;
 use crate::assets::model::MIN_MODEL_SIZE;
-use crate::assets::{MeshLibrary, Model, ModelError, TextureLibrary, cube, load_model, parse_model, plane, sphere};
+use crate::assets::{
+    MeshLibrary, Model, ModelError, ModelInstance, TextureLibrary, cube, load_model, parse_model, plane, sphere,
+};
 use crate::components::*;
 use crate::settings::SceneSettings;
 use bevy_ecs::prelude::*;

@@ -171,3 +171,25 @@ fn paths_are_read_from_code_and_loops_are_found() {
     g.insert(m("c"), BTreeSet::new());
     assert!(loops(&g).is_empty());
 }
+
+/// `graph` seen from the crate's root: each top-level module (a folder or a file under `src/`)
+/// with the other top-level modules anything inside it uses.
+fn top_level(graph: &BTreeMap<Module, BTreeSet<Module>>) -> BTreeMap<Module, BTreeSet<Module>> {
+    let top = |m: &Module| m.first().map(|s| vec![s.clone()]);
+    let mut out: BTreeMap<Module, BTreeSet<Module>> = BTreeMap::new();
+    for (module, uses) in graph {
+        let Some(from) = top(module) else { continue };
+        let entry = out.entry(from.clone()).or_default();
+        entry.extend(uses.iter().filter_map(top).filter(|to| *to != from));
+    }
+    out
+}
+
+#[test]
+fn no_top_level_module_needs_another_that_needs_it_back() {
+    let graph = top_level(&graph());
+    assert!(graph.len() > 10, "found only {} top-level modules under src/", graph.len());
+    let found: Vec<String> =
+        loops(&graph).iter().map(|part| part.iter().map(|m| m.join("::")).collect::<Vec<_>>().join(" ⇄ ")).collect();
+    assert!(found.is_empty(), "top-level module cycles:\n{}", found.join("\n"));
+}

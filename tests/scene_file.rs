@@ -8,6 +8,7 @@ use common::scene_file::{BOX, PILLAR, SceneFile};
 use common::*;
 use glam::Vec3;
 use serde_json::json;
+use umbra::assets::ModelInstance;
 use umbra::components::*;
 use umbra::eval::{metrics, truth};
 use umbra::light::light_list;

@@ -14,7 +14,7 @@ mod texture;
 pub use cookie::{COOKIE_SIZE, WINDOW_BAR, cookie_image};
 pub use gltf::{MAX_DECODED_BYTES, MAX_INPUT_BYTES, MAX_OBJECTS, MAX_PARTS, ModelError, load_model, parse_model};
 pub use mesh::{MeshData, MeshLibrary, SkinVertex, Vertex, cube, plane, sphere};
-pub use model::Model;
+pub use model::{Model, ModelInstance};
 pub use texture::{
     DecodeError, Filter, ImageData, MAX_TEXTURE_SIZE, Sampling, TextureData, TextureLibrary, UvTransform, Wrap,
     decode_image, mipmapped_bytes,

@@ -7,14 +7,21 @@ use super::clip::Clip;
 use super::mesh::MeshData;
 use super::skin::posed_bounds;
 use super::texture::TextureData;
-use crate::components::{Material, Transform};
+use crate::components::{Material, Pose, Transform};
 use crate::shadow::Aabb;
+use bevy_ecs::prelude::Component;
 use glam::{Mat4, Vec3};
 use std::sync::Arc;
 
 /// Models smaller than this across (metres) are taken to have no size: placed unscaled, with a
 /// warning, rather than blown up to a sensible size by an absurd factor.
 pub const MIN_MODEL_SIZE: f32 = 1e-3;
+
+/// A loaded model placed in the world by this entity's [`Transform`]; its meshes are separate
+/// entities with a [`crate::components::ModelPart`].
+#[derive(Component, Clone, Debug)]
+#[require(Transform, Pose)]
+pub struct ModelInstance(pub Arc<Model>);
 
 /// One node of the tree.
 #[derive(Clone, Debug, PartialEq)]

@@ -283,12 +283,6 @@ pub struct Bob {
     pub phase: f32,
 }
 
-/// A loaded model placed in the world by this entity's [`Transform`]; its meshes are separate
-/// entities with a [`ModelPart`].
-#[derive(Component, Clone, Debug)]
-#[require(Transform, Pose)]
-pub struct ModelInstance(pub std::sync::Arc<crate::assets::Model>);
-
 /// Plays one of a model's clips, looping, at `speed` times real time.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct Animator {
@@ -305,7 +299,7 @@ pub struct Pose(pub Vec<Mat4>);
 /// One mesh of a model: which model entity and which of its parts.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct ModelPart {
-    /// The entity holding the [`ModelInstance`].
+    /// The entity holding the [`crate::assets::ModelInstance`].
     pub root: Entity,
     /// Index into the model's parts.
     pub part: usize,
@@ -315,7 +309,7 @@ pub struct ModelPart {
 /// the node, turning with it.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct AtNode {
-    /// The entity holding the [`ModelInstance`].
+    /// The entity holding the [`crate::assets::ModelInstance`].
     pub root: Entity,
     /// Index into the model's nodes.
     pub node: usize,

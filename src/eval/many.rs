@@ -10,11 +10,11 @@
 //! A policy that needs more shadow memory than [`MAX_RUN_MIB`] is reported with what it needs,
 //! not run.
 
-use super::bench::{BenchError, median};
 use super::cases::budget::{ShrinkPoint, threshold_sides};
 use super::chart::{ChartError, line_chart};
 use super::metrics::{Tally, tally};
 use super::truth::{SizeOverride, truth_of};
+use super::{BenchError, median};
 use crate::components::ShadowMap;
 use crate::light::light_list;
 use crate::render::{Gpu, HEADLESS_FORMAT, Renderer, ShadowStats, render_debug_frame};

@@ -7,8 +7,8 @@
 //! extract it needs (bounds, culling, instancing, uploads); the bare pass is given the frame's
 //! culled lists and pays only for uploading its placements and drawing.
 
-use super::bench::{BenchError, median};
 use super::chart::{ChartError, line_chart};
+use super::{BenchError, median};
 use crate::render::{Gpu, HEADLESS_FORMAT, Renderer, ShadowStats, extract};
 use crate::{App, Settings};
 use std::path::Path;

@@ -4,8 +4,9 @@
 //! measuring view reports it, the truth casts rays to it, `tune` tunes it and bias files name it.
 //!
 //! Each kind lives in a module of its own (`sun.rs`, `spot.rs`, `point.rs`) that owns its shape,
-//! its layers' projections, what its size means, where its light reaches, how it packs for the
-//! GPU, where the truth's rays go and how it is drawn in the light-volume view. Code outside this module asks a light; it
+//! its layers' projections, what its size means, where its light reaches, what it tells the GPU
+//! ([`KindGpu`]; the renderer packs it, this module never imports the renderer), where the truth's
+//! rays go and how it is drawn in the light-volume view. Code outside this module asks a light; it
 //! never matches on its kind or on its label's text. Adding a kind touches its own file, this
 //! one (the [`LightKind`] variant and [`LightSources`]), its component and the shaders.
 
@@ -22,13 +23,45 @@ use crate::components::{
     Camera, ContactShadows, Cookie, DirectionalLight, PointLight, ShadowBias, ShadowLayer, ShadowMap, ShadowMethod,
     SpotLight, Transform,
 };
-use crate::render::gpu_types::{GpuLight, SHAPE_CASCADES, SHAPE_CUBE, SHAPE_SINGLE};
 use crate::settings::{CascadeSettings, MapSettings, ShadowSettings};
 use crate::shadow::{Aabb, LightProjection, VisibleSamples, cube_projections};
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
 use clusters::Reach;
-use glam::{Vec3, Vec4};
+use glam::{Mat4, Vec3, Vec4};
+
+/// Its kind's number on the GPU for a sun (`LIGHT_SUN` in the shaders).
+pub const LIGHT_SUN: u32 = 0;
+/// Its kind's number on the GPU for a spot light.
+pub const LIGHT_SPOT: u32 = 1;
+/// Its kind's number on the GPU for a point light.
+pub const LIGHT_POINT: u32 = 2;
+/// [`ShadowShape::Cascades`] on the GPU.
+pub const SHAPE_CASCADES: u32 = 0;
+/// [`ShadowShape::Single`] on the GPU.
+pub const SHAPE_SINGLE: u32 = 1;
+/// [`ShadowShape::Cube`] on the GPU.
+pub const SHAPE_CUBE: u32 = 2;
+
+/// What a light's kind tells the shaders of itself: its number, pose and cone. The renderer packs
+/// it with what every kind has; a kind leaves what it lacks at its default.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct KindGpu {
+    /// `LIGHT_SUN`, `LIGHT_SPOT` or `LIGHT_POINT`.
+    pub code: u32,
+    /// Where it is (spot and point lights).
+    pub position: Vec3,
+    /// Where its light fades to nothing (spot and point lights).
+    pub range: f32,
+    /// Unit direction it travels (suns) or shines (spots).
+    pub direction: Vec3,
+    /// Cosine of a spot's outer half angle.
+    pub cos_outer: f32,
+    /// Cosine of a spot's inner half angle.
+    pub cos_inner: f32,
+    /// World to the clip space its cookie is thrown through (spots only).
+    pub cookie_from_world: Option<Mat4>,
+}
 
 /// How a light's shadow is laid out in layers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -168,8 +201,8 @@ pub trait Kind {
     fn set_size(&self, world: &mut World, entity: Entity, size: f32);
     /// Where its light can arrive (the clusters list it there).
     fn reach(&self) -> Reach;
-    /// Writes its kind, pose and shape into `gpu` (the rest is the same for every kind).
-    fn pack(&self, gpu: &mut GpuLight);
+    /// Its kind, pose and cone as the shaders read them (the rest is the same for every kind).
+    fn gpu(&self) -> KindGpu;
     /// Where the truth's rays to it go.
     fn emitter(&self) -> Emitter;
     /// Where it is as a homogeneous point: w = 1 for a light at a point, w = 0 for a direction
@@ -226,8 +259,8 @@ impl Kind for LightKind {
     fn reach(&self) -> Reach {
         each_kind!(self, k => k.reach())
     }
-    fn pack(&self, gpu: &mut GpuLight) {
-        each_kind!(self, k => k.pack(gpu))
+    fn gpu(&self) -> KindGpu {
+        each_kind!(self, k => k.gpu())
     }
     fn emitter(&self) -> Emitter {
         each_kind!(self, k => k.emitter())

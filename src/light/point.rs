@@ -1,9 +1,8 @@
 //! A point light: light from a small sphere every way, shadowed through a cube of six maps.
 
 use super::clusters::Reach;
-use super::{Emitter, Kind, LayerContext, LayerFit, ShadowShape, SizeControl, Source};
+use super::{Emitter, Kind, KindGpu, LIGHT_POINT, LayerContext, LayerFit, ShadowShape, SizeControl, Source};
 use crate::components::{PointLight, Transform};
-use crate::render::gpu_types::{GpuLight, LIGHT_POINT};
 use crate::settings::MapSettings;
 use crate::shadow::light_range;
 use bevy_ecs::prelude::*;
@@ -60,9 +59,8 @@ impl Kind for Point {
         Reach::Sphere { centre: self.position, radius: self.range }
     }
 
-    fn pack(&self, gpu: &mut GpuLight) {
-        gpu.kind = LIGHT_POINT;
-        (gpu.position, gpu.range) = (self.position.to_array(), self.range);
+    fn gpu(&self) -> KindGpu {
+        KindGpu { code: LIGHT_POINT, position: self.position, range: self.range, ..KindGpu::default() }
     }
 
     /// A sphere seen from a receiver is a disc facing it.

@@ -2,9 +2,8 @@
 //! through a cube when its cone is wider than one map holds well.
 
 use super::clusters::Reach;
-use super::{Emitter, Kind, LayerContext, LayerFit, ShadowShape, SizeControl, Source};
+use super::{Emitter, Kind, KindGpu, LIGHT_SPOT, LayerContext, LayerFit, ShadowShape, SizeControl, Source};
 use crate::components::{SpotLight, Transform};
-use crate::render::gpu_types::{GpuLight, LIGHT_SPOT};
 use crate::settings::MapSettings;
 use crate::shadow::{light_range, spot_cone, spot_projection};
 use bevy_ecs::prelude::*;
@@ -91,13 +90,20 @@ impl Kind for Spot {
         Reach::Sphere { centre: self.position + self.direction * along, radius }
     }
 
-    fn pack(&self, gpu: &mut GpuLight) {
-        gpu.kind = LIGHT_SPOT;
-        (gpu.position, gpu.direction, gpu.range) = (self.position.to_array(), self.direction.to_array(), self.range);
-        gpu.cos_outer = self.outer.cos();
-        gpu.cos_inner = self.inner.cos().max(gpu.cos_outer + 1e-4);
-        // The cookie is thrown through the cone's own projection, shadowed or not.
-        gpu.cookie_from_world = spot_projection(self.position, self.direction, self.outer, self.range, 1).view_proj;
+    fn gpu(&self) -> KindGpu {
+        let cos_outer = self.outer.cos();
+        KindGpu {
+            code: LIGHT_SPOT,
+            position: self.position,
+            range: self.range,
+            direction: self.direction,
+            cos_outer,
+            cos_inner: self.inner.cos().max(cos_outer + 1e-4),
+            // The cookie is thrown through the cone's own projection, shadowed or not.
+            cookie_from_world: Some(
+                spot_projection(self.position, self.direction, self.outer, self.range, 1).view_proj,
+            ),
+        }
     }
 
     fn emitter(&self) -> Emitter {

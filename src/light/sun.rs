@@ -2,9 +2,8 @@
 //! camera's view (or to what it saw, with the SDSM fit).
 
 use super::clusters::Reach;
-use super::{CameraView, Emitter, Kind, LayerContext, LayerFit, ShadowShape, SizeControl, Source};
+use super::{CameraView, Emitter, Kind, KindGpu, LIGHT_SUN, LayerContext, LayerFit, ShadowShape, SizeControl, Source};
 use crate::components::DirectionalLight;
-use crate::render::gpu_types::{GpuLight, LIGHT_SUN};
 use crate::settings::MapSettings;
 use crate::shadow::{
     FitMode, SunScene, ViewFrustum, VisibleSamples, blend_bands, fit_seen, fit_slice, geometric_splits, split_depths,
@@ -70,9 +69,8 @@ impl Kind for Sun {
         Reach::Everywhere
     }
 
-    fn pack(&self, gpu: &mut GpuLight) {
-        gpu.kind = LIGHT_SUN;
-        gpu.direction = self.direction.to_array();
+    fn gpu(&self) -> KindGpu {
+        KindGpu { code: LIGHT_SUN, direction: self.direction, ..KindGpu::default() }
     }
 
     fn emitter(&self) -> Emitter {

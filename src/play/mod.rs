@@ -1,6 +1,7 @@
 //! Playing the scene in a window: winit events in, fixed steps of the app, frames presented,
 //! with the lab's panel and error overlay (see [`crate::ui`]) painted over them.
 
+pub mod bench;
 mod desk;
 mod keys;
 mod measuring;

@@ -134,7 +134,10 @@ impl FrameLight {
             contact: (light.shadowed && light.contact) as u32,
             ..GpuLight::zeroed()
         };
-        light.kind.pack(&mut g);
+        let kind = light.kind.gpu();
+        (g.kind, g.position, g.range) = (kind.code, kind.position.to_array(), kind.range);
+        (g.direction, g.cos_outer, g.cos_inner) = (kind.direction.to_array(), kind.cos_outer, kind.cos_inner);
+        g.cookie_from_world = kind.cookie_from_world.unwrap_or(Mat4::ZERO);
         g
     }
 }

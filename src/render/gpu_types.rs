@@ -295,18 +295,7 @@ pub const LIST_WIDTH: u32 = 4096;
 /// Lights the measuring view reports in one pass (a vec4 target of visibilities).
 pub const MEASURED_PER_PASS: usize = 4;
 
-/// [`GpuLight::kind`] of a sun.
-pub const LIGHT_SUN: u32 = 0;
-/// [`GpuLight::kind`] of a spot light.
-pub const LIGHT_SPOT: u32 = 1;
-/// [`GpuLight::kind`] of a point light.
-pub const LIGHT_POINT: u32 = 2;
-/// [`GpuLight::shape`]: one layer per cascade.
-pub const SHAPE_CASCADES: u32 = 0;
-/// [`GpuLight::shape`]: one perspective layer.
-pub const SHAPE_SINGLE: u32 = 1;
-/// [`GpuLight::shape`]: six cube faces.
-pub const SHAPE_CUBE: u32 = 2;
+pub use crate::light::{LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN, SHAPE_CASCADES, SHAPE_CUBE, SHAPE_SINGLE};
 
 /// The constants both languages use, written here once, as WGSL declarations that come before
 /// every shader file.

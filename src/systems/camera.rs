@@ -95,7 +95,7 @@ pub fn orbit_facing(eye: Vec3, focus: Vec3) -> (f32, f32, f32) {
 /// face the new focus; going back to the fly camera keeps the view.
 pub fn switch_camera(world: &mut World) -> &'static str {
     let character = world
-        .query_filtered::<Entity, (With<crate::components::Walker>, With<crate::components::ModelInstance>)>()
+        .query_filtered::<Entity, (With<crate::components::Walker>, With<crate::assets::ModelInstance>)>()
         .iter(world)
         .next();
     let mut cameras =
@@ -245,7 +245,7 @@ mod tests {
         assert!(!world.get::<OrbitCamera>(cam).unwrap().active);
         let model = std::sync::Arc::new(crate::assets::Model::default());
         let walker = crate::components::Walker { center: Vec3::ZERO, radius: 1.0, speed: 1.0, phase: 0.0 };
-        world.spawn((crate::components::ModelInstance(model), walker, Transform::from_xyz(2.0, 0.0, 0.0)));
+        world.spawn((crate::assets::ModelInstance(model), walker, Transform::from_xyz(2.0, 0.0, 0.0)));
         switch_camera(&mut world);
         assert_eq!(switch_camera(&mut world), "orbit round the character");
         let mut schedule = Schedule::default();

@@ -1,8 +1,9 @@
 //! Models in motion: a walker's path, its clip's pose, and the parts that follow the pose (rigid
 //! parts by their node, skinned parts by their joint matrices and pose-fitted bounds).
 
+use crate::assets::ModelInstance;
 use crate::components::{
-    Animator, AtNode, DirectionalLight, Joints, ModelInstance, ModelPart, Pose, Time, Transform, Walker, WorldBounds,
+    Animator, AtNode, DirectionalLight, Joints, ModelPart, Pose, Time, Transform, Walker, WorldBounds,
 };
 use bevy_ecs::prelude::*;
 use glam::{Quat, Vec3};

@@ -4,21 +4,14 @@
 //! rounds in one run, so their ratios are fair even on a machine whose speed drifts.
 
 use crate::components::{Animator, Bob, FlyCamera, Spin, Walker};
+use crate::eval::live::{Taken, Worker, snapshot};
+use crate::eval::measure::TruthSettings;
+use crate::eval::{BenchError, median};
 use crate::render::{Gpu, HEADLESS_FORMAT, RenderError, Renderer, ShadowStats};
-use crate::{App, AppError, Settings};
+use crate::ui::{History, Live, Painter};
+use crate::{App, Settings};
 use bevy_ecs::prelude::*;
 use std::time::Instant;
-
-/// Why a bench could not run.
-#[derive(Debug, thiserror::Error)]
-pub enum BenchError {
-    /// A setting is out of range or a model does not load.
-    #[error(transparent)]
-    App(#[from] AppError),
-    /// Rendering failed.
-    #[error(transparent)]
-    Render(#[from] RenderError),
-}
 
 /// What moves in a scenario.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -123,8 +116,8 @@ struct Run {
     times: Vec<f64>,
     drawn: u64,
     kept: u64,
-    panel: Option<(crate::ui::Painter, crate::ui::Lab)>,
-    worker: super::live::Worker<()>,
+    panel: Option<(Painter, crate::ui::Lab)>,
+    worker: Worker<()>,
     /// Timed frames a measurement was still running at the end of.
     measured: u32,
     /// The worker's time for each measurement, in milliseconds.
@@ -145,10 +138,9 @@ impl Run {
         app.hear(renderer.news());
         app.resize(width, height);
         app.set_time(2.0);
-        let panel = (scenario.lab == Lab::Panel).then(|| {
-            (crate::ui::Painter::new(gpu, HEADLESS_FORMAT), crate::ui::Lab { panel: true, ..Default::default() })
-        });
-        let worker = super::live::Worker::default();
+        let panel = (scenario.lab == Lab::Panel)
+            .then(|| (Painter::new(gpu, HEADLESS_FORMAT), crate::ui::Lab { panel: true, ..Default::default() }));
+        let worker = Worker::default();
         Ok(Run {
             scenario,
             app,
@@ -167,8 +159,8 @@ impl Run {
     fn start_measuring(&mut self, gpu: &Gpu, size: (u32, u32)) -> Result<(), RenderError> {
         if self.scenario.lab == Lab::Measuring {
             let half = ((size.0 / 2).max(1), (size.1 / 2).max(1));
-            let truth = super::measure::TruthSettings::default();
-            let shot = super::live::snapshot(gpu, &mut self.renderer, &mut self.app, half, truth)?;
+            let truth = TruthSettings::default();
+            let shot = snapshot(gpu, &mut self.renderer, &mut self.app, half, truth)?;
             self.worker.start((), shot);
         }
         Ok(())
@@ -178,11 +170,11 @@ impl Run {
     /// frame was done.
     fn finish_measuring(&mut self) -> bool {
         let mut taken = self.worker.take();
-        let still = matches!(taken, super::live::Taken::Nothing) && self.worker.busy();
+        let still = matches!(taken, Taken::Nothing) && self.worker.busy();
         if still {
             taken = self.worker.wait();
         }
-        if let super::live::Taken::Done(_, report) = taken {
+        if let Taken::Done(_, report) = taken {
             self.measure_ms.push(report.took.as_secs_f64() * 1e3);
         }
         still
@@ -191,9 +183,8 @@ impl Run {
     /// Lays out and paints the panel over `target`, as the window does.
     fn paint_panel(&mut self, gpu: &Gpu, target: &wgpu::TextureView, size: (u32, u32)) {
         let Some((painter, lab)) = self.panel.as_mut() else { return };
-        let (history, stats) = (crate::ui::History::default(), self.app.world.resource::<ShadowStats>().clone());
-        let live =
-            crate::ui::Live { history: &history, stats: &stats, measured: None, status: "", camera: "", adapter: "" };
+        let (history, stats) = (History::default(), self.app.world.resource::<ShadowStats>().clone());
+        let live = Live { history: &history, stats: &stats, measured: None, status: "", camera: "", adapter: "" };
         let input = egui::RawInput {
             screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(size.0 as f32, size.1 as f32))),
             ..Default::default()
@@ -254,12 +245,6 @@ impl Run {
             measure_ms: median(&mut self.measure_ms),
         }
     }
-}
-
-/// The median of `values` (NaN when empty).
-pub(super) fn median(values: &mut [f64]) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values.get(values.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
 /// Stops every animated cube but the first, and the walking character, so exactly one caster
