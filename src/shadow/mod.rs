@@ -8,6 +8,8 @@ mod bounds;
 mod cascade;
 mod cull;
 mod fit;
+mod page_pool;
+mod pages;
 mod planar;
 mod poisson;
 mod sdsm;
@@ -26,6 +28,11 @@ pub use cull::CasterIndex;
 pub use fit::{
     CUBE_FACES, LightProjection, MAX_MAP_HALF_ANGLE, MAX_SPOT_HALF_ANGLE, MIN_SPOT_HALF_ANGLE, cube_face,
     cube_projections, depth_terms, light_range, light_view, near_plane, spot_cone, spot_projection, view_distance,
+};
+pub use page_pool::{MAX_PRESSURE, PagePool, Residency, Resident, next_pressure};
+pub use pages::{
+    Clipmap, FINEST_TEXEL_LOG2, MAX_PAGE_LEVELS, MIN_GRAZE, PAGE_BORDER, PAGE_GRID, PAGE_TEXELS, PAGE_TILE, PageId,
+    Window, levels_for, wanted_texel,
 };
 pub use planar::{GROUND_PLANE, PLANAR_LIFT, flat_from_world, lights_plane};
 pub use poisson::{poisson_disc, wgsl_array};

@@ -1,0 +1,290 @@
+//! The page pool of a virtual shadow map, as pure bookkeeping: which pages hold a slot, kept
+//! from frame to frame while they are needed, the least recently needed given up first when a
+//! new page wants a slot and none is free, and what each page's contents are (a version that
+//! changes whenever what it must hold changes: it is new, or a caster moved through it).
+//!
+//! A needed page that finds no slot (every slot holds a page needed as much) is counted missing:
+//! its pixels read a coarser level. While pages go missing the pool asks for coarser levels
+//! everywhere ([`next_pressure`]), as a renderer lowers its resolution when memory runs short.
+
+use super::pages::PageId;
+use std::collections::HashMap;
+
+/// Most octaves the pool's pressure makes every level coarser by.
+pub const MAX_PRESSURE: u32 = 4;
+
+/// One page holding a slot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Resident {
+    /// The page.
+    pub page: PageId,
+    /// Its contents: a new number whenever it must be drawn again.
+    pub version: u64,
+    /// What its casters at rest draw: a new number when one of them changed.
+    pub static_version: u64,
+    /// The pool's frame it was last needed in.
+    pub needed: u64,
+    /// It is new or its version changed in the last update.
+    pub dirty: bool,
+}
+
+/// What one update of the pool did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Residency {
+    /// Pages holding a slot after it.
+    pub resident: u32,
+    /// Pages given a slot by it.
+    pub placed: u32,
+    /// Needed pages with no slot: every slot holds a page needed as much.
+    pub missing: u32,
+    /// Needed pages held back by the limit on new pages a frame (they come in later frames).
+    pub waiting: u32,
+    /// Pages that gave up their slot to a new one.
+    pub evicted: u32,
+}
+
+/// Slots and the pages in them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PagePool {
+    slots: Vec<Option<Resident>>,
+    by_page: HashMap<PageId, u32>,
+    frame: u64,
+}
+
+impl PagePool {
+    /// A pool of `capacity` empty slots.
+    #[must_use]
+    pub fn new(capacity: u32) -> PagePool {
+        PagePool { slots: vec![None; capacity as usize], by_page: HashMap::new(), frame: 0 }
+    }
+
+    /// Slots in all.
+    #[must_use]
+    pub fn capacity(&self) -> u32 {
+        self.slots.len() as u32
+    }
+
+    /// Pages holding a slot.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.by_page.len()
+    }
+
+    /// True when no page holds a slot.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.by_page.is_empty()
+    }
+
+    /// Gives up every page (the light moved, or what every page holds changed).
+    pub fn clear(&mut self) {
+        self.slots.iter_mut().for_each(|s| *s = None);
+        self.by_page.clear();
+    }
+
+    /// The pages holding slots, with their slots, in slot order.
+    pub fn resident(&self) -> impl Iterator<Item = (u32, &Resident)> {
+        self.slots.iter().enumerate().filter_map(|(i, s)| s.as_ref().map(|r| (i as u32, r)))
+    }
+
+    /// The slot `page` holds, if any.
+    #[must_use]
+    pub fn slot_of(&self, page: PageId) -> Option<u32> {
+        self.by_page.get(&page).copied()
+    }
+
+    /// One frame's needs: every page of `needed` (each once) is kept or given a slot, at most
+    /// `admit` of them new, the coarsest levels first (a coarse page serves every pixel under
+    /// it); a new page takes a free slot, else that of the page needed least recently of those
+    /// not needed now. Pages not needed keep their slots until one is wanted. `next_version`
+    /// numbers new contents.
+    pub fn update(&mut self, needed: &[PageId], admit: usize, mut next_version: impl FnMut() -> u64) -> Residency {
+        self.frame += 1;
+        let frame = self.frame;
+        self.slots.iter_mut().flatten().for_each(|r| r.dirty = false);
+        let mut wanted: Vec<PageId> = Vec::new();
+        for page in needed {
+            match self.by_page.get(page) {
+                Some(&slot) => {
+                    if let Some(r) = self.slots[slot as usize].as_mut() {
+                        r.needed = frame;
+                    }
+                }
+                None => wanted.push(*page),
+            }
+        }
+        wanted.sort_unstable_by(|a, b| b.level.cmp(&a.level).then(a.y.cmp(&b.y)).then(a.x.cmp(&b.x)));
+        wanted.dedup();
+        let mut out = Residency::default();
+        // Free slots first, then the least recently needed of those not needed now, oldest first.
+        let mut free: Vec<u32> = (0..self.capacity()).filter(|&i| self.slots[i as usize].is_none()).rev().collect();
+        let mut old: Vec<(u64, u32)> =
+            self.resident().filter(|(_, r)| r.needed < frame).map(|(i, r)| (r.needed, i)).collect();
+        old.sort_unstable_by(|a, b| b.cmp(a));
+        for (n, page) in wanted.iter().enumerate() {
+            if n >= admit {
+                out.waiting = (wanted.len() - n) as u32;
+                break;
+            }
+            let slot = match free.pop() {
+                Some(slot) => slot,
+                None => match old.pop() {
+                    Some((_, slot)) => {
+                        if let Some(gone) = self.slots[slot as usize].take() {
+                            self.by_page.remove(&gone.page);
+                        }
+                        out.evicted += 1;
+                        slot
+                    }
+                    None => {
+                        out.missing = (wanted.len() - n) as u32;
+                        break;
+                    }
+                },
+            };
+            let version = next_version();
+            let static_version = next_version();
+            self.slots[slot as usize] =
+                Some(Resident { page: *page, version, static_version, needed: frame, dirty: true });
+            self.by_page.insert(*page, slot);
+            out.placed += 1;
+        }
+        out.resident = self.by_page.len() as u32;
+        out
+    }
+
+    /// Gives every resident page for which `hit` is true new contents (something it holds
+    /// moved); returns how many.
+    pub fn invalidate(&mut self, hit: impl Fn(PageId) -> bool, mut next_version: impl FnMut() -> u64) -> u32 {
+        let mut count = 0;
+        for r in self.slots.iter_mut().flatten().filter(|r| hit(r.page)) {
+            (r.version, r.dirty) = (next_version(), true);
+            count += 1;
+        }
+        count
+    }
+
+    /// Gives every resident page for which `hit` is true a new static version (a caster at rest
+    /// in it changed).
+    pub fn resettle(&mut self, hit: impl Fn(PageId) -> bool, mut next_version: impl FnMut() -> u64) {
+        for r in self.slots.iter_mut().flatten().filter(|r| hit(r.page)) {
+            r.static_version = next_version();
+        }
+    }
+}
+
+/// The pool's pressure after a frame that needed `needed` pages of a pool of `capacity`: an
+/// octave coarser (up to [`MAX_PRESSURE`]) while pages went missing, an octave finer again once
+/// what it needs would fit four times over at the finer levels (each octave finer needs about
+/// four times the pages; the extra room keeps it from going to and fro).
+#[must_use]
+pub fn next_pressure(pressure: u32, needed: usize, missing: u32, capacity: u32) -> u32 {
+    if missing > 0 {
+        (pressure + 1).min(MAX_PRESSURE)
+    } else if pressure > 0 && needed.saturating_mul(16) <= capacity as usize {
+        pressure - 1
+    } else {
+        pressure
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn page(level: u32, x: i32) -> PageId {
+        PageId { level, x, y: 0 }
+    }
+
+    fn counter() -> impl FnMut() -> u64 {
+        let mut n = 0;
+        move || {
+            n += 1;
+            n
+        }
+    }
+
+    #[test]
+    fn needed_pages_are_kept_with_their_versions_and_new_ones_take_free_slots() {
+        let mut pool = PagePool::new(4);
+        let mut v = counter();
+        let r = pool.update(&[page(0, 1), page(0, 2)], usize::MAX, &mut v);
+        assert_eq!((r.placed, r.resident, r.missing, r.evicted), (2, 2, 0, 0));
+        let before: Vec<Resident> = pool.resident().map(|(_, r)| *r).collect();
+        assert!(before.iter().all(|r| r.dirty));
+        let r = pool.update(&[page(0, 1), page(0, 2)], usize::MAX, &mut v);
+        assert_eq!(r.placed, 0);
+        let after: Vec<Resident> = pool.resident().map(|(_, r)| *r).collect();
+        assert!(after.iter().zip(&before).all(|(a, b)| a.version == b.version && !a.dirty), "kept, clean");
+        assert_eq!(pool.slot_of(page(0, 1)), Some(0));
+        // Not needed for a while, a page keeps its slot while nothing wants it.
+        pool.update(&[], usize::MAX, &mut v);
+        assert_eq!(pool.len(), 2);
+    }
+
+    #[test]
+    fn a_full_pool_gives_up_the_least_recently_needed_and_counts_what_it_cannot_place() {
+        let mut pool = PagePool::new(2);
+        let mut v = counter();
+        pool.update(&[page(0, 1)], usize::MAX, &mut v);
+        pool.update(&[page(0, 2)], usize::MAX, &mut v);
+        // page 1 was needed longest ago: page 3 takes its slot.
+        let r = pool.update(&[page(0, 2), page(0, 3)], usize::MAX, &mut v);
+        assert_eq!((r.placed, r.evicted, r.missing), (1, 1, 0));
+        assert_eq!(pool.slot_of(page(0, 1)), None);
+        assert_eq!(pool.slot_of(page(0, 3)), Some(0));
+        // Three needed in two slots: the coarser level is placed, one page is missing.
+        let r = pool.update(&[page(0, 2), page(0, 3), page(1, 9)], usize::MAX, &mut v);
+        assert_eq!((r.placed, r.missing, r.resident), (0, 1, 2));
+        let r = pool.update(&[page(0, 5), page(1, 9)], usize::MAX, &mut v);
+        assert_eq!((r.placed, r.missing), (2, 0));
+        assert!(pool.slot_of(page(1, 9)).is_some(), "the coarser page first");
+    }
+
+    #[test]
+    fn at_most_admit_pages_come_in_a_frame_and_the_rest_wait() {
+        let mut pool = PagePool::new(16);
+        let mut v = counter();
+        let needed: Vec<PageId> = (0..10).map(|x| page(0, x)).chain([page(3, 0)]).collect();
+        let r = pool.update(&needed, 4, &mut v);
+        assert_eq!((r.placed, r.waiting, r.missing), (4, 7, 0));
+        assert!(pool.slot_of(page(3, 0)).is_some(), "coarsest first");
+        let r = pool.update(&needed, 4, &mut v);
+        assert_eq!((r.placed, r.waiting), (4, 3));
+        let r = pool.update(&needed, 4, &mut v);
+        assert_eq!((r.placed, r.waiting, r.resident), (3, 0, 11));
+        // Duplicates count once; no slots at all means every page is missing.
+        let r = pool.update(&[page(5, 5), page(5, 5)], usize::MAX, &mut v);
+        assert_eq!(r.placed, 1);
+        let r = PagePool::new(0).update(&needed, usize::MAX, &mut v);
+        assert_eq!((r.placed, r.missing), (0, 11));
+    }
+
+    #[test]
+    fn invalidating_gives_new_contents_only_to_the_pages_hit() {
+        let mut pool = PagePool::new(4);
+        let mut v = counter();
+        pool.update(&[page(0, 1), page(0, 2)], usize::MAX, &mut v);
+        pool.update(&[page(0, 1), page(0, 2)], usize::MAX, &mut v);
+        let before: Vec<u64> = pool.resident().map(|(_, r)| r.version).collect();
+        assert_eq!(pool.invalidate(|p| p.x == 2, &mut v), 1);
+        let after: Vec<(u64, bool)> = pool.resident().map(|(_, r)| (r.version, r.dirty)).collect();
+        assert_eq!(after[0], (before[0], false));
+        assert!(after[1].0 != before[1] && after[1].1);
+        let statics: Vec<u64> = pool.resident().map(|(_, r)| r.static_version).collect();
+        pool.resettle(|p| p.x == 1, &mut v);
+        assert_ne!(pool.resident().next().unwrap().1.static_version, statics[0]);
+        pool.clear();
+        assert!(pool.is_empty() && pool.resident().next().is_none());
+    }
+
+    #[test]
+    fn pressure_rises_while_pages_go_missing_and_falls_once_they_would_fit_well() {
+        assert_eq!(next_pressure(0, 600, 100, 512), 1);
+        assert_eq!(next_pressure(MAX_PRESSURE, 600, 100, 512), MAX_PRESSURE);
+        assert_eq!(next_pressure(2, 100, 0, 512), 2, "four times the pages at the finer level would not fit");
+        assert_eq!(next_pressure(2, 32, 0, 512), 1);
+        assert_eq!(next_pressure(0, 0, 0, 512), 0);
+        assert_eq!(next_pressure(1, usize::MAX, 0, 0), 1);
+    }
+}
