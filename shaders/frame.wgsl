@@ -44,12 +44,14 @@ struct Frame {
     // The camera's near and far planes (contact shadows turn its depth back into distance).
     camera_near: f32,
     camera_far: f32,
-    _pad0: u32,
+    // Radians a pixel of the picture spans (at its middle; see page_level in pages.wgsl).
+    pixel_angle: f32,
     _pad1: u32,
     _pad2: u32,
 };
 
-// One light; `kind` is LIGHT_SUN, LIGHT_SPOT or LIGHT_POINT.
+// One light; `kind` is LIGHT_SUN, LIGHT_SPOT or LIGHT_POINT, `shape` SHAPE_CASCADES, SHAPE_SINGLE,
+// SHAPE_CUBE or SHAPE_PAGES.
 struct GpuLight {
     // Colour times intensity.
     color: vec3<f32>,
@@ -71,7 +73,7 @@ struct GpuLight {
     bias_normal: f32,
     // METHOD_* it is sampled with.
     method: u32,
-    // SHAPE_CASCADES, SHAPE_SINGLE or SHAPE_CUBE.
+    // SHAPE_CASCADES, SHAPE_SINGLE, SHAPE_CUBE or SHAPE_PAGES.
     shape: u32,
     // Size for soft shadows: tan of a sun's angular radius, or a spot or point light's radius.
     size: f32,
@@ -89,6 +91,14 @@ struct GpuLight {
     _pad2: u32,
     // The cookie's projection (spots with a cookie only).
     cookie_from_world: mat4x4<f32>,
+    // A paged light's virtual map (see pages.wgsl): world to level-0 page units across the
+    // light, its levels (0: not paged), its page table's first word, log2 of its finest texel
+    // in metres and the octaves coarser a pixel's page is chosen.
+    page_from_world: mat4x4<f32>,
+    page_levels: u32,
+    page_word: u32,
+    page_finest_log2: f32,
+    page_bias: f32,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -100,3 +110,6 @@ struct GpuLight {
 // and how many it has (two words a cluster), then the light indices, cluster after cluster, in
 // rows of LIST_WIDTH words of an integer texture (read with list_word in lights.wgsl).
 @group(0) @binding(9) var cluster_lists: texture_2d<u32>;
+// The page tables of paged lights (src/render/page_table.rs), in rows of LIST_WIDTH words of an
+// integer texture (read with table_word in pages.wgsl).
+@group(0) @binding(11) var page_tables: texture_2d<u32>;

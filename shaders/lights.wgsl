@@ -99,12 +99,19 @@ fn cube_test(light: GpuLight, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3
     return shadow_lookup(layer_ref(light, index), biased, light.method, f, light.receiver_plane == 1u, l, texel);
 }
 
-// World size of the shadow-map texel that light `light` looks up at `p` (view depth `depth`):
-// its cascade's for a sun, its map's (or cube face's) at that distance for others; 0 where it
-// has no map there.
-fn texel_at(light: GpuLight, p: vec3<f32>, depth: f32) -> f32 {
+// World size of the shadow-map texel that light `light` looks up at `p` (view depth `depth`,
+// unit normal `n`, footprint `f`): its cascade's for a sun, its page's for a paged light, its
+// map's (or cube face's) at that distance for others; 0 where it has no map there.
+fn texel_at(light: GpuLight, p: vec3<f32>, n: vec3<f32>, f: Footprint, depth: f32) -> f32 {
     if (light.layer_count == 0u) {
         return 0.0;
+    }
+    if (light.shape == SHAPE_PAGES) {
+        if (depth >= frame.shadow_distance) {
+            return 0.0;
+        }
+        let l = -light.direction;
+        return texel_size(page_layer(light, p, page_level(light, p, n, l, f)), 0.0);
     }
     if (light.shape == SHAPE_CASCADES) {
         let pick = pick_cascade(light, depth);
@@ -131,6 +138,18 @@ fn sun_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: 
     return mix(vis, 1.0, fade);
 }
 
+// Visibility of a paged light at `p`: through the page its footprint wants (or a coarser one,
+// or the coarse map while none is there); past the shadow distance everything is lit, and the
+// shadow fades out before it as a sun's cascades do.
+fn paged_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint, depth: f32) -> f32 {
+    if (depth >= frame.shadow_distance) {
+        return 1.0;
+    }
+    let index = page_layer(light, p, page_level(light, p, n, l, f));
+    let vis = layer_test(light, index, 0.0, p, n, l, f);
+    return mix(vis, 1.0, smoothstep(frame.fade_start, frame.shadow_distance, depth));
+}
+
 // The cube face (0..6: +X, -X, +Y, -Y, +Z, -Z) that holds direction `d`: its largest axis, as
 // `shadow::cube_face` picks it.
 fn cube_face(d: vec3<f32>) -> u32 {
@@ -155,6 +174,9 @@ fn light_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f
         }
         case SHAPE_SINGLE: {
             return layer_test(light, light.first_layer, distance, p, n, l, f);
+        }
+        case SHAPE_PAGES: {
+            return paged_visibility(light, p, n, l, f, depth);
         }
         default: {
             return cube_test(light, distance, p, n, l, f);

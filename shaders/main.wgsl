@@ -151,7 +151,7 @@ fn checker(p: vec2<f32>, w: vec2<f32>) -> f32 {
 // a pixel (resolution spent where it cannot be seen). Grey where the light has no map there.
 fn texel_density(i: u32, world: vec3<f32>, n: vec3<f32>, f: Footprint, depth: f32) -> vec3<f32> {
     let light = lights[i];
-    let texel = texel_at(light, world, depth);
+    let texel = texel_at(light, world, n, f, depth);
     if (texel <= 0.0) {
         return vec3<f32>(0.35);
     }

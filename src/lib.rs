@@ -247,7 +247,7 @@ impl App {
     /// Takes in what the renderer learned ([`render::Renderer::news`]): what this device keeps
     /// of shadows (a world that updated before it heard has its tiles sized again, and its lights
     /// fitted again, for this device), the last frame's [`render::ShadowStats`], what the camera
-    /// saw for the SDSM fit, and messages for the user. The renderer reads the world only; this
+    /// saw for the SDSM fit, the pages paged lights' pixels asked for, and messages for the user. The renderer reads the world only; this
     /// is the one way what it learns gets in.
     pub fn hear(&mut self, news: render::RenderNews) {
         let before = self.world.get_resource::<systems::ShadowCaps>().copied().unwrap_or_default();
@@ -262,6 +262,13 @@ impl App {
         }
         if let Some(seen) = news.seen {
             self.world.insert_resource(components::SeenByCamera(seen));
+        }
+        if !news.marks.is_empty() {
+            let mut marked = self.world.get_resource_or_init::<components::MarkedPages>();
+            for marks in news.marks {
+                marked.0.retain(|m| m.light != marks.light);
+                marked.0.push(marks);
+            }
         }
         self.world.get_resource_or_init::<components::Notices>().0.extend(news.notices);
     }

@@ -240,6 +240,9 @@ fn settings_options(s: &Settings) -> Vec<String> {
         s.cascade.shadow_distance.to_string(),
     );
     value(s.cascade.fit_mode != d.cascade.fit_mode, "fit", s.cascade.fit_mode.name().into());
+    value(s.maps.sun_maps != d.maps.sun_maps, "sun-maps", s.maps.sun_maps.name().into());
+    value(s.maps.page_bias != d.maps.page_bias, "page-bias", s.maps.page_bias.to_string());
+    value(s.maps.page_memory != d.maps.page_memory, "page-memory", s.maps.page_memory.to_string());
     value(s.shadow.method != d.shadow.method, "method", s.shadow.method.name().into());
     value(s.maps.moment_blur != d.maps.moment_blur, "moment-blur", s.maps.moment_blur.to_string());
     value(s.shadow.light_bleeding != d.shadow.light_bleeding, "light-bleeding", s.shadow.light_bleeding.to_string());

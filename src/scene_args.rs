@@ -10,7 +10,7 @@ use umbra::reproduce::{
 };
 use umbra::settings::{
     CascadeSettings, CasterCulling, MapSettings, MomentBits, MomentResolve, MomentSource, SceneSettings, ShadowDepth,
-    ShadowFaces, ShadowSettings, TileSizes, ViewSettings,
+    ShadowFaces, ShadowSettings, SunMaps, TileSizes, ViewSettings,
 };
 use umbra::shadow::FitMode;
 
@@ -76,6 +76,19 @@ pub struct SceneArgs {
     /// sdsm (to what the camera saw: splits and boxes from a reduction of its depth buffer).
     #[arg(long, value_name = "MODE")]
     pub fit: Option<FitMode>,
+    /// How the sun's shadow is laid out: cascades (the default), or virtual (a clipmap of
+    /// 128² pages round the camera, each drawn once and kept, at the resolution the visible
+    /// pixels need; depth methods only).
+    #[arg(long, value_name = "KIND")]
+    pub sun_maps: Option<SunMaps>,
+    /// Octaves (-4..4) coarser than each pixel's footprint its virtual page is chosen (negative:
+    /// finer, more pages).
+    #[arg(long, value_name = "OCTAVES", allow_negative_numbers = true)]
+    pub page_bias: Option<f32>,
+    /// MiB of the shadow memory the sun's virtual pages may take (default 32; at most half of
+    /// --shadow-memory): when the view needs more, every level is chosen coarser.
+    #[arg(long, value_name = "MIB")]
+    pub page_memory: Option<u32>,
     /// Tint each cascade in its own colour.
     #[arg(long)]
     pub cascade_debug: bool,
@@ -323,6 +336,9 @@ impl SceneArgs {
             moment_bits: self.moment_bits.unwrap_or(d.maps.moment_bits),
             moment_blur: self.moment_blur.unwrap_or(d.maps.moment_blur),
             moment_samples: self.moment_samples.unwrap_or(d.maps.moment_samples),
+            sun_maps: self.sun_maps.unwrap_or(d.maps.sun_maps),
+            page_bias: self.page_bias.unwrap_or(d.maps.page_bias),
+            page_memory: self.page_memory.unwrap_or(d.maps.page_memory),
             ..d.maps
         };
         let cascade = CascadeSettings {

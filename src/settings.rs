@@ -112,7 +112,17 @@ impl Settings {
         self.maps.validate()?;
         self.cascade.validate()?;
         self.view.validate()?;
-        self.scene.validate()
+        self.scene.validate()?;
+        if self.maps.sun_maps == SunMaps::Virtual && !self.shadow.method.pages() {
+            return bad(
+                "sun_maps",
+                format!("virtual with method {}", self.shadow.method.name()),
+                "virtual shadow maps are pages of depth; moment maps, depth in colour and planar shadows \
+                 stay on the atlas's tiles: choose a depth method (nearest, bilinear, pcf3, pcf5, gauss5, \
+                 poisson16, poisson32, pcss) or sun maps `cascades`",
+            );
+        }
+        Ok(())
     }
 
     /// Puts each group in force in `world` as a resource of its own ([`SettingsGroup::put`]),
@@ -171,7 +181,7 @@ mod tests {
     #[test]
     fn nonsense_is_named() {
         type Case = (fn(&mut Settings), &'static str);
-        let cases: [Case; 31] = [
+        let cases: [Case; 36] = [
             (|s| s.maps.spot_map_limit = 0.0, "spot_map_limit"),
             (|s| s.shadow.depth_bias_metres = -1.0, "depth_bias_metres"),
             (|s| s.cascade.first_cascade_far = Some(1000.0), "first_cascade_far"),
@@ -186,6 +196,11 @@ mod tests {
             (|s| s.maps.moment_blur = 99, "moment_blur"),
             (|s| s.maps.moment_samples = 3, "moment_samples"),
             (|s| s.maps.moment_samples = 0, "moment_samples"),
+            (|s| s.maps.page_bias = f32::NAN, "page_bias"),
+            (|s| s.maps.page_bias = 5.0, "page_bias"),
+            (|s| s.maps.page_memory = 0, "page_memory"),
+            (|s| s.maps.page_memory = 200, "page_memory"),
+            (|s| (s.maps.sun_maps, s.shadow.method) = (SunMaps::Virtual, ShadowMethod::Vsm), "sun_maps"),
             (|s| s.shadow.light_bleeding = f32::NAN, "light_bleeding"),
             (|s| s.cascade.cascades = 5, "cascades"),
             (|s| s.cascade.split_lambda = -0.1, "split_lambda"),

@@ -1,6 +1,7 @@
 //! Lights: the three kinds (directional, spot, point), each with its colour, reach and size, and
 //! what a light's shadow is made of (its layers, bias and sampling method).
 
+use crate::shadow::{Clipmap, PageId, PagePool, Residency, Window};
 use bevy_ecs::prelude::*;
 use glam::{Mat4, Vec2, Vec3};
 
@@ -115,6 +116,58 @@ pub struct ShadowLayer {
     /// a new number when one of them starts to move or goes, another comes to rest inside it, or
     /// the layer itself changes. A renderer that keeps their map apart draws it again only then.
     pub static_version: u64,
+    /// For a page of a virtual map: which page, and the slot of the pool it holds (its name
+    /// across frames); none for every other layer.
+    pub page: Option<PagePlace>,
+}
+
+/// Where a page of a virtual shadow map is: the page, and the slot of its light's pool it holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PagePlace {
+    /// The page.
+    pub id: PageId,
+    /// Its slot: the same for as long as it stays resident.
+    pub slot: u32,
+}
+
+/// A light's virtual shadow map, kept by the light systems: its clipmap and windows round the
+/// camera, the pages holding slots of its pool, and what its last update did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VirtualPages {
+    /// Its levels, light space and depth range.
+    pub clipmap: Clipmap,
+    /// Each level's window round the camera, this update.
+    pub windows: Vec<Window>,
+    /// The pages holding slots.
+    pub pool: PagePool,
+    /// Octaves coarser every level is chosen while the pool is too small for the view (see
+    /// [`crate::shadow::next_pressure`]).
+    pub pressure: u32,
+    /// The settings' octaves coarser each pixel's page is chosen.
+    pub bias: f32,
+    /// The number of the last marking given slots.
+    pub marks_seen: u64,
+    /// What the last update did.
+    pub update: PageUpdate,
+}
+
+impl VirtualPages {
+    /// Octaves coarser than its footprint a pixel's page is chosen, marking and lookup alike.
+    #[must_use]
+    pub fn lookup_bias(&self) -> f32 {
+        self.bias + self.pressure as f32
+    }
+}
+
+/// What one update of a virtual map did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PageUpdate {
+    /// Pages the last marking asked for.
+    pub needed: u32,
+    /// Kept, placed, missing, waiting and given up (the pool's account).
+    pub residency: Residency,
+    /// Resident pages given new contents because a caster moved through them.
+    pub invalidated: u32,
 }
 
 /// A light's shadow maps, written by the light-matrix system and read by the renderer: one per
@@ -133,6 +186,9 @@ pub struct ShadowMap {
     /// How much its light shows on screen (the radius of the disc its reach covers, as a share
     /// of the screen's half height; infinite for a sun): what the update budget ranks it by.
     pub shows: f32,
+    /// Its virtual map, when its shadow is paged (its layers are then the coarse map, then one
+    /// layer a resident page).
+    pub pages: Option<VirtualPages>,
 }
 
 impl ShadowMap {
@@ -338,6 +394,12 @@ impl ShadowMethod {
     /// colour), not the depth map itself.
     pub fn colour_map(self) -> bool {
         self.moments() || self.colour_depth_bits() > 0
+    }
+
+    /// Its maps can be virtual pages of depth (see [`crate::settings::SunMaps`]): every method
+    /// but those that read a colour map and planar shadows, which draw none.
+    pub fn pages(self) -> bool {
+        !self.colour_map() && self != ShadowMethod::Planar
     }
 
     /// It compares with depths away from the lookup's own point, so the receiver plane matters.

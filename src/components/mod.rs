@@ -177,6 +177,12 @@ impl Camera {
         self.projection(aspect) * view
     }
 
+    /// Radians a pixel spans at the middle of a picture `height` pixels high (0 for none).
+    #[must_use]
+    pub fn pixel_angle(&self, height: u32) -> f32 {
+        if height == 0 { 0.0 } else { 2.0 * (self.fov_y * 0.5).tan() / height as f32 }
+    }
+
     /// The view depth the shadows reach: `shadow_distance`, no farther than the far plane and no
     /// nearer than twice the near one. The cascades split up to it and the SDSM reduction bins
     /// up to it, so both read it from here.
@@ -419,6 +425,12 @@ pub struct Notices(pub Vec<String>);
 /// maps: the renderer writes it, the light matrices read it at the next update).
 #[derive(Resource, Clone, Debug, PartialEq)]
 pub struct SeenByCamera(pub crate::shadow::VisibleSamples);
+
+/// The pages the camera's pixels asked each paged light for, in the last marking the renderer
+/// read back (virtual shadow maps: the renderer writes it, the light matrices read it at the next
+/// update and give the pages slots).
+#[derive(Resource, Clone, Debug, Default, PartialEq)]
+pub struct MarkedPages(pub Vec<crate::shadow::PageMarks>);
 
 /// Size of the image being rendered, in pixels.
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]

@@ -21,14 +21,14 @@ pub use sun::Sun;
 
 use crate::components::{
     Camera, ContactShadows, Cookie, DirectionalLight, PointLight, ShadowBias, ShadowLayer, ShadowMap, ShadowMethod,
-    SpotLight, Transform,
+    SpotLight, Transform, VirtualPages,
 };
 use crate::settings::{CascadeSettings, MapSettings, ShadowSettings};
-use crate::shadow::{Aabb, LightProjection, VisibleSamples, cube_projections};
+use crate::shadow::{Aabb, Clipmap, LightProjection, VisibleSamples, Window, cube_projections};
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
 use clusters::Reach;
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// Its kind's number on the GPU for a sun (`LIGHT_SUN` in the shaders).
 pub const LIGHT_SUN: u32 = 0;
@@ -42,6 +42,8 @@ pub const SHAPE_CASCADES: u32 = 0;
 pub const SHAPE_SINGLE: u32 = 1;
 /// [`ShadowShape::Cube`] on the GPU.
 pub const SHAPE_CUBE: u32 = 2;
+/// [`ShadowShape::Pages`] on the GPU.
+pub const SHAPE_PAGES: u32 = 3;
 
 /// What a light's kind tells the shaders of itself: its number, pose and cone. The renderer packs
 /// it with what every kind has; a kind leaves what it lacks at its default.
@@ -72,6 +74,9 @@ pub enum ShadowShape {
     Single,
     /// Six perspective layers, one per cube face.
     Cube,
+    /// A virtual map: a coarse layer over the whole shadow distance, then one layer a resident
+    /// page of a clipmap round the camera.
+    Pages,
 }
 
 impl ShadowShape {
@@ -82,6 +87,7 @@ impl ShadowShape {
             ShadowShape::Cascades => SHAPE_CASCADES,
             ShadowShape::Single => SHAPE_SINGLE,
             ShadowShape::Cube => SHAPE_CUBE,
+            ShadowShape::Pages => SHAPE_PAGES,
         }
     }
 }
@@ -142,6 +148,18 @@ impl LayerContext<'_> {
     }
 }
 
+/// A light's virtual map as fitted this update: its clipmap, where the camera is across its
+/// light, and its coarse map over the whole shadow distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PagedFit {
+    /// Its levels, light space and depth range.
+    pub clipmap: Clipmap,
+    /// The camera's place across the light, which the levels' windows are centred on.
+    pub camera: Vec2,
+    /// The map every pixel whose page is not there reads.
+    pub coarse: LayerFit,
+}
+
 /// A light's size as a person sets it: the number, what it is and the largest a slider offers.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SizeControl {
@@ -189,9 +207,13 @@ pub trait Kind {
         false
     }
     /// How its shadow is laid out in layers.
-    fn shape(&self, settings: &MapSettings) -> ShadowShape;
+    fn shape(&self, settings: &MapSettings, method: ShadowMethod) -> ShadowShape;
     /// Its shadow's layers, `resolution` texels a side: their projections, in layer order.
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit>;
+    /// Its virtual map round the camera, its coarse map `coarse` texels a side, its depth range
+    /// kept from `depth` (last update's) while it holds the scene; none for a kind that is not
+    /// paged, or without a camera.
+    fn pages(&self, context: &LayerContext, coarse: u32, depth: Option<(f32, f32)>) -> Option<PagedFit>;
     /// Its size as soft shadows take it: tan of a distant light's angular radius (a blocker's
     /// distance times it is the penumbra's half width), or a local light's radius in metres.
     fn penumbra_size(&self) -> f32;
@@ -241,11 +263,14 @@ impl Kind for LightKind {
     fn first_unnumbered(&self) -> bool {
         each_kind!(self, k => k.first_unnumbered())
     }
-    fn shape(&self, settings: &MapSettings) -> ShadowShape {
-        each_kind!(self, k => k.shape(settings))
+    fn shape(&self, settings: &MapSettings, method: ShadowMethod) -> ShadowShape {
+        each_kind!(self, k => k.shape(settings, method))
     }
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {
         each_kind!(self, k => k.layers(context, resolution))
+    }
+    fn pages(&self, context: &LayerContext, coarse: u32, depth: Option<(f32, f32)>) -> Option<PagedFit> {
+        each_kind!(self, k => k.pages(context, coarse, depth))
     }
     fn penumbra_size(&self) -> f32 {
         each_kind!(self, k => k.penumbra_size())
@@ -318,6 +343,28 @@ pub struct Light {
     pub layers: Vec<ShadowLayer>,
     /// How much it shows on screen (see [`ShadowMap::shows`]).
     pub shows: f32,
+    /// Its virtual map as a lookup reads it, when its shadow is paged.
+    pub pages: Option<PageView>,
+}
+
+/// A virtual map as the lookups (and the marking) read it: its clipmap, the windows its page
+/// table covers and the octaves coarser a pixel's page is chosen.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PageView {
+    /// Its levels, light space and depth range.
+    pub clipmap: Clipmap,
+    /// Each level's window round the camera.
+    pub windows: Vec<Window>,
+    /// Octaves coarser than its footprint a pixel's page is chosen.
+    pub bias: f32,
+}
+
+impl PageView {
+    /// What the lookups read of `pages`.
+    #[must_use]
+    pub fn of(pages: &VirtualPages) -> PageView {
+        PageView { clipmap: pages.clipmap, windows: pages.windows.clone(), bias: pages.lookup_bias() }
+    }
 }
 
 impl Light {
@@ -393,19 +440,28 @@ pub fn light_list(world: &World) -> Vec<Light> {
         .map(|Source { entity, kind, color }| {
             let number = *counts.entry(kind.word()).and_modify(|n| *n += 1).or_insert(1);
             let map = world.get::<ShadowMap>(entity);
+            let method = world.get::<ShadowMethod>(entity).copied().unwrap_or(settings.method);
+            let pages = map.and_then(|m| m.pages.as_ref()).map(PageView::of);
+            // What the last update laid out, until it lays it out anew.
+            let shape = match (kind.shape(&maps, method), &pages) {
+                (_, Some(_)) => ShadowShape::Pages,
+                (ShadowShape::Pages, None) => ShadowShape::Cascades,
+                (shape, None) => shape,
+            };
             Light {
                 entity,
                 label: LightLabel { word: kind.word(), number, bare: number == 1 && kind.first_unnumbered() },
                 kind,
-                shape: kind.shape(&maps),
+                shape,
                 color,
                 shadowed: map.is_some(),
                 bias: world.get::<ShadowBias>(entity).copied().unwrap_or_else(|| settings.shadow_bias()),
-                method: world.get::<ShadowMethod>(entity).copied().unwrap_or(settings.method),
+                method,
                 contact: world.get::<ContactShadows>(entity).map_or(settings.contact_shadows, |c| c.0),
                 cookie: world.get::<Cookie>(entity).copied(),
                 layers: map.map(|m| m.layers.clone()).unwrap_or_default(),
                 shows: map.map_or(0.0, |m| m.shows),
+                pages,
             }
         })
         .collect()

@@ -1,8 +1,8 @@
 //! A point light: light from a small sphere every way, shadowed through a cube of six maps.
 
 use super::clusters::Reach;
-use super::{Emitter, Kind, KindGpu, LIGHT_POINT, LayerContext, LayerFit, ShadowShape, SizeControl, Source};
-use crate::components::{PointLight, Transform};
+use super::{Emitter, Kind, KindGpu, LIGHT_POINT, LayerContext, LayerFit, PagedFit, ShadowShape, SizeControl, Source};
+use crate::components::{PointLight, ShadowMethod, Transform};
 use crate::settings::MapSettings;
 use crate::shadow::light_range;
 use bevy_ecs::prelude::*;
@@ -33,8 +33,12 @@ impl Kind for Point {
         "point"
     }
 
-    fn shape(&self, _: &MapSettings) -> ShadowShape {
+    fn shape(&self, _: &MapSettings, _: ShadowMethod) -> ShadowShape {
         ShadowShape::Cube
+    }
+
+    fn pages(&self, _: &LayerContext, _: u32, _: Option<(f32, f32)>) -> Option<PagedFit> {
+        None
     }
 
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {

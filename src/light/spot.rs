@@ -2,8 +2,8 @@
 //! through a cube when its cone is wider than one map holds well.
 
 use super::clusters::Reach;
-use super::{Emitter, Kind, KindGpu, LIGHT_SPOT, LayerContext, LayerFit, ShadowShape, SizeControl, Source};
-use crate::components::{SpotLight, Transform};
+use super::{Emitter, Kind, KindGpu, LIGHT_SPOT, LayerContext, LayerFit, PagedFit, ShadowShape, SizeControl, Source};
+use crate::components::{ShadowMethod, SpotLight, Transform};
 use crate::settings::MapSettings;
 use crate::shadow::{light_range, spot_cone, spot_projection};
 use bevy_ecs::prelude::*;
@@ -49,12 +49,16 @@ impl Kind for Spot {
 
     /// One map, unless its cone is wider than `spot_map_limit` (the widest half angle one map
     /// shadows): then a cube, as a point light has.
-    fn shape(&self, settings: &MapSettings) -> ShadowShape {
+    fn shape(&self, settings: &MapSettings, _: ShadowMethod) -> ShadowShape {
         if self.outer <= settings.spot_map_limit { ShadowShape::Single } else { ShadowShape::Cube }
     }
 
+    fn pages(&self, _: &LayerContext, _: u32, _: Option<(f32, f32)>) -> Option<PagedFit> {
+        None
+    }
+
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {
-        match self.shape(context.maps) {
+        match self.shape(context.maps, ShadowMethod::default()) {
             ShadowShape::Single => {
                 let cone = spot_projection(self.position, self.direction, self.outer, self.range, resolution);
                 vec![LayerFit::everywhere(cone)]

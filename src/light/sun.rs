@@ -2,11 +2,14 @@
 //! camera's view (or to what it saw, with the SDSM fit).
 
 use super::clusters::Reach;
-use super::{CameraView, Emitter, Kind, KindGpu, LIGHT_SUN, LayerContext, LayerFit, ShadowShape, SizeControl, Source};
-use crate::components::DirectionalLight;
-use crate::settings::MapSettings;
+use super::{
+    CameraView, Emitter, Kind, KindGpu, LIGHT_SUN, LayerContext, LayerFit, PagedFit, ShadowShape, SizeControl, Source,
+};
+use crate::components::{DirectionalLight, ShadowMethod};
+use crate::settings::{MapSettings, SunMaps};
 use crate::shadow::{
-    FitMode, SunScene, ViewFrustum, VisibleSamples, blend_bands, fit_seen, fit_slice, geometric_splits, split_depths,
+    Clipmap, FitMode, SunScene, ViewFrustum, VisibleSamples, blend_bands, depth_range, fit_seen, fit_slice,
+    geometric_splits, split_depths,
 };
 use bevy_ecs::prelude::*;
 use glam::{Vec3, Vec4};
@@ -42,13 +45,30 @@ impl Kind for Sun {
         true
     }
 
-    fn shape(&self, _: &MapSettings) -> ShadowShape {
-        ShadowShape::Cascades
+    /// Cascades, or a virtual map where the settings ask for one and the method reads depth.
+    fn shape(&self, settings: &MapSettings, method: ShadowMethod) -> ShadowShape {
+        if settings.sun_maps == SunMaps::Virtual && method.pages() { ShadowShape::Pages } else { ShadowShape::Cascades }
     }
 
     /// One layer per cascade, fitted to its slice of the camera's view; none without a camera.
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {
         context.view.map_or_else(Vec::new, |view| cascades(self.direction, view, context, resolution))
+    }
+
+    /// The clipmap round the camera, its depth range holding every caster; the coarse map is a
+    /// stable cascade over the whole shadow distance.
+    fn pages(&self, context: &LayerContext, coarse: u32, depth: Option<(f32, f32)>) -> Option<PagedFit> {
+        let CameraView { camera, transform, aspect } = context.view?;
+        let settings = context.cascade;
+        let sun = SunScene::from_boxes(self.direction, context.scene.iter().copied());
+        let depth = depth_range(depth, sun.depth_extent());
+        let clipmap = Clipmap::new(self.direction, settings.shadow_distance, depth);
+        let frustum =
+            ViewFrustum { position: transform.translation, rotation: transform.rotation, fov_y: camera.fov_y, aspect };
+        let slice = (camera.near, camera.shadow_far(settings.shadow_distance));
+        let projection = fit_slice(&sun, &frustum, slice, FitMode::Stable, coarse);
+        let coarse = LayerFit { projection, far: slice.1, blend: 0.0 };
+        Some(PagedFit { clipmap, camera: clipmap.across(transform.translation), coarse })
     }
 
     fn penumbra_size(&self) -> f32 {

@@ -49,7 +49,8 @@ fn layer_draws(
         .enumerate()
         .map(|(k, l)| LayerDraw {
             light: label,
-            key: (entity.to_bits(), k as u32),
+            // A page is named by its slot, so it keeps its tile while it stays resident.
+            key: (entity.to_bits(), l.page.map_or(k as u32, |p| 1 + p.slot)),
             slot: (first_slot + k) as u32,
             resolution: l.resolution,
             tile: None,
@@ -146,11 +147,13 @@ pub fn extract_shadow_maps(world: &World) -> FrameData {
 pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -> FrameData {
     let settings = FrameSettings::of(world).expect("a world made by umbra::App holds every group of settings");
     let aspect = world.resource::<Viewport>().aspect();
-    let (clip_from_world, eye, forward, depths) = world
+    let viewport = *world.resource::<Viewport>();
+    let (clip_from_world, eye, forward, depths, pixel_angle) = world
         .try_query::<(&Camera, &Transform)>()
         .and_then(|mut q| q.iter(world).next().map(|(c, t)| (*c, *t)))
-        .map_or((Mat4::ZERO, Vec3::ZERO, Vec3::NEG_Z, (0.1, 1.0)), |(c, t)| {
-            (c.view_proj(&t, aspect), t.translation, t.forward(), (c.near, c.far))
+        .map_or((Mat4::ZERO, Vec3::ZERO, Vec3::NEG_Z, (0.1, 1.0), 0.0), |(c, t)| {
+            let pixel_angle = c.pixel_angle(viewport.height);
+            (c.view_proj(&t, aspect), t.translation, t.forward(), (c.near, c.far), pixel_angle)
         });
     let (mut items, joints) = draw_items(world, main_pass);
     let cull_to = (settings.maps.caster_culling == CasterCulling::CameraView).then_some(&clip_from_world);
@@ -184,14 +187,14 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
                 blend: l.blend,
                 depth_terms: l.depth.to_array(),
                 method: light.method as u32,
-                perspective: (light.shape != ShadowShape::Cascades) as u32,
+                perspective: matches!(light.shape, ShadowShape::Single | ShadowShape::Cube) as u32,
                 bleed: settings.shadow.light_bleeding,
                 origin,
                 ..GpuLayer::zeroed()
             }));
         }
         let first_layer = (layers.len() - count) as u32;
-        lights.push(FrameLight { light, first_layer, layer_count: count as u32, planar_ground: false });
+        lights.push(FrameLight { light, first_layer, layer_count: count as u32, planar_ground: false, page_word: 0 });
     }
     // The clustered light lists, for the main pass only.
     let (grid, clusters) = if main_pass {
@@ -230,6 +233,7 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
         contact_thickness: settings.shadow.contact_thickness,
         camera_near: depths.0,
         camera_far: depths.1,
+        pixel_angle,
         ..Frame::zeroed()
     };
     if main_pass
@@ -272,6 +276,7 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
         planar,
         grid,
         shadowless,
+        page_words: Vec::new(),
     }
 }
 

@@ -97,6 +97,9 @@ pub struct FrameData {
     pub grid: LightGrid,
     /// The shadowed lights that are lit without their shadow this frame, each with why.
     pub shadowless: Vec<(LightLabel, Shadowless)>,
+    /// The paged lights' page tables, one after another (written once the layers have tiles:
+    /// [`super::page_table::write_page_tables`]).
+    pub page_words: Vec<u32>,
 }
 
 /// One light of a frame: the light, and where its layers are in the shadow-map array.
@@ -110,6 +113,9 @@ pub struct FrameLight {
     pub layer_count: u32,
     /// It draws planar shadows onto the ground in place of its maps there.
     pub planar_ground: bool,
+    /// Where its page table starts in [`FrameData::page_words`] (a paged light's; see
+    /// [`super::page_table`]).
+    pub page_word: u32,
 }
 
 impl FrameLight {
@@ -138,6 +144,13 @@ impl FrameLight {
         (g.kind, g.position, g.range) = (kind.code, kind.position.to_array(), kind.range);
         (g.direction, g.cos_outer, g.cos_inner) = (kind.direction.to_array(), kind.cos_outer, kind.cos_inner);
         g.cookie_from_world = kind.cookie_from_world.unwrap_or(Mat4::ZERO);
+        if let Some(pages) = &light.pages {
+            let clipmap = &pages.clipmap;
+            let units = Mat4::from_scale(glam::Vec3::splat(1.0 / clipmap.page_size(0)));
+            g.page_from_world = units * clipmap.light_from_world;
+            (g.page_levels, g.page_word) = (clipmap.levels, self.page_word);
+            (g.page_finest_log2, g.page_bias) = (clipmap.finest_log2 as f32, pages.bias);
+        }
         g
     }
 }

@@ -105,7 +105,8 @@ gpu_struct! {
         pub camera_near: f32,
         /// The camera's far plane distance.
         pub camera_far: f32,
-        pub _pad0: u32,
+        /// Radians a pixel of the picture spans (at its middle).
+        pub pixel_angle: f32,
         pub _pad1: u32,
         pub _pad2: u32,
     }
@@ -160,6 +161,19 @@ gpu_struct! {
         pub _pad2: u32,
         /// World to the cookie's clip space (spots with a cookie).
         pub cookie_from_world: Mat4,
+        /// A paged light's world to its level-0 page units across the light (x and y; a page of
+        /// level l is `2^l` of them a side).
+        pub page_from_world: Mat4,
+        /// A paged light's levels (0: it is not paged).
+        pub page_levels: u32,
+        /// Its page table's first word in the page-table texture: each level's window origin
+        /// (two words), then each level's [`crate::shadow::PAGE_GRID`]² entries (a layer + 1, 0:
+        /// not there).
+        pub page_word: u32,
+        /// log2 of its level 0's texel, in metres.
+        pub page_finest_log2: f32,
+        /// Octaves coarser than its footprint a pixel's page is chosen.
+        pub page_bias: f32,
     }
 }
 
@@ -247,6 +261,36 @@ gpu_struct! {
 }
 
 gpu_struct! {
+    /// What the marking of a paged light's pages reads (`Marking` in page_marks.wgsl).
+    pub struct Marking {
+        /// The camera's clip space back to the world.
+        pub world_from_clip: Mat4,
+        /// The light's world to level-0 page units (see [`GpuLight::page_from_world`]).
+        pub page_from_world: Mat4,
+        /// Each level's window origin, two levels a vector (x, y, x, y).
+        pub origins: [[i32; 4]; (crate::shadow::MAX_PAGE_LEVELS / 2) as usize],
+        /// The camera's position.
+        pub eye: [f32; 3],
+        /// View depth past which nothing takes the light's shadow.
+        pub shadow_distance: f32,
+        /// The camera's forward direction.
+        pub forward: [f32; 3],
+        /// log2 of level 0's texel, in metres.
+        pub finest_log2: f32,
+        /// Unit direction towards the light.
+        pub towards_light: [f32; 3],
+        /// Octaves coarser than its footprint a pixel's page is chosen.
+        pub bias: f32,
+        /// The depth buffer's width and height.
+        pub size: [u32; 2],
+        /// The light's levels.
+        pub levels: u32,
+        /// Radians a pixel of the picture spans (at its middle).
+        pub pixel_angle: f32,
+    }
+}
+
+gpu_struct! {
     /// How an atlas tile is filled before its casters are drawn (`Fill` in tile.wgsl).
     pub struct Fill {
         /// What its colour map keeps where nothing was drawn.
@@ -295,7 +339,7 @@ pub const LIST_WIDTH: u32 = 4096;
 /// Lights the measuring view reports in one pass (a vec4 target of visibilities).
 pub const MEASURED_PER_PASS: usize = 4;
 
-pub use crate::light::{LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN, SHAPE_CASCADES, SHAPE_CUBE, SHAPE_SINGLE};
+pub use crate::light::{LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN, SHAPE_CASCADES, SHAPE_CUBE, SHAPE_PAGES, SHAPE_SINGLE};
 
 /// The constants both languages use, written here once, as WGSL declarations that come before
 /// every shader file.
@@ -318,6 +362,10 @@ pub fn prelude() -> String {
     constant("SHAPE_CASCADES", SHAPE_CASCADES as u64);
     constant("SHAPE_SINGLE", SHAPE_SINGLE as u64);
     constant("SHAPE_CUBE", SHAPE_CUBE as u64);
+    constant("SHAPE_PAGES", SHAPE_PAGES as u64);
+    constant("PAGE_GRID", crate::shadow::PAGE_GRID as u64);
+    constant("MARK_WORDS", crate::shadow::MARK_WORDS as u64);
+    constant("MAX_PAGE_LEVELS", crate::shadow::MAX_PAGE_LEVELS as u64);
     constant("SDSM_BINS", crate::shadow::SDSM_BINS as u64);
     constant("SDSM_WORDS", crate::shadow::SDSM_WORDS as u64);
     constant("RESOLVE_BLOCK", RESOLVE_BLOCK as u64);
@@ -328,6 +376,7 @@ pub fn prelude() -> String {
     let spreading = ShadowMethod::ALL.iter().filter(|m| m.spreads()).fold(0u64, |mask, &m| mask | 1 << m as u64);
     constant("SPREADING_METHODS", spreading);
     out.push_str(&format!("const LIGHT_FALLOFF: f32 = {:?};\n", crate::components::LIGHT_FALLOFF));
+    out.push_str(&format!("const MIN_GRAZE: f32 = {:?};\n", crate::shadow::MIN_GRAZE));
     out.push_str(&format!("const POISSON16_RADIUS: f32 = {:?};\n", ShadowMethod::Poisson16.disc_radius()));
     out.push_str(&format!("const POISSON32_RADIUS: f32 = {:?};\n", ShadowMethod::Poisson32.disc_radius()));
     out.push_str(&crate::shadow::wgsl_array("POISSON_16", &crate::shadow::poisson_disc(16)));

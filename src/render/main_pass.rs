@@ -97,6 +97,8 @@ struct FrameResources {
     lights: GrowingBuffer,
     layers: GrowingBuffer,
     cluster_lists: GrowingRows,
+    /// The paged lights' page tables.
+    page_tables: GrowingRows,
     /// The camera's depth drawn before the pass (a 1x1 stand-in until contact shadows need it).
     camera_depth: wgpu::TextureView,
 }
@@ -129,6 +131,21 @@ fn uniform_entry(binding: u32, stages: wgpu::ShaderStages, size: usize) -> wgpu:
     }
 }
 
+/// Words of an integer texture at `binding`, seen by the fragment stage (the clusters' light
+/// lists, the page tables).
+fn words_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Uint,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
 fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
@@ -140,7 +157,7 @@ fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buff
 
 /// Bind group 0 of the main pass: the frame, the shadow maps and their samplers, the cookies,
 /// the lights and the layers, the colour maps and their sampler, the clusters' light lists, the
-/// camera's depth (for contact shadows).
+/// camera's depth (for contact shadows), the page tables.
 fn layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
     let fragment = wgpu::ShaderStages::FRAGMENT;
     let cookie_bytes = Cookie::ALL.len() * (COOKIE_SIZE * COOKIE_SIZE) as usize;
@@ -181,16 +198,8 @@ fn layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
             ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
             count: None,
         },
-        wgpu::BindGroupLayoutEntry {
-            binding: 9,
-            visibility: fragment,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Uint,
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        },
+        words_entry(9),
+        words_entry(11),
         // The camera's depth, read as floats (GLSL cannot load from a depth texture).
         wgpu::BindGroupLayoutEntry {
             binding: 10,
@@ -234,7 +243,8 @@ impl FrameResources {
             cookies: cookie_buffer(device),
             lights: GrowingBuffer::new(device, "lights", wgpu::BufferUsages::STORAGE),
             layers: GrowingBuffer::new(device, "layers", wgpu::BufferUsages::STORAGE),
-            cluster_lists: GrowingRows::new(device, LIST_WIDTH),
+            cluster_lists: GrowingRows::new(device, "cluster lists", LIST_WIDTH),
+            page_tables: GrowingRows::new(device, "page tables", LIST_WIDTH),
             camera_depth: super::camera_depth::depth_texture(device, (1, 1)),
         }
     }
@@ -252,6 +262,7 @@ impl FrameResources {
             wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(&self.moment_sampler) },
             wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(&self.cluster_lists.view) },
             wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::TextureView(&self.camera_depth) },
+            wgpu::BindGroupEntry { binding: 11, resource: wgpu::BindingResource::TextureView(&self.page_tables.view) },
         ]
     }
 
@@ -280,6 +291,10 @@ impl FrameResources {
         let mut grew = self.lights.write(device, queue, bytemuck::cast_slice(&lights));
         grew |= self.layers.write(device, queue, bytemuck::cast_slice(&data.layers));
         grew |= self.cluster_lists.write(device, queue, &lists);
+        if self.page_tables.rows_for(data.page_words.len()) > most {
+            return Err(RenderError::Unsupported("page tables taller than this device's largest texture"));
+        }
+        grew |= self.page_tables.write(device, queue, &data.page_words);
         Ok(grew)
     }
 

@@ -6,8 +6,10 @@
 //! `readback.rs` brings a frame back to the CPU for headless use. The renderer only reads the
 //! world: what it learns that the game needs comes back as [`RenderNews`], which the app takes in.
 
+mod async_read;
 mod bare_depth;
 mod camera_depth;
+mod depth_compute;
 mod depth_reduction;
 mod extract;
 mod frame;
@@ -24,6 +26,8 @@ mod moment_compute;
 mod moment_samples;
 mod moments;
 mod news;
+mod page_marks;
+pub mod page_table;
 mod planar;
 mod readback;
 mod renderer;

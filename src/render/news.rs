@@ -2,7 +2,7 @@
 //! the world and never writes into it; the app takes the news in ([`crate::App::hear`]).
 
 use super::shadow_stats::ShadowStats;
-use crate::shadow::VisibleSamples;
+use crate::shadow::{PageMarks, VisibleSamples};
 use crate::systems::ShadowCaps;
 
 /// What the renderer learned since the app last heard from it ([`super::Renderer::news`]).
@@ -15,6 +15,8 @@ pub struct RenderNews {
     pub stats: Option<ShadowStats>,
     /// What the camera saw, for the SDSM fit, when a depth reduction came back.
     pub seen: Option<VisibleSamples>,
+    /// The pages paged lights' visible pixels asked for, when a marking came back.
+    pub marks: Vec<PageMarks>,
     /// Messages for the user, oldest first.
     pub notices: Vec<String>,
 }

@@ -90,6 +90,7 @@ pub fn render_headless(
 ) -> Result<Image, RenderError> {
     app.hear(renderer.news());
     prime_sdsm(gpu, renderer, app, (width, height))?;
+    prime_pages(gpu, renderer, app, (width, height))?;
     let texture = gpu.target("headless frame", (width, height), HEADLESS_FORMAT)?;
     renderer.render(gpu, &app.world, &texture.create_view(&Default::default()), width, height)?;
     app.hear(renderer.news());
@@ -113,6 +114,40 @@ fn prime_sdsm(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u
     renderer.wait_for_samples(gpu);
     app.hear(renderer.news());
     app.step_held();
+    Ok(())
+}
+
+/// Most frames a headless frame draws first for its virtual pages.
+pub const PRIME_ROUNDS: u32 = 6;
+
+/// With virtual shadow maps a frame reads the pages the camera's pixels asked for a frame or two
+/// before: a headless frame first draws its view (the clock held) until what it asks for has
+/// slots and is drawn, at most [`PRIME_ROUNDS`] times, so the frame it returns reads the pages
+/// its own view needs and is the same every time. A view whose pages do not all fit the pool
+/// stops at the limit, its pixels on coarser pages.
+fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u32)) -> Result<(), RenderError> {
+    let paged = |app: &mut App| {
+        let mut maps = app.world.query::<&crate::components::ShadowMap>();
+        maps.iter(&app.world).filter_map(|m| m.pages.as_ref()).map(|p| p.update).collect::<Vec<_>>()
+    };
+    if app.settings().maps.sun_maps != crate::settings::SunMaps::Virtual && paged(app).is_empty() {
+        return Ok(());
+    }
+    // A marking of an earlier frame still under way would keep this view's from being made.
+    renderer.wait_for_samples(gpu);
+    app.hear(renderer.news());
+    let texture = gpu.target("page priming", (w, h), HEADLESS_FORMAT)?;
+    let view = texture.create_view(&Default::default());
+    for _ in 0..PRIME_ROUNDS {
+        renderer.render(gpu, &app.world, &view, w, h)?;
+        renderer.wait_for_samples(gpu);
+        app.hear(renderer.news());
+        app.step_held();
+        let updates = paged(app);
+        if updates.iter().all(|u| u.residency.placed == 0 && u.residency.waiting == 0 && u.residency.missing == 0) {
+            break;
+        }
+    }
     Ok(())
 }
 
@@ -184,6 +219,7 @@ pub fn render_debug_frame(
     ];
     app.hear(renderer.news());
     prime_sdsm(gpu, renderer, app, (width, height))?;
+    prime_pages(gpu, renderer, app, (width, height))?;
     let views = textures.each_ref().map(|t| t.create_view(&Default::default()));
     let lights = crate::light::light_list(&app.world).len();
     let mut visibility = Vec::with_capacity(lights);
@@ -221,7 +257,9 @@ pub fn probe_visibility(
     // The probes see the maps of the camera's view, so SDSM fits them to that view first.
     let viewport = *app.world.resource::<crate::components::Viewport>();
     app.hear(renderer.news());
-    prime_sdsm(gpu, renderer, app, (viewport.width.max(1), viewport.height.max(1)))?;
+    let size = (viewport.width.max(1), viewport.height.max(1));
+    prime_sdsm(gpu, renderer, app, size)?;
+    prime_pages(gpu, renderer, app, size)?;
     let width = (points.len() as u32).min(256);
     let height = (points.len() as u32).div_ceil(width);
     let texture = gpu.target("probes", (width, height), DEBUG_FORMAT)?;

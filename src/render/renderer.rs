@@ -13,6 +13,7 @@ use super::mesh::{Drawables, GpuMesh, JointPalette};
 use super::moment_compute::ComputeStores;
 use super::moments;
 use super::news::RenderNews;
+use super::page_marks::PageMarking;
 use super::shadow_pass::{DrawOptions, ShadowPass};
 use super::shadow_stats::ShadowStats;
 use super::texture::MaterialTextures;
@@ -102,6 +103,10 @@ pub struct Renderer {
     camera_depth: Option<CameraDepth>,
     /// The depth reduction of the SDSM fit, made when first needed (where compute shaders run).
     reduction: Option<DepthReduction>,
+    /// The marking of virtual pages, made when first needed (where compute shaders run).
+    marking: Option<PageMarking>,
+    /// The user was told virtual pages cannot be marked here.
+    marks_told: bool,
     /// The device runs compute shaders.
     computes: bool,
     /// The moment formats the device makes in compute.
@@ -173,6 +178,8 @@ impl Renderer {
             bare: None,
             camera_depth: None,
             reduction: None,
+            marking: None,
+            marks_told: false,
             computes,
             compute_stores,
             software: gpu.software(),
@@ -312,7 +319,8 @@ impl Renderer {
         std::mem::replace(&mut self.news, RenderNews { caps: self.caps, ..RenderNews::default() })
     }
 
-    /// Waits for the depth reduction under way, if any, and adds what it read back to the news.
+    /// Waits for the depth reduction and the page marking under way, if any, and adds what they
+    /// read back to the news.
     pub fn wait_for_samples(&mut self, gpu: &Gpu) {
         self.take_samples(gpu, true);
     }
@@ -370,6 +378,7 @@ impl Renderer {
         }
         let update = world.get_resource::<crate::components::Time>().map(|t| t.updates);
         self.shadow.plan(&mut data, how, update);
+        super::page_table::write_page_tables(&mut data);
         if lit {
             self.main.prepare((device, queue), &data, &self.shadow.maps)?;
             self.tell_shadowless(&data);
@@ -400,8 +409,10 @@ impl Renderer {
             }
         }
         let timer = self.timer.as_ref();
-        let reduces = sdsm && matches!(output, Output::Picture(_) | Output::Measure(..));
-        self.main.keep_depth = reduces;
+        let sees = matches!(output, Output::Picture(_) | Output::Measure(..));
+        let reduces = sdsm && sees;
+        let marks = shadows && sees && data.lights.iter().any(|l| l.layer_count > 0 && l.light.pages.is_some());
+        self.main.keep_depth = reduces || marks;
         match output {
             Output::Picture(target) => {
                 let layers: Vec<_> = data.layers.iter().copied().zip(data.draws.iter().map(|d| d.light)).collect();
@@ -429,6 +440,9 @@ impl Renderer {
         }
         if reduces {
             self.reduce_depth(gpu, world, &mut encoder, &data);
+        }
+        if marks {
+            self.mark_pages(gpu, &mut encoder, &data);
         }
         if let Some(timer) = self.timer.as_mut() {
             timer.resolve(&mut encoder);
@@ -510,6 +524,26 @@ impl Renderer {
         if let Some(samples) = self.reduction.as_mut().and_then(|r| r.poll(&gpu.device, wait)) {
             self.news.seen = Some(samples);
         }
+        if let Some(marks) = self.marking.as_mut().and_then(|m| m.poll(&gpu.device, wait)) {
+            self.news.marks.push(marks);
+        }
+    }
+
+    /// Marks the pages the camera's pixels need of the paged lights (see
+    /// [`super::page_marks`]); says once where the device cannot, and the paged lights then read
+    /// their coarse maps alone.
+    fn mark_pages(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, data: &FrameData) {
+        if !self.computes {
+            if !std::mem::replace(&mut self.marks_told, true) {
+                let why = "virtual shadow maps mark their pages in a compute pass, which this device lacks: \
+                           paged lights read their coarse maps alone";
+                self.news.notices.push(why.to_string());
+            }
+            return;
+        }
+        let Some(depth) = &self.depth else { return };
+        let marking = self.marking.get_or_insert_with(|| PageMarking::new(&gpu.device));
+        marking.encode((&gpu.device, &gpu.queue), encoder, (&depth.depth_only, depth.made, depth.size), data);
     }
 
     /// Reduces the camera's depth buffer for the SDSM fit, binned along the view and in the

@@ -35,6 +35,10 @@ pub const FRAME: ShaderFile = shader_file!("frame.wgsl");
 pub const CONTACT: ShaderFile = shader_file!("contact.wgsl");
 /// The shadow-map lookups, one function per method.
 pub const SAMPLING: ShaderFile = shader_file!("shadow_sampling.wgsl");
+/// Virtual shadow maps: the layer a paged light's lookup reads.
+pub const PAGES: ShaderFile = shader_file!("pages.wgsl");
+/// The marking of the pages a paged light's visible pixels need.
+pub const PAGE_MARKS: ShaderFile = shader_file!("page_marks.wgsl");
 /// Every light kind seen from a surface point: reach, shadow test, cookie.
 pub const LIGHTS: ShaderFile = shader_file!("lights.wgsl");
 /// The main pass, the measuring view and the probes.
@@ -57,9 +61,10 @@ pub const SHADOW_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, SHADOW];
 /// The moment blur's and resolve's files.
 pub const BLUR_MODULE: &[ShaderFile] = &[MOMENTS, BLUR];
 /// The main pass's files, in dependency order.
-pub const MAIN_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, CONTACT, LIGHTS, MAIN];
+pub const MAIN_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, CONTACT, PAGES, LIGHTS, MAIN];
 /// The planar shadows' files: the main pass's, and its own.
-pub const PLANAR_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, CONTACT, LIGHTS, MAIN, PLANAR];
+pub const PLANAR_MODULE: &[ShaderFile] =
+    &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, CONTACT, PAGES, LIGHTS, MAIN, PLANAR];
 
 /// A module's text, and the line where each of its parts begins.
 #[derive(Clone, Debug)]
@@ -180,6 +185,7 @@ mod tests {
         check(&Composed::new(&[LINES])).unwrap();
         check(&Composed::new(&[BARE_DEPTH])).unwrap();
         check(&Composed::new(&[TILE])).unwrap();
+        check(&Composed::new(&[PAGE_MARKS])).unwrap();
         let (module, _) = check(&Composed::new(&[MAP_VIEW])).unwrap();
         // The viewer's uniform holds three vectors for every layer it shows.
         let terms = module.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some("view_layers")).unwrap().1;
@@ -230,9 +236,12 @@ mod tests {
         let reduce_struct = ("Reduce", gpu_types::Reduce::FIELDS, size_of::<gpu_types::Reduce>());
         let (tile, _) = check(&Composed::new(&[TILE])).unwrap();
         let fill_struct = ("Fill", gpu_types::Fill::FIELDS, size_of::<gpu_types::Fill>());
+        let (marks, _) = check(&Composed::new(&[PAGE_MARKS])).unwrap();
+        let marking_struct = ("Marking", gpu_types::Marking::FIELDS, size_of::<gpu_types::Marking>());
         let each = shared.iter().map(|s| (&module, *s)).chain([
             (&sdsm, reduce_struct),
             (&tile, fill_struct),
+            (&marks, marking_struct),
             (&blur, blur_struct),
             (&shadow, shadow_layer),
             (&planar, planar_struct),

@@ -66,7 +66,8 @@ impl Placement {
     /// Gives every layer of `data` its tile (a layer keeps last frame's while it keeps its size)
     /// and writes where it is into the layer the shaders read. A light any of whose layers find
     /// no room is lit without its shadow: none of its layers keeps a tile (so none is drawn) and
-    /// it is named in [`FrameData::shadowless`].
+    /// it is named in [`FrameData::shadowless`]; a paged light only when its coarse map finds
+    /// none (a page without one is left out of the page table).
     pub fn place(&mut self, data: &mut FrameData) {
         let wanted: Vec<(LayerKey, u32)> = data.draws.iter().map(|d| (d.key, d.resolution)).collect();
         let placed = self.atlas.place(&wanted);
@@ -80,9 +81,12 @@ impl Placement {
             }
         }
         for light in data.lights.iter_mut().filter(|l| l.layer_count > 0) {
-            // The draws are in slot order, one per layer.
+            // The draws are in slot order, one per layer. A page that found no room is left out of
+            // its light's page table (it reads a coarser page); only its coarse map must have one.
+            let paged = light.light.pages.is_some();
+            let needed = if paged { 1 } else { light.layer_count };
             let slots = light.first_layer as usize..(light.first_layer + light.layer_count) as usize;
-            if data.draws[slots.clone()].iter().any(|d| d.tile.is_none()) {
+            if data.draws[slots.clone()].iter().take(needed as usize).any(|d| d.tile.is_none()) {
                 light.layer_count = 0;
                 data.shadowless.push((light.light.label, Shadowless::AtlasFull));
                 data.draws[slots].iter_mut().for_each(|d| d.tile = None);

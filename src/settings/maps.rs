@@ -70,6 +70,13 @@ pub struct MapSettings {
     /// drawn multisampled at the moment map's size, each moment texel the mean of its samples'
     /// moments (an MSAA resolve; the device may allow fewer: 4 everywhere but GL, where none).
     pub moment_samples: u32,
+    /// How the sun's shadow is laid out: cascades, or a virtual map in pages where the visible
+    /// pixels need them (depth methods only; a moment or colour method stays on cascades).
+    pub sun_maps: SunMaps,
+    /// Octaves coarser (negative: finer) than its footprint a pixel's virtual page is chosen.
+    pub page_bias: f32,
+    /// MiB of the shadow memory the sun's virtual pages may take (its pool), at most half of it.
+    pub page_memory: u32,
 }
 
 impl Default for MapSettings {
@@ -98,6 +105,10 @@ impl Default for MapSettings {
             moment_bits: MomentBits::Auto,
             moment_blur: DEFAULT_MOMENT_BLUR,
             moment_samples: 1,
+            sun_maps: SunMaps::Cascades,
+            page_bias: 0.0,
+            // A 1280x720 view's pages, with room for the pages about it as the camera turns.
+            page_memory: 32,
         }
     }
 }
@@ -123,6 +134,8 @@ pub const DEFAULT_MOMENT_BLUR: u32 = 2;
 pub const MAX_MOMENT_BLUR: u32 = 16;
 /// The samples per texel a moment map may be resolved from.
 pub const MOMENT_SAMPLES: [u32; 4] = [1, 2, 4, 8];
+/// The widest `page_bias`, in octaves either way.
+pub const MAX_PAGE_BIAS: f32 = 4.0;
 
 impl SettingsGroup for MapSettings {
     /// Checks every setting of the maps; the first bad one is named in the error.
@@ -155,6 +168,12 @@ impl SettingsGroup for MapSettings {
         }
         if !MOMENT_SAMPLES.contains(&self.moment_samples) {
             return bad("moment_samples", self.moment_samples, "must be 1, 2, 4 or 8 samples");
+        }
+        if !(self.page_bias.is_finite() && self.page_bias.abs() <= MAX_PAGE_BIAS) {
+            return bad("page_bias", self.page_bias, "must be between -4 and 4 octaves");
+        }
+        if !(1..=self.shadow_memory / 2).contains(&self.page_memory) {
+            return bad("page_memory", self.page_memory, "must be between 1 MiB and half the shadow memory");
         }
         Ok(())
     }
@@ -211,6 +230,18 @@ pub enum TileSizes {
     Bevy,
 }
 
+/// How the sun's shadow is laid out.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum SunMaps {
+    /// Cascades fitted to slices of the view: texels spent by distance from the camera.
+    #[default]
+    Cascades,
+    /// A virtual map: a clipmap of pages round the camera, each drawn once and kept, at the
+    /// resolution the visible pixels need (see [`crate::shadow::Clipmap`]).
+    Virtual,
+}
+
+named_choices!(SunMaps, "a kind of sun maps", Cascades = "cascades", Virtual = "virtual");
 named_choices!(TileSizes, "a tile-size policy", Screen = "screen", Fixed = "fixed", Bevy = "bevy");
 named_choices!(ShadowFaces, "a face choice", Both = "both", Back = "back");
 named_choices!(ShadowDepth, "a depth-map format", Float32 = "d32", Unorm16 = "d16");

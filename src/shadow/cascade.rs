@@ -187,6 +187,16 @@ impl SunScene {
     pub fn light_from_world(&self) -> Mat4 {
         self.view
     }
+
+    /// The light-space z of the highest caster's top and of the lowest box's bottom (z grows
+    /// towards the light): the depths a map of the whole scene must hold. Infinite (and so
+    /// unusable) with no caster.
+    #[must_use]
+    pub fn depth_extent(&self) -> (f32, f32) {
+        let top = self.boxes.iter().map(|b| b.top).fold(f32::NEG_INFINITY, f32::max);
+        let bottom = self.boxes.iter().map(|b| b.bottom).fold(f32::INFINITY, f32::min);
+        (top, bottom)
+    }
 }
 
 /// [`fit_cascade`] for the slice between view depths `a..b`, from the scene as `sun` sees it.

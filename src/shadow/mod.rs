@@ -31,8 +31,8 @@ pub use fit::{
 };
 pub use page_pool::{MAX_PRESSURE, PagePool, Residency, Resident, next_pressure};
 pub use pages::{
-    Clipmap, FINEST_TEXEL_LOG2, MAX_PAGE_LEVELS, MIN_GRAZE, PAGE_BORDER, PAGE_GRID, PAGE_TEXELS, PAGE_TILE, PageId,
-    Window, levels_for, wanted_texel,
+    Clipmap, FINEST_TEXEL_LOG2, MARK_WORDS, MAX_PAGE_LEVELS, MIN_GRAZE, PAGE_BORDER, PAGE_GRID, PAGE_TEXELS, PAGE_TILE,
+    PageId, PageMarks, PageRange, Window, depth_range, levels_for, wanted_texel,
 };
 pub use planar::{GROUND_PLANE, PLANAR_LIFT, flat_from_world, lights_plane};
 pub use poisson::{poisson_disc, wgsl_array};

@@ -24,7 +24,7 @@ pub struct Resident {
     pub static_version: u64,
     /// The pool's frame it was last needed in.
     pub needed: u64,
-    /// It is new or its version changed in the last update.
+    /// It is new or its version changed since the pool was last [`PagePool::clean`]ed.
     pub dirty: bool,
 }
 
@@ -93,6 +93,11 @@ impl PagePool {
         self.by_page.get(&page).copied()
     }
 
+    /// Marks every page clean: what the last update made dirty has been seen.
+    pub fn clean(&mut self) {
+        self.slots.iter_mut().flatten().for_each(|r| r.dirty = false);
+    }
+
     /// One frame's needs: every page of `needed` (each once) is kept or given a slot, at most
     /// `admit` of them new, the coarsest levels first (a coarse page serves every pixel under
     /// it); a new page takes a free slot, else that of the page needed least recently of those
@@ -101,7 +106,6 @@ impl PagePool {
     pub fn update(&mut self, needed: &[PageId], admit: usize, mut next_version: impl FnMut() -> u64) -> Residency {
         self.frame += 1;
         let frame = self.frame;
-        self.slots.iter_mut().flatten().for_each(|r| r.dirty = false);
         let mut wanted: Vec<PageId> = Vec::new();
         for page in needed {
             match self.by_page.get(page) {
@@ -212,6 +216,7 @@ mod tests {
         assert_eq!((r.placed, r.resident, r.missing, r.evicted), (2, 2, 0, 0));
         let before: Vec<Resident> = pool.resident().map(|(_, r)| *r).collect();
         assert!(before.iter().all(|r| r.dirty));
+        pool.clean();
         let r = pool.update(&[page(0, 1), page(0, 2)], usize::MAX, &mut v);
         assert_eq!(r.placed, 0);
         let after: Vec<Resident> = pool.resident().map(|(_, r)| *r).collect();
@@ -265,7 +270,7 @@ mod tests {
         let mut pool = PagePool::new(4);
         let mut v = counter();
         pool.update(&[page(0, 1), page(0, 2)], usize::MAX, &mut v);
-        pool.update(&[page(0, 1), page(0, 2)], usize::MAX, &mut v);
+        pool.clean();
         let before: Vec<u64> = pool.resident().map(|(_, r)| r.version).collect();
         assert_eq!(pool.invalidate(|p| p.x == 2, &mut v), 1);
         let after: Vec<(u64, bool)> = pool.resident().map(|(_, r)| (r.version, r.dirty)).collect();

@@ -164,13 +164,19 @@ pub fn levels_for(shadow_distance: f32, finest_log2: i32) -> u32 {
 }
 
 /// The texel size (metres) a pixel wants: one whose square, laid along the light onto the
-/// surface (it stretches by 1 / |n·l|), covers as much of it as the pixel does (`pixel_area`,
-/// square metres). `n_dot_l` is held at [`MIN_GRAZE`] or more. The WGSL twin is `wanted_texel`
-/// in pages.wgsl.
+/// surface (it stretches by 1 / |n·l|), covers as much of it as the pixel does. The pixel spans
+/// `pixel_angle` radians at `distance` metres from the eye, and its footprint stretches by
+/// 1 / |n·v| on a surface seen aslant; both cosines are held at [`MIN_GRAZE`] or more. The marking
+/// and the lookups find the same size for the same surface (the WGSL twin is `wanted_texel` in
+/// pages.wgsl, page_marks.wgsl has its own copy).
 #[must_use]
-pub fn wanted_texel(pixel_area: f32, n_dot_l: f32) -> f32 {
-    let graze = if n_dot_l.is_nan() { 1.0 } else { n_dot_l.abs().clamp(MIN_GRAZE, 1.0) };
-    (pixel_area.max(0.0) * graze).sqrt()
+pub fn wanted_texel(distance: f32, pixel_angle: f32, n_dot_v: f32, n_dot_l: f32) -> f32 {
+    let cosine = |c: f32| if c.is_nan() { 1.0 } else { c.abs().clamp(MIN_GRAZE, 1.0) };
+    let size = (distance * pixel_angle).max(0.0);
+    if size.is_nan() {
+        return 0.0;
+    }
+    size * (cosine(n_dot_l) / cosine(n_dot_v)).sqrt()
 }
 
 /// One level's window: the pages of it that may be asked for, [`PAGE_GRID`] a side from
@@ -199,20 +205,111 @@ impl Window {
         let (x, y) = ((index % grid) as i32, (index / grid) as i32);
         PageId { level: self.level, x: self.origin.x.saturating_add(x), y: self.origin.y.saturating_add(y) }
     }
+}
 
-    /// The pages of the window that meet the square `min..max` across the light, on a clipmap
-    /// whose pages on this level are `size` metres a side (and whose border is `border` metres).
-    pub fn pages_meeting(&self, (min, max): (Vec2, Vec2), size: f32, border: f32) -> impl Iterator<Item = PageId> {
-        // A page's tile reaches `border` past its square, so a box that far outside still meets it.
+/// The pages of one level whose tiles meet a square across the light: columns and rows
+/// `min..=max` (empty when a component of `min` exceeds `max`'s).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PageRange {
+    /// Their level.
+    pub level: u32,
+    /// The first column and row.
+    pub min: IVec2,
+    /// The last column and row.
+    pub max: IVec2,
+}
+
+impl PageRange {
+    /// True when `page` is one of them.
+    #[must_use]
+    pub fn contains(&self, page: PageId) -> bool {
+        page.level == self.level
+            && (self.min.x..=self.max.x).contains(&page.x)
+            && (self.min.y..=self.max.y).contains(&page.y)
+    }
+
+    /// How many pages it holds.
+    #[must_use]
+    pub fn count(&self) -> u64 {
+        let side = |a: i32, b: i32| (i64::from(b) - i64::from(a) + 1).max(0) as u64;
+        side(self.min.x, self.max.x) * side(self.min.y, self.max.y)
+    }
+
+    /// Its pages, row by row.
+    pub fn pages(&self) -> impl Iterator<Item = PageId> {
+        let (level, min, max) = (self.level, self.min, self.max);
+        (min.y..=max.y).flat_map(move |y| (min.x..=max.x).map(move |x| PageId { level, x, y }))
+    }
+}
+
+impl Clipmap {
+    /// The pages of `level` whose tiles (border included) meet the square `min..max` across the
+    /// light; none for a square that is not finite.
+    #[must_use]
+    pub fn pages_meeting(&self, level: u32, (min, max): (Vec2, Vec2)) -> PageRange {
+        let (size, border) = (self.page_size(level), PAGE_BORDER as f32 * self.texel(level));
         let cell = |v: f32| (v / size).floor().clamp(i32::MIN as f32 / 2.0, i32::MAX as f32 / 2.0) as i32;
-        let grid = PAGE_GRID as i32;
-        let lo = |v: f32, o: i32| cell(v - border).clamp(o, o + grid);
-        let hi = |v: f32, o: i32| cell(v + border).clamp(o - 1, o + grid - 1);
-        let usable = min.is_finite() && max.is_finite() && size > 0.0;
-        let (x0, x1) = if usable { (lo(min.x, self.origin.x), hi(max.x, self.origin.x)) } else { (1, 0) };
-        let (y0, y1) = if usable { (lo(min.y, self.origin.y), hi(max.y, self.origin.y)) } else { (1, 0) };
-        let level = self.level;
-        (y0..=y1).flat_map(move |y| (x0..=x1).map(move |x| PageId { level, x, y }))
+        if !(min.is_finite() && max.is_finite()) {
+            return PageRange { level, min: IVec2::ONE, max: IVec2::ZERO };
+        }
+        // A tile reaches `border` past its page's square, so a square that far outside still meets it.
+        let lo = IVec2::new(cell(min.x - border), cell(min.y - border));
+        let hi = IVec2::new(cell(max.x + border), cell(max.y + border));
+        PageRange { level, min: lo, max: hi }
+    }
+}
+
+/// The light-space depth range (near, far; z grows towards the light) a clipmap keeps for a scene
+/// that `needed` (the top of its casters, the bottom of everything): the `previous` one while it
+/// holds the scene and is not more than twice as deep as it needs, else one with room round the
+/// scene, in whole metres. A page's depths are good only for the range it was drawn with, so the
+/// range must not follow every caster that bobs.
+#[must_use]
+pub fn depth_range(previous: Option<(f32, f32)>, (top, bottom): (f32, f32)) -> (f32, f32) {
+    let usable = top.is_finite() && bottom.is_finite() && top >= bottom;
+    let Some((top, bottom)) = usable.then_some((top, bottom)) else {
+        return previous.unwrap_or((1.0, -1.0));
+    };
+    let depth = top - bottom;
+    if let Some((near, far)) = previous
+        && near >= top
+        && far <= bottom
+        && near - far <= 2.0 * depth + 4.0
+    {
+        return (near, far);
+    }
+    let pad = 0.25 * depth + 1.0;
+    ((top + pad).ceil(), (bottom - pad).floor())
+}
+
+/// Words of marks a level takes: one bit a page of its window.
+pub const MARK_WORDS: usize = (PAGE_GRID * PAGE_GRID / 32) as usize;
+
+/// The pages the camera's pixels asked a paged light for, as the marking pass left them: a bit
+/// per page of each level's window, level after level (see `page_marks.wgsl`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PageMarks {
+    /// The light's entity, as bits.
+    pub light: u64,
+    /// The marking's number: each marking the renderer reads back has a new one.
+    pub seq: u64,
+    /// The clipmap the pixels were marked against.
+    pub clipmap: Clipmap,
+    /// Its windows then, one a level.
+    pub windows: Vec<Window>,
+    /// [`MARK_WORDS`] words a level.
+    pub bits: Vec<u32>,
+}
+
+impl PageMarks {
+    /// The pages marked, level after level, coarsest last.
+    pub fn pages(&self) -> impl Iterator<Item = PageId> + '_ {
+        self.windows.iter().enumerate().flat_map(move |(l, window)| {
+            let words = self.bits.get(l * MARK_WORDS..(l + 1) * MARK_WORDS).unwrap_or(&[]);
+            words.iter().enumerate().flat_map(move |(w, &word)| {
+                (0..32).filter(move |b| word & (1 << b) != 0).map(move |b| window.page(w * 32 + b))
+            })
+        })
     }
 }
 
@@ -333,32 +430,65 @@ mod tests {
     }
 
     #[test]
-    fn a_pixel_wants_its_footprint_shrunk_where_the_light_grazes() {
-        assert_eq!(wanted_texel(4e-6, 1.0), 2e-3);
-        assert!((wanted_texel(4e-6, 0.25) - 1e-3).abs() < 1e-9);
-        assert_eq!(wanted_texel(4e-6, -1.0), 2e-3, "either side");
-        assert_eq!(wanted_texel(4e-6, 0.0), wanted_texel(4e-6, MIN_GRAZE));
-        assert_eq!(wanted_texel(-1.0, 1.0), 0.0);
-        assert_eq!(wanted_texel(4e-6, f32::NAN), 2e-3);
-        assert_eq!(wanted_texel(f32::NAN, 1.0), 0.0, "no footprint: the finest level");
+    fn a_pixel_wants_its_footprint_shrunk_where_the_light_grazes_and_grown_where_it_is_seen_aslant() {
+        assert_eq!(wanted_texel(2.0, 1e-3, 1.0, 1.0), 2e-3);
+        assert!((wanted_texel(2.0, 1e-3, 1.0, 0.25) - 1e-3).abs() < 1e-9);
+        assert!((wanted_texel(2.0, 1e-3, 0.25, 1.0) - 4e-3).abs() < 1e-9);
+        assert_eq!(wanted_texel(2.0, 1e-3, -1.0, -1.0), 2e-3, "either side");
+        assert_eq!(wanted_texel(2.0, 1e-3, 1.0, 0.0), wanted_texel(2.0, 1e-3, 1.0, MIN_GRAZE));
+        assert_eq!(wanted_texel(2.0, 1e-3, 0.0, 1.0), wanted_texel(2.0, 1e-3, MIN_GRAZE, 1.0));
+        assert_eq!(wanted_texel(-1.0, 1e-3, 1.0, 1.0), 0.0);
+        assert_eq!(wanted_texel(2.0, 1e-3, f32::NAN, f32::NAN), 2e-3);
+        assert_eq!(wanted_texel(f32::NAN, 1e-3, 1.0, 1.0), 0.0, "no footprint: the finest level");
+        assert_eq!(wanted_texel(f32::INFINITY, 0.0, 1.0, 1.0), 0.0);
     }
 
     #[test]
-    fn a_box_meets_the_pages_its_square_and_their_borders_reach() {
+    fn a_square_meets_the_pages_its_square_and_their_borders_reach() {
         let c = clipmap();
-        let w = c.window(0, Vec2::ZERO);
         let (size, border) = (c.page_size(0), PAGE_BORDER as f32 * c.texel(0));
-        let inside = (Vec2::splat(0.01), Vec2::splat(0.02));
-        assert_eq!(w.pages_meeting(inside, size, border).collect::<Vec<_>>(), vec![PageId { level: 0, x: 0, y: 0 }]);
+        let inside = c.pages_meeting(0, (Vec2::splat(0.01), Vec2::splat(0.02)));
+        assert_eq!(inside.pages().collect::<Vec<_>>(), vec![PageId { level: 0, x: 0, y: 0 }]);
+        assert_eq!(inside.count(), 1);
         // Just past a page's square, but within its border: both pages.
-        let edge = (Vec2::new(size + border * 0.5, 0.01), Vec2::new(size + border * 0.6, 0.02));
-        assert_eq!(w.pages_meeting(edge, size, border).count(), 2);
-        // A box larger than the window meets every page of it, no more.
-        let huge = (Vec2::splat(-1e9), Vec2::splat(1e9));
-        assert_eq!(w.pages_meeting(huge, size, border).count(), (PAGE_GRID * PAGE_GRID) as usize);
-        let nan = (Vec2::NAN, Vec2::ONE);
-        assert_eq!(w.pages_meeting(nan, size, border).count(), 0);
-        let outside = (Vec2::splat(1e6), Vec2::splat(1e6 + 1.0));
-        assert_eq!(w.pages_meeting(outside, size, border).count(), 0);
+        let edge = c.pages_meeting(0, (Vec2::new(size + border * 0.5, 0.01), Vec2::new(size + border * 0.6, 0.02)));
+        assert_eq!(edge.count(), 2);
+        assert!(edge.contains(PageId { level: 0, x: 0, y: 0 }) && edge.contains(PageId { level: 0, x: 1, y: 0 }));
+        assert!(!edge.contains(PageId { level: 1, x: 0, y: 0 }), "another level");
+        let huge = c.pages_meeting(0, (Vec2::splat(-1e12), Vec2::splat(1e12)));
+        assert!(huge.count() > u64::from(u32::MAX), "counted without overflow");
+        let nan = c.pages_meeting(0, (Vec2::NAN, Vec2::ONE));
+        assert_eq!((nan.count(), nan.pages().count()), (0, 0));
+        assert!(!nan.contains(PageId { level: 0, x: 0, y: 0 }));
+    }
+
+    #[test]
+    fn the_depth_range_holds_the_scene_and_keeps_still_while_it_can() {
+        let first = depth_range(None, (10.0, -30.0));
+        assert!(first.0 >= 10.0 && first.1 <= -30.0 && first.0.fract() == 0.0, "{first:?}");
+        assert_eq!(depth_range(Some(first), (11.0, -29.0)), first, "a caster bobbing inside keeps it");
+        let higher = depth_range(Some(first), (first.0 + 5.0, -30.0));
+        assert!(higher.0 >= first.0 + 5.0);
+        let shallow = depth_range(Some(first), (1.0, -1.0));
+        assert!(shallow.0 - shallow.1 < first.0 - first.1, "a scene far shallower takes a tighter range");
+        for odd in [(f32::NAN, 0.0), (0.0, f32::INFINITY), (-1.0, 1.0)] {
+            assert_eq!(depth_range(Some(first), odd), first, "{odd:?}");
+            assert_eq!(depth_range(None, odd), (1.0, -1.0), "{odd:?}");
+        }
+    }
+
+    #[test]
+    fn marks_read_back_as_the_pages_of_their_windows() {
+        let c = clipmap();
+        let windows = vec![c.window(0, Vec2::ZERO), c.window(1, Vec2::new(5.0, 5.0))];
+        let mut bits = vec![0u32; 2 * MARK_WORDS];
+        bits[0] = 1 << 3;
+        bits[MARK_WORDS + 2] = 1 << 31;
+        let marks = PageMarks { light: 7, seq: 1, clipmap: c, windows: windows.clone(), bits };
+        let pages: Vec<PageId> = marks.pages().collect();
+        assert_eq!(pages, vec![windows[0].page(3), windows[1].page(2 * 32 + 31)]);
+        // Too few words (a broken readback) read as no marks, not a panic.
+        let short = PageMarks { bits: vec![u32::MAX; 3], ..marks };
+        assert_eq!(short.pages().count(), 0);
     }
 }

@@ -3,12 +3,15 @@
 //! static version when the part of it drawn from casters at rest changed (see
 //! [`super::casters`]).
 
+use super::ShadowAtlas;
 use super::casters::CasterChanges;
+use super::pages::{PagedUpdate, admit_limit, coarse_side, pool_capacity, refresh_paged};
 use crate::components::{
-    Camera, Mesh, Notices, SeenByCamera, ShadowCaster, ShadowLayer, ShadowMap, Transform, Viewport, WorldBounds,
+    Camera, MarkedPages, Mesh, Notices, SeenByCamera, ShadowCaster, ShadowLayer, ShadowMap, ShadowMethod, Transform,
+    Viewport, WorldBounds,
 };
-use crate::light::{CameraView, Kind, LayerContext, LayerFit, LightSources};
-use crate::settings::{CascadeSettings, CasterCulling, MapSettings};
+use crate::light::{CameraView, Kind, LayerContext, LayerFit, LightSources, ShadowShape};
+use crate::settings::{CascadeSettings, CasterCulling, MapSettings, ShadowSettings};
 use crate::shadow::{Aabb, ClipVolume, frustum_corners, intersects_clip_volume};
 use bevy_ecs::prelude::*;
 use std::collections::HashSet;
@@ -93,10 +96,11 @@ pub fn update_light_matrices(
     mut told: Local<HashSet<Entity>>,
     mut notices: Option<ResMut<Notices>>,
     seen: Option<Res<SeenByCamera>>,
+    (shadow, atlas, marked): (Res<ShadowSettings>, Option<Res<ShadowAtlas>>, Option<Res<MarkedPages>>),
     cameras: Query<(&Camera, Ref<Transform>)>,
     boxes: BoundedObjects,
     lights: LightSources,
-    mut maps: Query<&mut ShadowMap>,
+    mut maps: Query<(&mut ShadowMap, Option<&ShadowMethod>)>,
 ) {
     let options = MapOptions::of(&settings);
     // Culled to the camera's view, what a map holds changes whenever the camera moves.
@@ -119,17 +123,41 @@ pub fn update_light_matrices(
         scene: &scene,
         seen: seen.as_deref().map(|s| &s.0),
     };
+    let texel_bytes = atlas.map_or(4, |a| a.texel_bytes);
     for source in lights.all() {
-        if let Ok(mut map) = maps.get_mut(source.entity) {
+        if let Ok((mut map, method)) = maps.get_mut(source.entity) {
             let resolution = if map.resolution > 0 { map.resolution } else { settings.shadow_map_size };
-            let fits = source.kind.layers(&context, resolution);
-            refresh_layers(&mut map, &fits, resolution, all_dirty, &changes);
+            let method = method.copied().unwrap_or(shadow.method);
+            let paged = (source.kind.shape(&settings, method) == ShadowShape::Pages)
+                .then(|| {
+                    let depth = map.pages.as_ref().map(|p| p.clipmap.depth);
+                    source.kind.pages(&context, coarse_side(&settings), depth)
+                })
+                .flatten();
+            match paged {
+                Some(fit) => {
+                    let how = PagedUpdate {
+                        light: source.entity,
+                        marked: marked.as_deref(),
+                        changes: &changes,
+                        forced: all_dirty,
+                        capacity: pool_capacity(&settings, texel_bytes, resolution),
+                        admit: admit_limit(&settings),
+                        bias: settings.page_bias,
+                    };
+                    refresh_paged(&mut map, fit, coarse_side(&settings), &how);
+                }
+                None => {
+                    let fits = source.kind.layers(&context, resolution);
+                    refresh_layers(&mut map, &fits, resolution, all_dirty, &changes);
+                }
+            }
         }
     }
 }
 
 /// A number never handed out before in this process: the version of a layer's new contents.
-fn next_version() -> u64 {
+pub(super) fn next_version() -> u64 {
     static NEXT: AtomicU64 = AtomicU64::new(1);
     NEXT.fetch_add(1, Ordering::Relaxed)
 }
@@ -148,14 +176,20 @@ fn touches(clip_from_world: &glam::Mat4, changes: &[Aabb]) -> bool {
     changes.iter().any(|b| (!reach.is_usable() || reach.intersects(b)) && volume.intersects(b))
 }
 
-/// Replaces a light's layers with `fits`; each layer keeps its version unless it is dirty, and
-/// its static version unless the casters at rest inside it changed (or the layer itself did).
-fn refresh_layers(map: &mut ShadowMap, fits: &[LayerFit], resolution: u32, forced: bool, changes: &CasterChanges) {
-    let layers = fits
-        .iter()
+/// A light's layers fitted as `fits`, from its `old` ones: each keeps its version unless it is
+/// dirty, and its static version unless the casters at rest inside it changed (or the layer
+/// itself did).
+pub(super) fn fitted_layers(
+    old: &[ShadowLayer],
+    fits: &[LayerFit],
+    resolution: u32,
+    forced: bool,
+    changes: &CasterChanges,
+) -> Vec<ShadowLayer> {
+    fits.iter()
         .enumerate()
         .map(|(i, LayerFit { projection: fit, far, blend })| {
-            let old = map.layers.get(i).filter(|o| o.clip_from_world == fit.view_proj && o.resolution == resolution);
+            let old = old.get(i).filter(|o| o.clip_from_world == fit.view_proj && o.resolution == resolution);
             let anew = forced || old.is_none();
             let dirty = anew || touches(&fit.view_proj, &changes.moved);
             let resettled = anew || touches(&fit.view_proj, &changes.settled);
@@ -176,12 +210,21 @@ fn refresh_layers(map: &mut ShadowMap, fits: &[LayerFit], resolution: u32, force
                 dirty,
                 version,
                 static_version,
+                page: None,
             }
         })
-        .collect();
+        .collect()
+}
+
+/// Replaces a light's layers with `fits` (see [`fitted_layers`]); it is no longer paged.
+fn refresh_layers(map: &mut ShadowMap, fits: &[LayerFit], resolution: u32, forced: bool, changes: &CasterChanges) {
+    let layers = fitted_layers(&map.layers, fits, resolution, forced, changes);
     // Writing only on a difference keeps `Changed<ShadowMap>` meaningful.
     if map.layers != layers {
         map.layers = layers;
+    }
+    if map.pages.is_some() {
+        map.pages = None;
     }
 }
 

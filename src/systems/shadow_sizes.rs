@@ -3,11 +3,12 @@
 //! hysteresis, then fitted to the shadow memory: the atlas of that many MiB ([`ShadowAtlas`])
 //! must hold every layer, so where it cannot, the lights that show least are halved first.
 
+use super::pages::{coarse_side, pool_capacity};
 use crate::components::{Camera, ShadowMap, ShadowMethod, Transform};
 use crate::light::clusters::Reach;
 use crate::light::{Kind, LightSources, ShadowShape};
 use crate::settings::{CascadeSettings, MapSettings, MomentBits, ShadowDepth, ShadowSettings, TileSizes};
-use crate::shadow::{AtlasShape, MAX_PAGE, MIN_TILE, TileNeed, fit_budget, size_class, texels_for};
+use crate::shadow::{AtlasShape, MAX_PAGE, MIN_TILE, PAGE_TILE, TileNeed, fit_budget, size_class, texels_for};
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
@@ -132,19 +133,30 @@ pub fn size_shadow_maps(
     let method = |e: Entity| maps.get(e).ok().and_then(|(_, m)| m.copied()).unwrap_or(shadow.method);
     let caps = caps.map_or_else(ShadowCaps::default, |c| *c);
     let shape = ShadowAtlas::for_settings(&settings, caps, sources.iter().map(|s| method(s.entity)));
+    let shape_bytes = shape.texel_bytes;
     let view = cameras.iter().next().map(|(c, t)| ((t.translation, t.forward()), (c.fov_y * 0.5).tan()));
     // No tile is larger than a page.
     let largest = settings.shadow_map_size.min(shape.shape.page);
     let mut classes = Vec::with_capacity(sources.len());
     let mut shows = Vec::with_capacity(sources.len());
+    let mut coarse = 0;
     let needs: Vec<TileNeed> = sources
         .iter()
         .map(|s| {
-            let shape = s.kind.shape(&settings);
+            let shape = s.kind.shape(&settings, method(s.entity));
             let layers = match shape {
                 ShadowShape::Cascades => cascade.cascades,
                 ShadowShape::Single => 1,
                 ShadowShape::Cube => 6,
+                ShadowShape::Pages => {
+                    // Its pool and its coarse map, counted in pages; never smaller than a page.
+                    coarse = coarse_side(&settings);
+                    let tiles = (coarse / PAGE_TILE).max(1).pow(2);
+                    shows.push(f32::INFINITY);
+                    classes.push(0);
+                    let pool = pool_capacity(&settings, shape_bytes, PAGE_TILE);
+                    return TileNeed { layers: pool + tiles, side: PAGE_TILE, priority: f32::INFINITY };
+                }
             };
             let covered = view.map_or(0.0, |(at, tan)| coverage(s.kind.reach(), at, tan));
             shows.push(covered);
@@ -168,7 +180,7 @@ pub fn size_shadow_maps(
         })
         .collect();
     let sides = fit_budget(&needs, shape.shape.texels());
-    let fitted = fitted(atlas.as_deref(), shape, (&needs, &sides));
+    let fitted = fitted(atlas.as_deref(), shape, (&needs, &sides), coarse);
     for (((source, side), class), shows) in sources.iter().zip(sides).zip(classes).zip(shows) {
         if let Ok((mut map, _)) = maps.get_mut(source.entity)
             && (map.resolution, map.wanted, map.shows) != (side, class, shows)
@@ -186,11 +198,17 @@ pub fn size_shadow_maps(
 /// The atlas the tiles of `needs` at `sides` take within `budget` ([`AtlasShape::holding`]),
 /// or the `current` one while it holds them within the budget and is no more than four times
 /// what they need: an atlas made anew draws every layer again, so it does not follow every
-/// light that comes and goes.
-fn fitted(current: Option<&ShadowAtlas>, budget: ShadowAtlas, (needs, sides): (&[TileNeed], &[u32])) -> ShadowAtlas {
+/// light that comes and goes. A paged light's need counts its coarse map in pages; `coarse` is
+/// that map's side (0: none), which a page of the atlas must hold whole.
+fn fitted(
+    current: Option<&ShadowAtlas>,
+    budget: ShadowAtlas,
+    (needs, sides): (&[TileNeed], &[u32]),
+    coarse: u32,
+) -> ShadowAtlas {
     let tile = |side: u32| u64::from(side.next_power_of_two()).pow(2);
     let used: u64 = needs.iter().zip(sides).map(|(n, &s)| u64::from(n.layers) * tile(s)).sum();
-    let largest = sides.iter().map(|s| s.next_power_of_two()).max().unwrap_or(MIN_TILE);
+    let largest = sides.iter().map(|s| s.next_power_of_two()).max().unwrap_or(MIN_TILE).max(coarse);
     let fitted = ShadowAtlas { shape: budget.shape.holding(used, largest), ..budget };
     match current {
         Some(c)

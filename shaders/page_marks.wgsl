@@ -1,0 +1,137 @@
+// The marking of a paged light's pages: each visible pixel of the camera's depth buffer is
+// carried back to the world, the surface there found from its neighbours' depths, and the page
+// of the level its footprint wants (page_level in pages.wgsl finds the same level from the
+// fragment's derivatives) marked in a bit of its level's window (src/shadow/pages.rs reads the
+// bits). Each
+// invocation marks a 4x4 block of pixels, and sets a bit only when it differs from the last one
+// it set: neighbouring pixels mostly want the same page.
+
+struct Marking {
+    world_from_clip: mat4x4<f32>,
+    page_from_world: mat4x4<f32>,
+    // Each level's window origin, two levels a vector.
+    origins: array<vec4<i32>, 8>,
+    eye: vec3<f32>,
+    shadow_distance: f32,
+    forward: vec3<f32>,
+    finest_log2: f32,
+    towards_light: vec3<f32>,
+    bias: f32,
+    size: vec2<u32>,
+    levels: u32,
+    // Radians a pixel spans.
+    pixel_angle: f32,
+};
+
+@group(0) @binding(0) var<uniform> marking: Marking;
+// Bound as an unfilterable float texture: GLSL cannot load from a depth texture.
+@group(0) @binding(1) var depth: texture_2d<f32>;
+@group(0) @binding(2) var<storage, read_write> marks: array<atomic<u32>>;
+
+// The world point at pixel `at` (held inside the buffer) and depth `d`.
+fn world_at_depth(at: vec2<i32>, d: f32) -> vec3<f32> {
+    let uv = (vec2<f32>(at) + 0.5) / vec2<f32>(marking.size);
+    let w = marking.world_from_clip * vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, d, 1.0);
+    return w.xyz / w.w;
+}
+
+// The depth buffer at pixel `at`, held inside it.
+fn depth_at(at: vec2<i32>) -> f32 {
+    return textureLoad(depth, vec2<u32>(clamp(at, vec2<i32>(0), vec2<i32>(marking.size) - 1)), 0).r;
+}
+
+// The step from `p` (depth `d`, pixel `at`) to the surface at the next pixel along `axis`: the
+// shorter of the steps to the neighbours on either side (a step across an edge to another
+// surface is the longer one); where neither shows a surface (a pixel-thin part against the sky),
+// the step to the next pixel at the same depth, as for a surface facing the camera.
+fn step_along(at: vec2<i32>, p: vec3<f32>, d: f32, axis: vec2<i32>) -> vec3<f32> {
+    let da = depth_at(at + axis);
+    let db = depth_at(at - axis);
+    let to_a = world_at_depth(at + axis, da) - p;
+    let to_b = p - world_at_depth(at - axis, db);
+    let a = da < 1.0 && (db >= 1.0 || dot(to_a, to_a) <= dot(to_b, to_b));
+    if (a) {
+        return to_a;
+    }
+    if (db < 1.0) {
+        return to_b;
+    }
+    return world_at_depth(at + axis, d) - p;
+}
+
+// The bit (word, mask) of `level`'s page that holds `units` (level-0 page units), or a mask of 0
+// where it is outside the level's window.
+fn page_bit(units: vec2<f32>, level: u32) -> vec2<u32> {
+    let pair = marking.origins[level / 2u];
+    let origin = select(pair.xy, pair.zw, level % 2u == 1u);
+    let cell = vec2<i32>(floor(units / exp2(f32(level)))) - origin;
+    if (any(cell < vec2<i32>(0)) || any(cell >= vec2<i32>(i32(PAGE_GRID)))) {
+        return vec2<u32>(0u);
+    }
+    let index = u32(cell.y) * PAGE_GRID + u32(cell.x);
+    return vec2<u32>(level * MARK_WORDS + index / 32u, 1u << (index % 32u));
+}
+
+// The bits of the pages pixel `at` wants: its level's (as page_level in pages.wgsl finds it, from
+// the surface the depth buffer shows), and the next level's too where the pixel lies within a
+// tenth of an octave of the two's border, so a lookup whose footprint rounds the other way finds
+// its page. A mask of 0 where it wants none.
+fn wanted_pages(at: vec2<i32>) -> array<vec2<u32>, 2> {
+    var none = array<vec2<u32>, 2>(vec2<u32>(0u), vec2<u32>(0u));
+    let d = depth_at(at);
+    if (d >= 1.0) {
+        return none;
+    }
+    let p = world_at_depth(at, d);
+    if (dot(p - marking.eye, marking.forward) >= marking.shadow_distance) {
+        return none;
+    }
+    let c = cross(step_along(at, p, d, vec2<i32>(1, 0)), step_along(at, p, d, vec2<i32>(0, 1)));
+    let area = length(c);
+    let to_eye = marking.eye - p;
+    let distance = length(to_eye);
+    let v = to_eye / max(distance, 1e-6);
+    var n = select(v, c / area, area > 0.0);
+    if (dot(n, v) < 0.0) {
+        n = -n;
+    }
+    let n_dot_l = dot(n, marking.towards_light);
+    // A surface turned away from the light makes no lookup (a little slack for shading normals).
+    if (n_dot_l < -0.1) {
+        return none;
+    }
+    let size = max(distance * marking.pixel_angle, 0.0);
+    let wanted = size * sqrt(clamp(abs(n_dot_l), MIN_GRAZE, 1.0) / clamp(abs(dot(n, v)), MIN_GRAZE, 1.0));
+    let octaves = log2(wanted) - marking.finest_log2 + marking.bias;
+    let top = f32(marking.levels - 1u);
+    let level = clamp(round(octaves), 0.0, top);
+    let units = (marking.page_from_world * vec4<f32>(p, 1.0)).xy;
+    var bits = array<vec2<u32>, 2>(page_bit(units, u32(level)), vec2<u32>(0u));
+    let other = clamp(select(level - 1.0, level + 1.0, octaves > level), 0.0, top);
+    if (abs(abs(octaves - level) - 0.5) < 0.1 && other != level) {
+        bits[1] = page_bit(units, u32(other));
+    }
+    return bits;
+}
+
+@compute @workgroup_size(8, 8)
+fn mark_pages(@builtin(global_invocation_id) id: vec3<u32>) {
+    let corner = vec2<i32>(id.xy * 4u);
+    var last = vec2<u32>(0u);
+    for (var y = 0; y < 4; y += 1) {
+        for (var x = 0; x < 4; x += 1) {
+            let at = corner + vec2<i32>(x, y);
+            if (any(at >= vec2<i32>(marking.size))) {
+                continue;
+            }
+            let bits = wanted_pages(at);
+            if (bits[0].y != 0u && any(bits[0] != last)) {
+                atomicOr(&marks[bits[0].x], bits[0].y);
+                last = bits[0];
+            }
+            if (bits[1].y != 0u) {
+                atomicOr(&marks[bits[1].x], bits[1].y);
+            }
+        }
+    }
+}

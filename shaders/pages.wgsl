@@ -1,0 +1,57 @@
+// Virtual (paged) shadow maps: which layer a lookup of a paged light reads. The light's clipmap
+// is a stack of levels round the camera, each a window of PAGE_GRID² pages; its page table
+// (src/render/page_table.rs) gives each level's window origin and, for each page of the window,
+// the layer its resident page is in. The math mirrors src/shadow/pages.rs.
+
+// Word `i` of the page tables.
+fn table_word(i: u32) -> u32 {
+    return textureLoad(page_tables, vec2<u32>(i % LIST_WIDTH, i / LIST_WIDTH), 0).r;
+}
+
+// The texel size (metres) a pixel wants: one whose square, laid along the light onto the surface,
+// covers as much of it as the pixel does; the pixel spans `pixel_angle` radians `distance` metres
+// from the eye (`wanted_texel` in src/shadow/pages.rs).
+fn wanted_texel(distance: f32, pixel_angle: f32, n_dot_v: f32, n_dot_l: f32) -> f32 {
+    let size = max(distance * pixel_angle, 0.0);
+    return size * sqrt(clamp(abs(n_dot_l), MIN_GRAZE, 1.0) / clamp(abs(n_dot_v), MIN_GRAZE, 1.0));
+}
+
+// The level of `light` a pixel at `p` wants (`l` towards the light): the surface it shows faces
+// the way its footprint `f` does (the triangle's face, as the marking pass sees it in the depth
+// buffer; `n` where the footprint has no size, as a probe's). The marking pass
+// (page_marks.wgsl) finds the same level for the same surface.
+fn page_level(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint) -> i32 {
+    let c = cross(f.dp_dx, f.dp_dy);
+    let area = length(c);
+    let facing = select(n, c / area, area > 0.0);
+    let to_eye = frame.camera_position - p;
+    let distance = length(to_eye);
+    let wanted = wanted_texel(distance, frame.pixel_angle, dot(facing, to_eye / max(distance, 1e-6)), dot(facing, l));
+    let octaves = log2(wanted) - light.page_finest_log2 + light.page_bias;
+    // No footprint (log2 of 0 is minus infinity): the finest.
+    return i32(clamp(round(octaves), 0.0, f32(light.page_levels - 1u)));
+}
+
+// Level `level`'s window origin of `light`.
+fn page_origin(light: GpuLight, level: u32) -> vec2<i32> {
+    let at = light.page_word + 2u * level;
+    return vec2<i32>(bitcast<i32>(table_word(at)), bitcast<i32>(table_word(at + 1u)));
+}
+
+// The layer `light`'s lookup at `p` reads: the page holding `p` of the finest level resident
+// from `level` on, or the coarse map, its first layer, where none is.
+fn page_layer(light: GpuLight, p: vec3<f32>, level: i32) -> u32 {
+    let units = (light.page_from_world * vec4<f32>(p, 1.0)).xy;
+    let entries = light.page_word + 2u * light.page_levels;
+    let grid = i32(PAGE_GRID);
+    for (var l = u32(max(level, 0)); l < light.page_levels; l += 1u) {
+        let at = vec2<i32>(floor(units / exp2(f32(l)))) - page_origin(light, l);
+        if (all(at >= vec2<i32>(0)) && all(at < vec2<i32>(grid))) {
+            let entry = table_word(entries + (l * PAGE_GRID + u32(at.y)) * PAGE_GRID + u32(at.x));
+            if (entry > 0u) {
+                return entry - 1u;
+            }
+        }
+    }
+    return light.first_layer;
+}

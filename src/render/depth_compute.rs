@@ -1,0 +1,87 @@
+//! A compute pass over the camera's depth buffer: a uniform, the depth (its depth aspect, read as
+//! unfilterable floats) and a storage buffer of words it writes. The SDSM reduction and the
+//! marking of virtual pages are both one.
+
+use super::shaders::{Composed, ShaderFile};
+
+/// The pipeline, its layout and the bind group of the depth buffer it last read.
+pub struct DepthCompute {
+    label: &'static str,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    /// The bind group, and which depth buffer it binds (made again only for a new one).
+    bound: Option<(u64, wgpu::BindGroup)>,
+}
+
+impl DepthCompute {
+    /// Builds entry point `entry` of `files`.
+    pub fn new(device: &wgpu::Device, label: &'static str, files: &[ShaderFile], entry: &str) -> Self {
+        let entry_of = |binding, ty| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty,
+            count: None,
+        };
+        let buffer = |ty| wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries: &[
+                entry_of(0, buffer(wgpu::BufferBindingType::Uniform)),
+                entry_of(
+                    1,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
+                entry_of(2, buffer(wgpu::BufferBindingType::Storage { read_only: false })),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let module = Composed::new(files).module(device);
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(label),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        DepthCompute { label, pipeline, layout, bound: None }
+    }
+
+    /// Records `groups` workgroups reading `depth` (with a number that changes whenever the
+    /// buffer is made anew), `uniform`, and writing `words`.
+    pub fn dispatch(
+        &mut self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        (uniform, words): (&wgpu::Buffer, &wgpu::Buffer),
+        (depth, made): (&wgpu::TextureView, u64),
+        groups: (u32, u32),
+    ) {
+        if self.bound.as_ref().is_none_or(|(m, _)| *m != made) {
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(self.label),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(depth) },
+                    wgpu::BindGroupEntry { binding: 2, resource: words.as_entire_binding() },
+                ],
+            });
+            self.bound = Some((made, bind_group));
+        }
+        let (_, bind_group) = self.bound.as_ref().expect("made above");
+        let mut pass = encoder
+            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.label), timestamp_writes: None });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.dispatch_workgroups(groups.0, groups.1, 1);
+    }
+}
