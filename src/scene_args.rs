@@ -82,7 +82,7 @@ pub struct SceneArgs {
     #[arg(long, value_name = "KIND")]
     pub sun_maps: Option<SunMaps>,
     /// Octaves (-4..4) coarser than each pixel's footprint its virtual page is chosen (negative:
-    /// finer, more pages).
+    /// finer, more pages; default -1, two texels across a pixel).
     #[arg(long, value_name = "OCTAVES", allow_negative_numbers = true)]
     pub page_bias: Option<f32>,
     /// MiB of the shadow memory the sun's virtual pages may take (default 32; at most half of
@@ -357,6 +357,10 @@ impl SceneArgs {
             light_volumes: self.light_volumes,
             ..d.view
         };
-        Ok(Settings { scene, shadow, maps, cascade, view })
+        let settings = Settings { scene, shadow, maps, cascade, view };
+        if let Some(why) = settings.sun_maps_refused() {
+            anyhow::bail!("--sun-maps virtual with --method {}: {why}", settings.shadow.method.name());
+        }
+        Ok(settings)
     }
 }

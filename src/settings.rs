@@ -4,6 +4,7 @@
 //! each, as the command line and the bench build them, and the app keeps each per-frame group as
 //! a resource of its own, so a system reads only the groups it needs.
 
+use crate::components::ShadowMethod;
 use bevy_ecs::prelude::*;
 
 mod cascade;
@@ -112,17 +113,23 @@ impl Settings {
         self.maps.validate()?;
         self.cascade.validate()?;
         self.view.validate()?;
-        self.scene.validate()?;
-        if self.maps.sun_maps == SunMaps::Virtual && !self.shadow.method.pages() {
-            return bad(
-                "sun_maps",
-                format!("virtual with method {}", self.shadow.method.name()),
-                "virtual shadow maps are pages of depth; moment maps, depth in colour and planar shadows \
-                 stay on the atlas's tiles: choose a depth method (nearest, bilinear, pcf3, pcf5, gauss5, \
-                 poisson16, poisson32, pcss) or sun maps `cascades`",
-            );
-        }
-        Ok(())
+        self.scene.validate()
+    }
+
+    /// Why the sun's maps cannot be what the settings ask for: virtual maps are pages of depth,
+    /// which a method reading a colour map (moments, depth in colour) or planar shadows cannot use
+    /// (such a sun keeps its cascades). None when they can.
+    #[must_use]
+    pub fn sun_maps_refused(&self) -> Option<String> {
+        (self.maps.sun_maps == SunMaps::Virtual && !self.shadow.method.pages()).then(|| {
+            format!(
+                "virtual shadow maps are pages of depth, and {} reads {}: moment maps, depth in colour and \
+                 planar shadows stay on the atlas's tiles. Choose a depth method (nearest, bilinear, pcf3, pcf5, \
+                 gauss5, poisson16, poisson32, pcss) or --sun-maps cascades",
+                self.shadow.method.name(),
+                if self.shadow.method == ShadowMethod::Planar { "no map" } else { "a colour map" }
+            )
+        })
     }
 
     /// Puts each group in force in `world` as a resource of its own ([`SettingsGroup::put`]),
@@ -150,7 +157,6 @@ impl Settings {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::components::ShadowMethod;
     use crate::shadow::FitMode;
 
     #[test]
@@ -158,6 +164,17 @@ mod tests {
         for m in ShadowMethod::ALL {
             assert!(m.reach() <= CUBE_MARGIN, "{m:?} reaches {} texels", m.reach());
         }
+    }
+
+    #[test]
+    fn virtual_sun_maps_refuse_a_method_without_depth_maps_by_name() {
+        let virtual_with =
+            |method| Settings::default().with(|s| (s.maps.sun_maps, s.shadow.method) = (SunMaps::Virtual, method));
+        let why = virtual_with(ShadowMethod::Vsm).sun_maps_refused().unwrap();
+        assert!(why.contains("vsm reads a colour map") && why.contains("--sun-maps cascades"), "{why}");
+        assert!(virtual_with(ShadowMethod::Planar).sun_maps_refused().unwrap().contains("planar reads no map"));
+        assert_eq!(virtual_with(ShadowMethod::Pcss).sun_maps_refused(), None);
+        assert_eq!(Settings::default().with(|s| s.shadow.method = ShadowMethod::Vsm).sun_maps_refused(), None);
     }
 
     #[test]
@@ -181,7 +198,7 @@ mod tests {
     #[test]
     fn nonsense_is_named() {
         type Case = (fn(&mut Settings), &'static str);
-        let cases: [Case; 36] = [
+        let cases: [Case; 35] = [
             (|s| s.maps.spot_map_limit = 0.0, "spot_map_limit"),
             (|s| s.shadow.depth_bias_metres = -1.0, "depth_bias_metres"),
             (|s| s.cascade.first_cascade_far = Some(1000.0), "first_cascade_far"),
@@ -200,7 +217,6 @@ mod tests {
             (|s| s.maps.page_bias = 5.0, "page_bias"),
             (|s| s.maps.page_memory = 0, "page_memory"),
             (|s| s.maps.page_memory = 200, "page_memory"),
-            (|s| (s.maps.sun_maps, s.shadow.method) = (SunMaps::Virtual, ShadowMethod::Vsm), "sun_maps"),
             (|s| s.shadow.light_bleeding = f32::NAN, "light_bleeding"),
             (|s| s.cascade.cascades = 5, "cascades"),
             (|s| s.cascade.split_lambda = -0.1, "split_lambda"),

@@ -1,7 +1,7 @@
 //! Lights: the three kinds (directional, spot, point), each with its colour, reach and size, and
 //! what a light's shadow is made of (its layers, bias and sampling method).
 
-use crate::shadow::{Clipmap, PageId, PagePool, Residency, Window};
+use crate::shadow::{Clipmap, PageId, PagePool, Pressure, Residency, Window};
 use bevy_ecs::prelude::*;
 use glam::{Mat4, Vec2, Vec3};
 
@@ -140,22 +140,24 @@ pub struct VirtualPages {
     pub windows: Vec<Window>,
     /// The pages holding slots.
     pub pool: PagePool,
-    /// Octaves coarser every level is chosen while the pool is too small for the view (see
-    /// [`crate::shadow::next_pressure`]).
-    pub pressure: u32,
+    /// Octaves coarser (negative: finer) every level is chosen: as fine as the pool holds the
+    /// view's pages (see [`crate::shadow::Pressure`]).
+    pub pressure: Pressure,
     /// The settings' octaves coarser each pixel's page is chosen.
     pub bias: f32,
     /// The number of the last marking given slots.
     pub marks_seen: u64,
     /// What the last update did.
     pub update: PageUpdate,
+    /// What the last update that took in a marking did (what the pool lacks, until the next).
+    pub marked: PageUpdate,
 }
 
 impl VirtualPages {
     /// Octaves coarser than its footprint a pixel's page is chosen, marking and lookup alike.
     #[must_use]
     pub fn lookup_bias(&self) -> f32 {
-        self.bias + self.pressure as f32
+        self.bias + self.pressure.octaves as f32
     }
 }
 

@@ -4,7 +4,7 @@
 //! both read these.
 
 use crate::components::ShadowMethod;
-use crate::settings::{MomentBits, MomentResolve, MomentSource, Settings, ShadowDepth, ShadowFaces};
+use crate::settings::{MomentBits, MomentResolve, MomentSource, Settings, ShadowDepth, ShadowFaces, SunMaps};
 use crate::shadow::FitMode;
 
 /// One shadow configuration.
@@ -40,9 +40,16 @@ pub struct Config {
     pub bias_scale: f32,
     /// Every light adds contact shadows (at the settings' steps, length and thickness).
     pub contact: bool,
+    /// How the sun's shadow is laid out: cascades (map size, cascades and fit above) or a
+    /// virtual map (its coarse map at the map size up to 1024², its pages as the defaults have
+    /// them).
+    pub sun_maps: SunMaps,
     /// Instead of the above: the Bevy-like baseline ([`bevy_like`]).
     pub bevy_like: bool,
 }
+
+/// The family virtual shadow maps are charted as, whatever their method.
+pub const VIRTUAL_FAMILY: &str = "virtual pages";
 
 /// The family the Bevy-like baseline is charted as.
 pub const BEVY_FAMILY: &str = "Bevy-like";
@@ -90,6 +97,7 @@ impl Config {
             depth: d.maps.shadow_depth,
             bias_scale: d.shadow.bias_scale,
             contact: d.shadow.contact_shadows,
+            sun_maps: d.maps.sun_maps,
             bevy_like: false,
         }
     }
@@ -118,6 +126,7 @@ impl Config {
             s.shadow.bias_scale = self.bias_scale;
             s.maps.shadow_memory = self.memory_mib();
             s.shadow.contact_shadows = self.contact;
+            s.maps.sun_maps = self.sun_maps;
         })
     }
 
@@ -209,7 +218,25 @@ impl Config {
 
     /// Its family for the charts and the summary: the method's, or the baseline's own.
     pub fn family(&self) -> &'static str {
-        if self.bevy_like { BEVY_FAMILY } else { self.method.family() }
+        match (self.bevy_like, self.sun_maps) {
+            (true, _) => BEVY_FAMILY,
+            (false, SunMaps::Virtual) => VIRTUAL_FAMILY,
+            (false, SunMaps::Cascades) => self.method.family(),
+        }
+    }
+
+    /// How the sun's maps are laid out, as labels start: `2048 x4` for cascades (with the fit
+    /// when it is not the default's), `virtual` for pages.
+    fn sun_label(&self, full: bool) -> String {
+        let d = Config::default_settings();
+        match self.sun_maps {
+            SunMaps::Virtual => "virtual".into(),
+            SunMaps::Cascades if full => format!("{} x{} {}", self.map_size, self.cascades, self.fit.name()),
+            SunMaps::Cascades if self.fit != d.fit => {
+                format!("{} x{} {}", self.map_size, self.cascades, self.fit.name())
+            }
+            SunMaps::Cascades => format!("{} x{}", self.map_size, self.cascades),
+        }
     }
 
     /// Its name for charts: map size and cascades, then only what differs from the defaults.
@@ -219,10 +246,7 @@ impl Config {
             return format!("bevy-like{contact}");
         }
         let d = Config::default_settings();
-        let mut out = format!("{} x{}", self.map_size, self.cascades);
-        if self.fit != d.fit {
-            out += &format!(" {}", self.fit.name());
-        }
+        let mut out = self.sun_label(false);
         if self.method != d.method {
             out += &format!(" {}", self.method.name());
         }
@@ -248,10 +272,8 @@ impl Config {
         let faces = if self.faces == ShadowFaces::Back { " back" } else { "" };
         let flat = if self.receiver_plane { "" } else { " flat" };
         format!(
-            "{} x{} {} {} b{}{faces}{flat}{}{}{contact}",
-            self.map_size,
-            self.cascades,
-            self.fit.name(),
+            "{} {} b{}{faces}{flat}{}{}{contact}",
+            self.sun_label(true),
             self.method.name(),
             self.bias,
             self.depth_label(),
@@ -354,6 +376,13 @@ pub fn configs(quick: bool) -> Vec<Config> {
     }
     push(Config { faces: ShadowFaces::Back, bias: 0.0, ..d });
     push(Config { bevy_like: true, ..d });
+    // Virtual maps for the sun: the default method, and in the full sweep every depth method.
+    use ShadowMethod::*;
+    let paged: &[ShadowMethod] =
+        if quick { &[Bilinear] } else { &[Nearest, Bilinear, Pcf3, Pcf5, Gauss5, Poisson32, Pcss] };
+    for &method in paged {
+        push(Config { method, sun_maps: SunMaps::Virtual, ..d });
+    }
     // Contact shadows over the default, a member of every family with a map (two moment maps)
     // and Bevy-like (full sweep only).
     if !quick {

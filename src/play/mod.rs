@@ -212,8 +212,10 @@ impl Player {
         if elapsed >= Duration::from_secs(1) {
             let fps = self.frames as f64 / elapsed.as_secs_f64();
             let passes = self.app.world.get_resource::<ShadowStats>().cloned().unwrap_or_default();
+            let pages = crate::ui::panel::page_line(&self.app.world, &passes).map(|p| format!(" - {p}"));
             let title = format!(
-                "umbra - {fps:.0} fps - shadow layers drawn/kept: {passes} - {} - {}",
+                "umbra - {fps:.0} fps - shadow layers drawn/kept: {passes}{} - {} - {}",
+                pages.unwrap_or_default(),
                 settings_line(&self.app.settings()),
                 shown.gpu.describe()
             );

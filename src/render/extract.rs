@@ -61,6 +61,7 @@ fn layer_draws(
             static_version: l.static_version,
             method,
             casters: index.inside(&l.clip_from_world).into_iter().filter(|&i| keep(&items[i])).collect(),
+            page: l.page.map(|p| p.id),
         })
         .collect()
 }

@@ -66,6 +66,8 @@ pub struct LayerDraw {
     pub method: ShadowMethod,
     /// Indices into [`FrameData::items`] of the casters whose bounds meet the layer's volume.
     pub casters: Vec<usize>,
+    /// The page of a virtual map it is, if it is one.
+    pub page: Option<crate::shadow::PageId>,
 }
 
 /// Everything one frame needs from the world.

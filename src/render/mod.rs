@@ -48,10 +48,11 @@ pub use gpu::{Gpu, colour_pass, instance};
 pub use moment_samples::sample_counts;
 pub use news::RenderNews;
 pub use readback::{
-    DebugFrame, HEADLESS_FORMAT, Image, probe_visibility, read_picture, render_debug_frame, render_headless, render_png,
+    DebugFrame, HEADLESS_FORMAT, Image, PRIME_ROUNDS, probe_visibility, read_picture, render_debug_frame,
+    render_debug_frame_as_is, render_headless, render_png,
 };
 pub use renderer::{AtlasTile, MapAtlas, Renderer};
-pub use shadow_stats::{LightPasses, ShadowStats};
+pub use shadow_stats::{LightPasses, PagePasses, ShadowStats};
 pub use timing::PassTimes;
 
 /// Everything that can go wrong between the world and a finished frame.

@@ -204,8 +204,24 @@ fn read_vectors(gpu: &Gpu, texture: &wgpu::Texture, (width, height): (u32, u32))
 }
 
 /// Renders the measuring view of `app` as it is now, `width` x `height`, and reads it back: one
-/// pass for every [`MEASURED_PER_PASS`] lights (the shadow maps are drawn once).
+/// pass for every [`MEASURED_PER_PASS`] lights (the shadow maps are drawn once). The view is
+/// primed first: its SDSM fit and its virtual pages are its own.
 pub fn render_debug_frame(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    app: &mut App,
+    width: u32,
+    height: u32,
+) -> Result<DebugFrame, RenderError> {
+    app.hear(renderer.news());
+    prime_sdsm(gpu, renderer, app, (width, height))?;
+    prime_pages(gpu, renderer, app, (width, height))?;
+    render_debug_frame_as_is(gpu, renderer, app, width, height)
+}
+
+/// [`render_debug_frame`] with nothing drawn first: the view reads the SDSM fit and the virtual
+/// pages that earlier frames left (what a window shows the frame after a camera cut).
+pub fn render_debug_frame_as_is(
     gpu: &Gpu,
     renderer: &mut Renderer,
     app: &mut App,
@@ -218,8 +234,6 @@ pub fn render_debug_frame(
         gpu.target("measured visibility", (width, height), DEBUG_FORMAT)?,
     ];
     app.hear(renderer.news());
-    prime_sdsm(gpu, renderer, app, (width, height))?;
-    prime_pages(gpu, renderer, app, (width, height))?;
     let views = textures.each_ref().map(|t| t.create_view(&Default::default()));
     let lights = crate::light::light_list(&app.world).len();
     let mut visibility = Vec::with_capacity(lights);

@@ -73,6 +73,8 @@ pub struct AtlasTile {
     pub rect: [f32; 3],
     /// Its side in texels.
     pub texels: u32,
+    /// The level of the virtual map's page it holds, if it holds one.
+    pub level: Option<u32>,
 }
 
 /// GPU state that lives across frames: pipelines, meshes, shadow maps and the depth buffer.
@@ -114,7 +116,7 @@ pub struct Renderer {
     /// The adapter is a software rasterizer (where moments are resolved by full-screen passes
     /// unless the settings ask for compute; see [`crate::settings::MomentResolve`]).
     software: bool,
-    last_layers: Vec<(GpuLayer, LightLabel)>,
+    last_layers: Vec<(GpuLayer, LightLabel, Option<u32>)>,
     /// A map was drawn or the layers changed since the viewer's atlas was last drawn.
     atlas_stale: bool,
     /// The lights last said to be lit without their shadow.
@@ -267,18 +269,19 @@ impl Renderer {
     pub fn shadow_map_atlas(&mut self, gpu: &Gpu) -> MapAtlas<'_> {
         let view = self.map_view.get_or_insert_with(|| MapView::new(&gpu.device));
         if std::mem::take(&mut self.atlas_stale) || view.atlas().is_none() {
-            let layers: Vec<GpuLayer> = self.last_layers.iter().map(|(l, _)| *l).collect();
+            let layers: Vec<GpuLayer> = self.last_layers.iter().map(|(l, ..)| *l).collect();
             let maps = (&self.shadow.maps.pages.array_view, &self.shadow.maps.moments.array_view);
             view.draw(&gpu.device, &gpu.queue, maps, &layers);
         }
         let (atlas, generation) = view.atlas().expect("drawn above");
         let page = self.shadow.maps.shape.page as f32;
-        let tiles = self.last_layers.iter().map(|(g, l)| AtlasTile {
+        let tiles = self.last_layers.iter().map(|(g, l, level)| AtlasTile {
             light: *l,
             rect: map_view::tile_rect(g),
             texels: (g.tile[2] * page).round() as u32,
+            level: *level,
         });
-        let pages = map_view::pages_of(&self.last_layers.iter().map(|(g, _)| *g).collect::<Vec<_>>());
+        let pages = map_view::pages_of(&self.last_layers.iter().map(|(g, ..)| *g).collect::<Vec<_>>());
         MapAtlas { view: atlas, generation, tiles: tiles.collect(), pages }
     }
 
@@ -415,7 +418,8 @@ impl Renderer {
         self.main.keep_depth = reduces || marks;
         match output {
             Output::Picture(target) => {
-                let layers: Vec<_> = data.layers.iter().copied().zip(data.draws.iter().map(|d| d.light)).collect();
+                let whose = data.draws.iter().map(|d| (d.light, d.page.map(|p| p.level)));
+                let layers: Vec<_> = data.layers.iter().copied().zip(whose).map(|(g, (l, p))| (g, l, p)).collect();
                 if layers != self.last_layers {
                     (self.last_layers, self.atlas_stale) = (layers, true);
                 }

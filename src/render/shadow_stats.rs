@@ -16,6 +16,19 @@ pub struct ShadowStats {
     /// Moment layers made from depth this frame by the compute dispatch (resolved and blurred
     /// together; see [`crate::settings::MapSettings::moment_resolve`]).
     pub moments_in_compute: u32,
+    /// The pages of virtual maps among the layers, every paged light's together.
+    pub pages: PagePasses,
+}
+
+/// What the shadow pass did with the pages of virtual maps in a frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PagePasses {
+    /// Pages drawn this frame (new, or a caster moved through them).
+    pub drawn: u32,
+    /// Pages kept from an earlier frame (stale ones among them).
+    pub kept: u32,
+    /// Pages out of date but left waiting by the update budget (sampled as last drawn).
+    pub stale: u32,
 }
 
 /// One light's shadow passes in a frame.
@@ -92,6 +105,12 @@ impl ShadowStats {
             entry.stale += 1;
             entry.waited = entry.waited.max(frames);
         }
+    }
+
+    /// Counts a page of a virtual map, as [`ShadowStats::count`] counts its layer.
+    pub(super) fn count_page(&mut self, drawn: bool, waits: Option<u32>) {
+        let p = &mut self.pages;
+        (p.drawn, p.kept, p.stale) = (p.drawn + drawn as u32, p.kept + !drawn as u32, p.stale + waits.is_some() as u32);
     }
 
     pub(super) fn count_texels(&mut self, texels: u64) {

@@ -151,7 +151,7 @@ impl Clipmap {
 }
 
 /// The levels a clipmap needs so that its coarsest texel is as large as a pixel of the coarsest
-/// view it plans for ([`COARSEST_PIXEL_ANGLE`]) at the shadow distance, from a finest texel of
+/// view it plans for (a 360-pixel-high view with a 90° field of view) at the shadow distance, from a finest texel of
 /// `2^finest_log2` metres: 1 to [`MAX_PAGE_LEVELS`].
 #[must_use]
 pub fn levels_for(shadow_distance: f32, finest_log2: i32) -> u32 {

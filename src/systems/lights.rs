@@ -94,6 +94,7 @@ pub fn update_light_matrices(
     changes: Res<CasterChanges>,
     mut last_maps: Local<Option<MapOptions>>,
     mut told: Local<HashSet<Entity>>,
+    mut refused: Local<HashSet<(Entity, ShadowMethod)>>,
     mut notices: Option<ResMut<Notices>>,
     seen: Option<Res<SeenByCamera>>,
     (shadow, atlas, marked): (Res<ShadowSettings>, Option<Res<ShadowAtlas>>, Option<Res<MarkedPages>>),
@@ -128,7 +129,21 @@ pub fn update_light_matrices(
         if let Ok((mut map, method)) = maps.get_mut(source.entity) {
             let resolution = if map.resolution > 0 { map.resolution } else { settings.shadow_map_size };
             let method = method.copied().unwrap_or(shadow.method);
-            let paged = (source.kind.shape(&settings, method) == ShadowShape::Pages)
+            let shape = source.kind.shape(&settings, method);
+            // A light that would be paged but for its method keeps its layers, and says so once.
+            let pageable = source.kind.shape(&settings, ShadowMethod::default()) == ShadowShape::Pages;
+            if pageable && shape != ShadowShape::Pages && refused.insert((source.entity, method)) {
+                let why = format!(
+                    "a {}'s {} shadow reads a colour map (or none), which virtual pages do not hold: it keeps \
+                     its cascades",
+                    source.kind.word(),
+                    method.name()
+                );
+                if let Some(n) = notices.as_deref_mut() {
+                    n.0.push(why);
+                }
+            }
+            let paged = (shape == ShadowShape::Pages)
                 .then(|| {
                     let depth = map.pages.as_ref().map(|p| p.clipmap.depth);
                     source.kind.pages(&context, coarse_side(&settings), depth)

@@ -8,7 +8,7 @@ use super::lights::{fitted_layers, next_version};
 use crate::components::{MarkedPages, PagePlace, PageUpdate, ShadowLayer, ShadowMap, VirtualPages};
 use crate::light::PagedFit;
 use crate::settings::MapSettings;
-use crate::shadow::{Aabb, Clipmap, PAGE_TILE, PageId, PagePool, depth_terms, next_pressure};
+use crate::shadow::{Aabb, Clipmap, PAGE_TILE, PageId, PagePool, Pressure, depth_terms};
 use bevy_ecs::prelude::Entity;
 
 /// Side of a paged light's coarse map, in texels: what every pixel whose page is not there yet
@@ -67,10 +67,11 @@ pub(super) fn refresh_paged(map: &mut ShadowMap, fit: PagedFit, coarse: u32, how
         clipmap: fit.clipmap,
         windows: Vec::new(),
         pool: PagePool::new(how.capacity),
-        pressure: 0,
+        pressure: Pressure::default(),
         bias: how.bias,
         marks_seen: 0,
         update: PageUpdate::default(),
+        marked: PageUpdate::default(),
     });
     pages.windows = fit.clipmap.windows(fit.camera);
     pages.bias = how.bias;
@@ -86,9 +87,10 @@ pub(super) fn refresh_paged(map: &mut ShadowMap, fit: PagedFit, coarse: u32, how
                 .filter(|p| windows.get(p.level as usize).is_some_and(|w| w.index(*p).is_some()))
                 .collect();
             let residency = pages.pool.update(&needed, how.admit, next_version);
-            pages.pressure = next_pressure(pages.pressure, needed.len(), residency.missing, how.capacity);
+            pages.pressure = pages.pressure.next(needed.len(), residency.missing, how.capacity);
             pages.update.needed = needed.len() as u32;
             pages.update.residency = residency;
+            pages.marked = pages.update;
         }
     }
     pages.update.residency.resident = pages.pool.len() as u32;

@@ -11,7 +11,7 @@ use crate::light::{Kind, Light, light_list};
 use crate::render::{AtlasTile, ShadowStats};
 use crate::settings::{
     CascadeSettings, CasterCulling, MAX_BIAS_SCALE, MapSettings, MomentBits, MomentResolve, MomentSource,
-    SettingsGroup, ShadowDepth, ShadowFaces, ShadowSettings, ViewSettings,
+    SettingsGroup, ShadowDepth, ShadowFaces, ShadowSettings, SunMaps, ViewSettings,
 };
 use crate::shadow::FitMode;
 use bevy_ecs::prelude::*;
@@ -97,7 +97,10 @@ pub fn panel(ui: &mut Ui, world: &mut World, lab: &mut Lab, live: &Live<'_>) {
             let names: Vec<String> = light_list(world).iter().map(|l| l.label.to_string()).collect();
             section(ui, "Shadow budgets", true, |ui| budget_settings(ui, &mut maps, world, live.stats));
             section(ui, "Shadows", false, |ui| shadow_settings(ui, &mut shadow, &mut maps));
-            section(ui, "Sun cascades", false, |ui| cascade_settings(ui, &mut cascade, &mut view));
+            section(ui, "The sun's maps", false, |ui| {
+                sun_maps(ui, &mut maps, &shadow);
+                cascade_settings(ui, &mut cascade, &mut view);
+            });
             section(ui, "Shading and views", false, |ui| {
                 view_settings(ui, &mut view, lab, live.camera);
                 texel_density(ui, &mut view, &names);
@@ -157,6 +160,9 @@ fn budget_settings(ui: &mut Ui, s: &mut MapSettings, world: &World, stats: &Shad
         .text("texels redrawn a frame");
     ui.add(updates);
     ui.label(format!("drawn this frame: {} texels", texels(stats.texels)));
+    if let Some(pages) = page_line(world, stats) {
+        ui.label(pages);
+    }
     if stats.stale() > 0 {
         let (layers, lights, oldest) = (stats.stale(), stats.stale_lights(), stats.waited());
         let line = format!("waiting: {layers} layers of {lights} lights, the oldest {oldest} frames");
@@ -264,6 +270,21 @@ fn bias_sliders(ui: &mut Ui, constant: &mut f32, slope: &mut f32, normal: &mut f
     ui.add(slide(slope, 0.0..=8.0).text("slope"));
     ui.add(slide(normal, 0.0..=8.0).text("normal"));
     ui.add(slide(scale, 0.0..=MAX_BIAS_SCALE).text("scale (share of distance)"));
+}
+
+/// Cascades or a virtual map for the sun, and a virtual map's bias and pool.
+fn sun_maps(ui: &mut Ui, s: &mut MapSettings, shadow: &ShadowSettings) {
+    choice(ui, "sun's maps", &mut s.sun_maps, SunMaps::ALL, SunMaps::name);
+    if s.sun_maps == SunMaps::Virtual {
+        if !shadow.method.pages() {
+            let line = format!("{} reads no depth pages: the sun keeps its cascades", shadow.method.name());
+            ui.colored_label(Color32::from_rgb(240, 80, 80), line);
+        }
+        let bias = crate::settings::MAX_PAGE_BIAS;
+        ui.add(slide(&mut s.page_bias, -bias..=bias).text("page bias (octaves coarser)"));
+        let most = (s.shadow_memory / 2).max(1);
+        ui.add(slide(&mut s.page_memory, 1..=most).logarithmic(true).text("page pool (MiB)"));
+    }
 }
 
 fn cascade_settings(ui: &mut Ui, s: &mut CascadeSettings, view: &mut ViewSettings) {
@@ -394,7 +415,10 @@ pub fn map_viewer(ui: &mut Ui, lab: &mut Lab, atlas: egui::TextureId, pages: u32
     let right = ui.ctx().content_rect().right();
     let window = egui::Window::new("shadow atlas (V)").open(&mut open).default_width(520.0);
     window.default_pos(egui::pos2(right - 540.0, 10.0)).show(ui.ctx(), |ui| {
-        ui.label("each tile a layer where the atlas keeps it; depth as distance from the light, black near, white far");
+        ui.label(
+            "each tile a layer where the atlas keeps it (a virtual map's pages by level, L0 the finest); depth as \
+             distance from the light, black near, white far",
+        );
         let (w, h) = atlas_size(pages);
         let width = ui.available_width().min(w as f32);
         let size = egui::vec2(width, width * h as f32 / w as f32);
@@ -403,8 +427,13 @@ pub fn map_viewer(ui: &mut Ui, lab: &mut Lab, atlas: egui::TextureId, pages: u32
         let orange = Color32::from_rgb(255, 120, 40);
         let mut count = std::collections::HashMap::new();
         let mut hovered = None;
-        for &AtlasTile { light, rect: [x, y, side], texels } in tiles {
+        for &AtlasTile { light, rect: [x, y, side], texels, level } in tiles {
             let n = *count.entry(light).and_modify(|n| *n += 1).or_insert(1);
+            // A page of a virtual map is named by its level; its light's other layers by number.
+            let (n, colour) = match level {
+                Some(level) => (format!("L{level}"), level_colour(level)),
+                None => (n.to_string(), orange),
+            };
             let rect = egui::Rect::from_min_size(
                 response.rect.min + egui::vec2(x, y) * scale,
                 egui::Vec2::splat(side * scale),
@@ -412,18 +441,18 @@ pub fn map_viewer(ui: &mut Ui, lab: &mut Lab, atlas: egui::TextureId, pages: u32
             ui.painter().rect_stroke(
                 rect,
                 0.0,
-                egui::Stroke::new(1.0, orange.gamma_multiply(0.6)),
+                egui::Stroke::new(1.0, colour.gamma_multiply(0.6)),
                 egui::StrokeKind::Inside,
             );
             let text = format!("{light} · {n} ({texels}²)");
             // The whole name where it fits in the tile, the light and layer where they do, else
             // nothing (the pointer names it).
             let fits = [text.clone(), format!("{light}·{n}")].into_iter().find_map(|t| {
-                let galley = ui.painter().layout_no_wrap(t, egui::FontId::proportional(11.0), orange);
+                let galley = ui.painter().layout_no_wrap(t, egui::FontId::proportional(11.0), colour);
                 (galley.size().x + 6.0 <= rect.width() && galley.size().y + 4.0 <= rect.height()).then_some(galley)
             });
             if let Some(galley) = fits {
-                ui.painter().galley(rect.min + egui::vec2(3.0, 2.0), galley, orange);
+                ui.painter().galley(rect.min + egui::vec2(3.0, 2.0), galley, colour);
             }
             if response.hover_pos().is_some_and(|p| rect.contains(p)) {
                 hovered = Some(text);
@@ -432,6 +461,51 @@ pub fn map_viewer(ui: &mut Ui, lab: &mut Lab, atlas: egui::TextureId, pages: u32
         ui.label(hovered.unwrap_or_else(|| format!("{} tiles; point at one to name it", tiles.len())));
     });
     lab.map_viewer = open;
+}
+
+/// What the virtual maps hold and did this frame, every paged light's together: pages resident in
+/// their pools (and the share of the pools), drawn and left stale this frame, and those the last
+/// marking asked for that have no slot (missing) or wait their turn to come in; none where no
+/// light is paged.
+pub fn page_line(world: &World, stats: &ShadowStats) -> Option<String> {
+    let mut maps = world.try_query::<&crate::components::ShadowMap>()?;
+    let pools: Vec<&crate::components::VirtualPages> = maps.iter(world).filter_map(|m| m.pages.as_ref()).collect();
+    if pools.is_empty() {
+        return None;
+    }
+    let sum = |f: &dyn Fn(&crate::components::VirtualPages) -> u32| pools.iter().map(|p| f(p)).sum::<u32>();
+    let (resident, capacity) = (sum(&|p| p.pool.len() as u32), sum(&|p| p.pool.capacity()).max(1));
+    let missing = sum(&|p| p.marked.residency.missing);
+    let waiting = sum(&|p| p.marked.residency.waiting);
+    let octaves = pools.iter().map(|p| p.pressure.octaves).max().unwrap_or(0);
+    let pressure = match octaves {
+        0 => String::new(),
+        o if o > 0 => format!(", every level {o} octaves coarser (the pool is full)"),
+        o => format!(", every level {} octaves finer (the pool has room)", -o),
+    };
+    Some(format!(
+        "pages: {resident} resident ({:.0} % of the pool), {} drawn, {missing} missing, {waiting} waiting, {} stale{pressure}",
+        100.0 * f64::from(resident) / f64::from(capacity),
+        stats.pages.drawn,
+        stats.pages.stale
+    ))
+}
+
+/// The outline of a virtual map's page of `level` in the viewer: a hue a level, round again after
+/// eight, so neighbouring levels differ.
+fn level_colour(level: u32) -> Color32 {
+    const HUES: [(u8, u8, u8); 8] = [
+        (255, 90, 90),
+        (255, 200, 60),
+        (120, 230, 80),
+        (60, 210, 230),
+        (90, 130, 255),
+        (200, 100, 255),
+        (255, 110, 200),
+        (220, 220, 220),
+    ];
+    let (r, g, b) = HUES[level as usize % HUES.len()];
+    Color32::from_rgb(r, g, b)
 }
 
 /// The command line that renders what the window shows, for a bug report or a picture.
