@@ -3,6 +3,7 @@
 mod animate;
 mod camera;
 mod casters;
+mod layers;
 mod lights;
 mod pages;
 mod shadow_sizes;

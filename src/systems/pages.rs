@@ -4,7 +4,7 @@
 //! tile and what was drawn in it for as long as it stays).
 
 use super::casters::CasterChanges;
-use super::lights::{fitted_layers, next_version};
+use super::layers::{fitted_layers, next_version};
 use crate::components::{MarkedPages, PagePlace, PageUpdate, ShadowLayer, ShadowMap, VirtualPages};
 use crate::light::PagedFit;
 use crate::settings::MapSettings;
