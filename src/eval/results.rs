@@ -36,7 +36,7 @@ fn pct(x: f64) -> String {
 /// The table: one row per configuration, errors in percent.
 pub fn csv(rows: &[Row]) -> String {
     let mut out = String::from(
-        "configuration,map_size,cascades,fit,filter,bias,faces,depth,bias_scale,texel_bytes,cost_ms,shadow_ms,lookup_ms,min_shadow_ms,max_shadow_ms,\
+        "configuration,map_size,cascades,fit,sun_maps,filter,bias,faces,depth,bias_scale,texel_bytes,cost_ms,shadow_ms,lookup_ms,min_shadow_ms,max_shadow_ms,\
          misclassified_pct,false_shadow_pct,false_lit_pct,mae_hard,mae_soft,edge_misclassified_pct",
     );
     let mut start = 0.0;
@@ -55,11 +55,12 @@ pub fn csv(rows: &[Row]) -> String {
         let label = if c.label().contains(',') { format!("\"{}\"", c.label()) } else { c.label() };
         let _ = write!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.5},{:.5},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.5},{:.5},{}",
             label,
             s.maps.shadow_map_size,
             s.cascade.cascades,
             s.cascade.fit_mode.name(),
+            s.maps.sun_maps.name(),
             s.shadow.method.name(),
             s.shadow.depth_bias,
             s.maps.shadow_faces.name(),
