@@ -90,6 +90,9 @@ pub struct LightReport {
     pub bands: [Tally; DISTANCE_BANDS.len()],
     /// Pixels within the edge radius of a true shadow boundary.
     pub edge: Tally,
+    /// Texels per pixel where the light's lookups were made (see [`super::texels`]); counted by
+    /// the sweep, empty where nothing counted them.
+    pub texels: super::texels::Density,
 }
 
 impl LightReport {
@@ -97,6 +100,7 @@ impl LightReport {
     pub fn merge(&mut self, other: &LightReport) {
         self.all.merge(&other.all);
         self.edge.merge(&other.edge);
+        self.texels.merge(&other.texels);
         for (a, b) in self.bands.iter_mut().zip(&other.bands) {
             a.merge(b);
         }
@@ -182,6 +186,7 @@ pub fn report(frame: &DebugFrame, truth: &[Vec<Option<Truth>>], edge_radius: u32
                 all: tally(frame, column, light, |_| true),
                 bands: std::array::from_fn(|b| tally(frame, column, light, |i| band_of(i) == Some(b))),
                 edge: tally(frame, column, light, |i| edges[i]),
+                texels: super::texels::Density::default(),
             }
         })
         .collect()

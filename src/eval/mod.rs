@@ -14,6 +14,7 @@ pub mod passes;
 pub mod results;
 pub mod sweep;
 pub mod sweep_options;
+pub mod texels;
 pub mod truth;
 pub mod tune;
 

@@ -37,7 +37,8 @@ fn pct(x: f64) -> String {
 pub fn csv(rows: &[Row]) -> String {
     let mut out = String::from(
         "configuration,map_size,cascades,fit,sun_maps,filter,bias,faces,depth,bias_scale,texel_bytes,cost_ms,shadow_ms,lookup_ms,min_shadow_ms,max_shadow_ms,\
-         misclassified_pct,false_shadow_pct,false_lit_pct,mae_hard,mae_soft,edge_misclassified_pct",
+         misclassified_pct,false_shadow_pct,false_lit_pct,mae_hard,mae_soft,edge_misclassified_pct,\
+         texels_per_pixel_median,texels_per_pixel_p99",
     );
     let mut start = 0.0;
     for end in DISTANCE_BANDS {
@@ -79,6 +80,8 @@ pub fn csv(rows: &[Row]) -> String {
             all.all.mae_soft(),
             pct(all.edge.misclassified())
         );
+        let quantile = |q| all.texels.quantile(q).map_or("nan".into(), |v| format!("{v:.3}"));
+        let _ = write!(out, ",{},{}", quantile(0.5), quantile(0.99));
         for band in &all.bands {
             let _ = write!(out, ",{}", pct(band.misclassified()));
         }
@@ -284,13 +287,45 @@ fn against_bevy(rows: &[Row]) -> String {
     )
 }
 
+/// `row`'s errors and texels per pixel light by light, headed `what`.
+fn light_by_light(row: &Row, what: &str) -> String {
+    let mut out = format!(
+        "\n{what} light by light:\n\n| light | pixels it reaches | misclassified % | false shadow % | false lit % | \
+         MAE hard | MAE soft | texels/pixel (median · p99) |\n| --- | --- | --- | --- | --- | --- | --- | --- |\n"
+    );
+    for (name, report) in row.lights.iter().zip(&row.scene) {
+        let t = report.all;
+        let _ = writeln!(
+            out,
+            "| {name} | {} | {} | {} | {} | {:.4} | {:.4} | {} |",
+            t.pixels,
+            pct(t.misclassified()),
+            pct(t.false_shadow_rate()),
+            pct(t.false_lit_rate()),
+            t.mae_hard(),
+            t.mae_soft(),
+            density(&report.texels)
+        );
+    }
+    out
+}
+
+/// Texels per pixel as a table cell: the median and the 99th percentile, or a dash where none
+/// were counted.
+fn density(d: &super::texels::Density) -> String {
+    match (d.quantile(0.5), d.quantile(0.99)) {
+        (Some(median), Some(p99)) => format!("{median:.2} · {p99:.2}"),
+        _ => "–".into(),
+    }
+}
+
 /// The results in Markdown: every configuration, family by family and each by cost, the front (of
 /// misclassified pixels against cost) marked, then each case.
 pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
     let default = Config::default_settings();
     let mut out = format!("{heading}\n\n");
-    out += "| family | configuration | shadow cost ms (maps + lookup) | misclassified % | edge misclassified % | false shadow % | false lit % | MAE hard | MAE soft | front |\n";
-    out += "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+    out += "| family | configuration | shadow cost ms (maps + lookup) | misclassified % | edge misclassified % | false shadow % | false lit % | MAE hard | MAE soft | texels/pixel (median · p99) | front |\n";
+    out += "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
     // Grouped by family (in the order the families first appear), each by cost.
     let mut families: Vec<&str> = Vec::new();
     for r in rows {
@@ -309,7 +344,7 @@ pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
         let name = if r.config == default { format!("**{}** (default)", r.config.label()) } else { r.config.label() };
         let _ = writeln!(
             out,
-            "| {} | {name} | {:.2} ({:.2} + {:.2}) | {} | {} | {} | {} | {:.4} | {:.4} | {} |",
+            "| {} | {name} | {:.2} ({:.2} + {:.2}) | {} | {} | {} | {} | {:.4} | {:.4} | {} | {} |",
             r.config.family(),
             r.cost.total_ms(),
             r.cost.shadow_ms,
@@ -320,24 +355,16 @@ pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
             pct(all.false_lit_rate()),
             all.mae_hard(),
             all.mae_soft(),
+            density(&report.texels),
             if front.contains(&i) { "yes" } else { "" }
         );
     }
     out += &against_bevy(rows);
-    if let Some(d) = rows.iter().find(|r| r.config == default) {
-        out += "\nThe default configuration light by light:\n\n| light | pixels it reaches | misclassified % | false shadow % | false lit % | MAE hard | MAE soft |\n| --- | --- | --- | --- | --- | --- | --- |\n";
-        for (name, report) in d.lights.iter().zip(&d.scene) {
-            let t = report.all;
-            let _ = writeln!(
-                out,
-                "| {name} | {} | {} | {} | {} | {:.4} | {:.4} |",
-                t.pixels,
-                pct(t.misclassified()),
-                pct(t.false_shadow_rate()),
-                pct(t.false_lit_rate()),
-                t.mae_hard(),
-                t.mae_soft()
-            );
+    // The default, and the default with virtual sun maps, light by light.
+    let paged = Config { sun_maps: crate::settings::SunMaps::Virtual, ..default };
+    for (config, what) in [(default, "The default configuration"), (paged, "With the sun's maps virtual")] {
+        if let Some(d) = rows.iter().find(|r| r.config == config) {
+            out += &light_by_light(d, what);
         }
     }
     out += &by_method(rows);

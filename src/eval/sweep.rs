@@ -53,13 +53,28 @@ pub fn scene_accuracy(
         place_camera(&mut app.world, v.eye, v.target);
         app.set_time(v.time);
         let measured = m.measure(SubjectId::Accuracy, v.name)?;
-        let reports = report(&measured.frame, &measured.truth, super::metrics::EDGE_RADIUS);
+        let mut reports = report(&measured.frame, &measured.truth, super::metrics::EDGE_RADIUS);
+        let (app, _) = m.parts(SubjectId::Accuracy)?;
+        add_density(&mut reports, &measured.frame, app);
         total.resize(reports.len().max(total.len()), LightReport::default());
         for (t, r) in total.iter_mut().zip(&reports) {
             t.merge(r);
         }
     }
     Ok((total, names))
+}
+
+/// Counts each light's texels per pixel of `frame` (the measuring view of `app` as it is now)
+/// into its report.
+fn add_density(reports: &mut [LightReport], frame: &crate::render::DebugFrame, app: &mut App) {
+    let height = frame.height;
+    let camera =
+        app.world.query::<(&crate::components::Camera, &crate::components::Transform)>().iter(&app.world).next();
+    let Some((camera, transform)) = camera else { return };
+    let eye = super::texels::Eye { position: transform.translation, pixel_angle: camera.pixel_angle(height) };
+    for (column, (light, r)) in crate::light::light_list(&app.world).iter().zip(reports.iter_mut()).enumerate() {
+        r.texels.merge(&super::texels::density(frame, column, light, eye));
+    }
 }
 
 /// What [`run`] tells its progress while it times the configurations (then it names the one
