@@ -40,7 +40,7 @@ pub struct Point {
 }
 
 /// The families in legend order, each with its colour (the marker goes by the position).
-const FAMILIES: [(&str, RGBColor); 9] = [
+const FAMILIES: [(&str, RGBColor); 10] = [
     ("hard", RGBColor(110, 110, 110)),
     ("grid PCF", RGBColor(0, 140, 200)),
     ("Gaussian PCF", RGBColor(0, 160, 80)),
@@ -50,6 +50,7 @@ const FAMILIES: [(&str, RGBColor); 9] = [
     ("depth in colour", RGBColor(120, 80, 20)),
     ("planar", RGBColor(0, 150, 150)),
     ("Bevy-like", RGBColor(0, 0, 0)),
+    (super::config::VIRTUAL_FAMILY, RGBColor(230, 150, 0)),
 ];
 
 /// A family's marker: its shape (circle, triangle or cross), size in pixels and whether it is
@@ -61,7 +62,7 @@ enum Shape {
     Cross,
 }
 
-const MARKERS: [(Shape, i32, bool); 9] = [
+const MARKERS: [(Shape, i32, bool); 10] = [
     (Shape::Circle, 4, true),
     (Shape::Triangle, 6, true),
     (Shape::Cross, 5, false),
@@ -71,6 +72,7 @@ const MARKERS: [(Shape, i32, bool); 9] = [
     (Shape::Triangle, 5, true),
     (Shape::Cross, 6, false),
     (Shape::Circle, 6, true),
+    (Shape::Triangle, 8, true),
 ];
 
 /// Why a chart could not be written.
@@ -351,4 +353,17 @@ where
         .draw()
         .map_err(|e| e.to_string())?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_family_the_sweep_measures_has_a_colour_and_a_marker_in_the_charts() {
+        for config in super::super::config::configs(false) {
+            let family = config.family();
+            assert!(FAMILIES.iter().any(|(f, _)| *f == family), "no colour for the family {family}");
+        }
+    }
 }

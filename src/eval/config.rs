@@ -444,6 +444,11 @@ mod tests {
         assert_eq!(c.short_label(), "2048 x4 pcf3 b2");
         let c = Config { depth: ShadowDepth::Unorm16, bias_scale: 0.05, ..Config::default_settings() };
         assert_eq!(c.label(), "2048 x4 stable bilinear b0.5 d16 s0.05");
+        let paged = Config { sun_maps: SunMaps::Virtual, method: ShadowMethod::Pcf5, ..Config::default_settings() };
+        assert_eq!((paged.label(), paged.short_label()), ("virtual pcf5 b0.5".into(), "virtual pcf5".into()));
+        assert_eq!(paged.family(), VIRTUAL_FAMILY);
+        assert_eq!(paged.settings(&Settings::default()).maps.sun_maps, SunMaps::Virtual);
+        assert!(configs(true).iter().any(|c| c.sun_maps == SunMaps::Virtual), "the quick sweep has virtual maps");
     }
 
     #[test]
