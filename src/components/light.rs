@@ -170,6 +170,9 @@ pub struct PageUpdate {
     pub residency: Residency,
     /// Resident pages given new contents because a caster moved through them.
     pub invalidated: u32,
+    /// Resident pages a caster moved through that the last marking did not need: they gave up
+    /// their slots rather than be drawn again out of view.
+    pub dropped: u32,
 }
 
 /// A light's shadow maps, written by the light-matrix system and read by the renderer: one per

@@ -200,7 +200,11 @@ impl Run {
                 fly.yaw += 0.004;
             }
         }
-        if self.scenario.motion != Motion::Still {
+        // A still scene still updates (with its clock held): a virtual map takes in the pages
+        // its last marking asked for. The update is not timed.
+        if self.scenario.motion == Motion::Still {
+            self.app.step_held();
+        } else {
             self.app.step();
         }
     }

@@ -160,14 +160,23 @@ impl PagePool {
     }
 
     /// Gives every resident page for which `hit` is true new contents (something it holds
-    /// moved); returns how many.
-    pub fn invalidate(&mut self, hit: impl Fn(PageId) -> bool, mut next_version: impl FnMut() -> u64) -> u32 {
-        let mut count = 0;
-        for r in self.slots.iter_mut().flatten().filter(|r| hit(r.page)) {
-            (r.version, r.dirty) = (next_version(), true);
-            count += 1;
+    /// moved), if the last marking needed it; one it did not need gives up its slot instead, so
+    /// that no page out of view is drawn again (it is drawn anew if it is needed again). Returns
+    /// how many were given new contents, and how many gave up their slots.
+    pub fn invalidate(&mut self, hit: impl Fn(PageId) -> bool, mut next_version: impl FnMut() -> u64) -> (u32, u32) {
+        let (mut redrawn, mut dropped) = (0, 0);
+        for slot in &mut self.slots {
+            let Some(r) = slot.as_mut().filter(|r| hit(r.page)) else { continue };
+            if r.needed == self.frame {
+                (r.version, r.dirty) = (next_version(), true);
+                redrawn += 1;
+            } else {
+                self.by_page.remove(&r.page);
+                *slot = None;
+                dropped += 1;
+            }
         }
-        count
+        (redrawn, dropped)
     }
 
     /// Gives every resident page for which `hit` is true a new static version (a caster at rest
@@ -303,13 +312,17 @@ mod tests {
         pool.update(&[page(0, 1), page(0, 2)], usize::MAX, &mut v);
         pool.clean();
         let before: Vec<u64> = pool.resident().map(|(_, r)| r.version).collect();
-        assert_eq!(pool.invalidate(|p| p.x == 2, &mut v), 1);
+        assert_eq!(pool.invalidate(|p| p.x == 2, &mut v), (1, 0));
         let after: Vec<(u64, bool)> = pool.resident().map(|(_, r)| (r.version, r.dirty)).collect();
         assert_eq!(after[0], (before[0], false));
         assert!(after[1].0 != before[1] && after[1].1);
         let statics: Vec<u64> = pool.resident().map(|(_, r)| r.static_version).collect();
         pool.resettle(|p| p.x == 1, &mut v);
         assert_ne!(pool.resident().next().unwrap().1.static_version, statics[0]);
+        // A page the last marking did not need gives up its slot rather than be drawn again.
+        pool.update(&[page(0, 1)], usize::MAX, &mut v);
+        assert_eq!(pool.invalidate(|_| true, &mut v), (1, 1));
+        assert_eq!((pool.len(), pool.slot_of(page(0, 2))), (1, None));
         pool.clear();
         assert!(pool.is_empty() && pool.resident().next().is_none());
     }

@@ -95,7 +95,8 @@ pub(super) fn refresh_paged(map: &mut ShadowMap, fit: PagedFit, coarse: u32, how
     }
     pages.update.residency.resident = pages.pool.len() as u32;
     let moved = crossing(&pages.clipmap, &how.changes.moved);
-    pages.update.invalidated = pages.pool.invalidate(|p| moved.iter().any(|r| r.contains(p)), next_version);
+    (pages.update.invalidated, pages.update.dropped) =
+        pages.pool.invalidate(|p| moved.iter().any(|r| r.contains(p)), next_version);
     let settled = crossing(&pages.clipmap, &how.changes.settled);
     pages.pool.resettle(|p| settled.iter().any(|r| r.contains(p)), next_version);
     let old = &map.layers[..map.layers.len().min(1)];
