@@ -43,7 +43,9 @@ fn the_overlays_numbers_are_the_benchs_for_the_same_view() {
     assert_eq!(live_names, names);
     for ((name, got), want) in live.lights.iter().zip(&expected) {
         assert!(want.all.pixels > 1000, "{name}: the view shows its light");
-        assert_eq!(got, want, "{name}: the overlay's numbers are the bench's");
+        // The errors (the bench counts texels per pixel besides, which the overlay does not show).
+        let errors = |r: &umbra::eval::metrics::LightReport| (r.all, r.bands, r.edge);
+        assert_eq!(errors(got), errors(want), "{name}: the overlay's numbers are the bench's");
     }
 }
 
