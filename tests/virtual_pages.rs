@@ -14,7 +14,7 @@ use glam::Vec3;
 use umbra::components::{DirectionalLight, ShadowMap, Spin, Transform, VirtualPages};
 use umbra::eval::{metrics, truth};
 use umbra::render::{
-    DebugFrame, HEADLESS_FORMAT, PRIME_ROUNDS, Renderer, ShadowStats, render_debug_frame, render_debug_frame_as_is,
+    DebugFrame, Gpu, HEADLESS_FORMAT, PRIME_ROUNDS, Renderer, ShadowStats, render_debug_frame, render_debug_frame_as_is,
 };
 use umbra::settings::SunMaps;
 use umbra::{App, Settings};
@@ -86,6 +86,15 @@ fn cannot_mark(app: &mut App, frame: &DebugFrame) -> bool {
     true
 }
 
+/// The sample view with virtual sun maps (`change` made to the settings), drawn once its pages
+/// are resident, with its renderer; none (SKIPPED said) where pages cannot be marked.
+fn primed(gpu: &Gpu, change: impl FnOnce(&mut Settings)) -> Option<(Renderer, App, DebugFrame)> {
+    let mut renderer = Renderer::new(gpu, HEADLESS_FORMAT).unwrap();
+    let mut app = paged(change);
+    let frame = render_debug_frame(gpu, &mut renderer, &mut app, W, H).expect("no wgpu error");
+    (!cannot_mark(&mut app, &frame)).then_some((renderer, app, frame))
+}
+
 #[test]
 fn virtual_maps_put_the_suns_shadows_where_the_truth_does_with_fewer_wrong_pixels_than_cascades() {
     let gpu = gpu();
@@ -102,12 +111,7 @@ fn virtual_maps_put_the_suns_shadows_where_the_truth_does_with_fewer_wrong_pixel
     // Its texels are 12 cm and its bias shifts shadows by 1.5 of them: thin shadows thin out, but
     // what it shows is shadowed (a lookup that read nothing would light all of it).
     assert!(deep_shadow_dark(&frame, &truth, 6) > 0.95, "the coarse map alone shadows the deep shadows");
-    let mut virt = paged(|_| ());
-    let frame = render_debug_frame(&gpu, &mut Renderer::new(&gpu, HEADLESS_FORMAT).unwrap(), &mut virt, W, H)
-        .expect("no wgpu error");
-    if cannot_mark(&mut virt, &frame) {
-        return;
-    }
+    let Some((_, mut virt, frame)) = primed(&gpu, |_| ()) else { return };
     let (by_pages, truth) = sun_tally(&mut virt, &frame);
     let p = pages(&mut virt);
     let percent = |t: &metrics::Tally| 100.0 * t.misclassified();
@@ -129,12 +133,7 @@ fn virtual_maps_put_the_suns_shadows_where_the_truth_does_with_fewer_wrong_pixel
 #[test]
 fn a_still_view_draws_no_page_and_a_moving_cube_redraws_only_the_pages_it_crosses() {
     let gpu = gpu();
-    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
-    let mut app = paged(|_| ());
-    let frame = render_debug_frame(&gpu, &mut renderer, &mut app, W, H).expect("no wgpu error");
-    if cannot_mark(&mut app, &frame) {
-        return;
-    }
+    let Some((mut renderer, mut app, frame)) = primed(&gpu, |_| ()) else { return };
     let (before, _) = sun_tally(&mut app, &frame);
     app.step_held();
     render_debug_frame_as_is(&gpu, &mut renderer, &mut app, W, H).expect("no wgpu error");
@@ -159,12 +158,7 @@ fn a_still_view_draws_no_page_and_a_moving_cube_redraws_only_the_pages_it_crosse
 #[test]
 fn a_pool_too_small_reads_coarser_levels_counts_what_it_lacks_and_leaves_no_deep_shadow_lit() {
     let gpu = gpu();
-    let mut app = paged(|s| s.maps.page_memory = 1);
-    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
-    let frame = render_debug_frame(&gpu, &mut renderer, &mut app, W, H).expect("no wgpu error");
-    if cannot_mark(&mut app, &frame) {
-        return;
-    }
+    let Some((_, mut app, frame)) = primed(&gpu, |s| s.maps.page_memory = 1) else { return };
     let p = pages(&mut app);
     assert_eq!(p.pool.capacity(), 16, "1 MiB of 128² depth pages");
     assert!(p.pool.len() <= 16);
@@ -177,12 +171,7 @@ fn a_pool_too_small_reads_coarser_levels_counts_what_it_lacks_and_leaves_no_deep
 #[test]
 fn a_camera_cut_reads_what_is_resident_until_its_own_pages_come_and_is_never_unshadowed() {
     let gpu = gpu();
-    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
-    let mut app = paged(|_| ());
-    let frame = render_debug_frame(&gpu, &mut renderer, &mut app, W, H).expect("no wgpu error");
-    if cannot_mark(&mut app, &frame) {
-        return;
-    }
+    let Some((mut renderer, mut app, _)) = primed(&gpu, |_| ()) else { return };
     // A cut to the far side of the scene, looking back.
     umbra::scene::place_camera(&mut app.world, Vec3::new(-6.0, 2.5, -9.0), Vec3::new(1.0, 0.5, 2.0));
     app.step_held();
