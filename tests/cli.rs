@@ -45,7 +45,7 @@ fn without_a_display_play_renders_umbra_png() {
 #[test]
 fn bad_arguments_are_named_and_fail() {
     let dir = scratch("bad");
-    let cases: [(&[&str], &str); 26] = [
+    let cases: [(&[&str], &str); 30] = [
         (&["render", "--bias-scale", "0.9"], "bias_scale"),
         (&["render", "--shadow-depth", "d8"], "not a depth-map format"),
         (&["render", "--moment-bits", "24"], "not a moment-map precision"),
@@ -72,6 +72,10 @@ fn bad_arguments_are_named_and_fail() {
         (&["render", "--eye", "1,2,3"], "--target"),
         (&["render", "--eye", "1,2", "--target", "0,0,0"], "not a point"),
         (&["play", "--measure-scale", "9"], "--measure-scale"),
+        (&["render", "--sun-maps", "virtual", "--method", "vsm"], "vsm reads a colour map"),
+        (&["render", "--sun-maps", "paged"], "not a kind of sun maps"),
+        (&["render", "--page-bias", "9"], "page_bias"),
+        (&["render", "--page-memory", "200"], "page_memory"),
     ];
     for (args, says) in cases {
         let out = umbra(args, &dir);

@@ -69,7 +69,7 @@ impl Desk {
                 crate::ui::panel(ui, world, lab, &live);
             }
             if let Some((texture, pages, tiles)) = &atlas {
-                crate::ui::panel::map_viewer(ui, lab, *texture, *pages, tiles);
+                crate::ui::viewer::map_viewer(ui, lab, *texture, *pages, tiles);
             }
         });
         shown.gui.paint(&shown.gpu, targets, size, painted);

@@ -86,7 +86,7 @@ impl PageMarking {
             pixel_angle: frame.pixel_angle,
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&marking));
-        queue.write_buffer(&self.marks, 0, &vec![0u8; MARK_BYTES as usize]);
+        encoder.clear_buffer(&self.marks, 0, None);
         // Each invocation marks 4x4 pixels, a workgroup 8x8 invocations.
         let groups = (size.0.div_ceil(32), size.1.div_ceil(32));
         self.pass.dispatch(device, encoder, (&self.uniform, &self.marks), (depth, made), groups);

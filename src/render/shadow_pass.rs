@@ -353,10 +353,7 @@ impl ShadowPass {
             .zip(plan)
             .filter_map(|(l, planned)| {
                 let tile = l.tile?;
-                stats.count(l.light, planned.draw, planned.waits);
-                if l.page.is_some() {
-                    stats.count_page(planned.draw, planned.waits);
-                }
+                stats.count((l.light, l.page.is_some()), planned.draw, planned.waits);
                 planned.draw.then(|| {
                     stats.count_texels(u64::from(l.resolution).pow(2));
                     (l, tile)

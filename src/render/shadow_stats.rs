@@ -88,8 +88,14 @@ impl ShadowStats {
         self.lights.iter().map(|l| l.blurred).sum()
     }
 
-    /// Counts a layer of `light`: drawn or kept, and if it was left `waits` frames stale.
-    pub(super) fn count(&mut self, light: LightLabel, drawn: bool, waits: Option<u32>) {
+    /// Counts a layer of `light` (a page of its virtual map, if `page`): drawn or kept, and if it
+    /// was left `waits` frames stale.
+    pub(super) fn count(&mut self, (light, page): (LightLabel, bool), drawn: bool, waits: Option<u32>) {
+        if page {
+            let p = &mut self.pages;
+            (p.drawn, p.kept, p.stale) =
+                (p.drawn + drawn as u32, p.kept + !drawn as u32, p.stale + waits.is_some() as u32);
+        }
         if self.lights.last().is_none_or(|l| l.light != light) {
             let zero =
                 LightPasses { light, drawn: 0, kept: 0, stale: 0, waited: 0, blurred: 0, calls: 0, from_static: 0 };
@@ -105,12 +111,6 @@ impl ShadowStats {
             entry.stale += 1;
             entry.waited = entry.waited.max(frames);
         }
-    }
-
-    /// Counts a page of a virtual map, as [`ShadowStats::count`] counts its layer.
-    pub(super) fn count_page(&mut self, drawn: bool, waits: Option<u32>) {
-        let p = &mut self.pages;
-        (p.drawn, p.kept, p.stale) = (p.drawn + drawn as u32, p.kept + !drawn as u32, p.stale + waits.is_some() as u32);
     }
 
     pub(super) fn count_texels(&mut self, texels: u64) {
@@ -171,13 +171,14 @@ mod tests {
     fn the_title_lists_a_few_lights_totals_many_and_names_the_stale() {
         let label = |number| LightLabel { word: "lamp", number, bare: false };
         let mut stats = ShadowStats::default();
-        stats.count(label(1), true, None);
-        stats.count(label(1), false, Some(3));
+        stats.count((label(1), false), true, None);
+        stats.count((label(1), true), false, Some(3));
         assert_eq!(stats.to_string(), "lamp 1 1/1 · 1 stale of 1 lights (oldest 3 frames)");
         for n in 2..=6 {
-            stats.count(label(n), false, None);
+            stats.count((label(n), false), false, None);
         }
         assert_eq!(stats.to_string(), "1/6 of 6 lights · 1 stale of 1 lights (oldest 3 frames)");
         assert_eq!((stats.stale(), stats.waited()), (1, 3));
+        assert_eq!(stats.pages, PagePasses { drawn: 0, kept: 1, stale: 1 }, "the one page counted apart");
     }
 }

@@ -7,6 +7,7 @@
 
 pub mod history;
 pub mod panel;
+pub mod viewer;
 
 pub use history::History;
 pub use panel::{Lab, Live, panel};
