@@ -46,7 +46,9 @@ struct Frame {
     camera_far: f32,
     // Radians a pixel of the picture spans (at its middle; see page_level in pages.wgsl).
     pixel_angle: f32,
-    _pad1: u32,
+    // 1 when a pixel whose virtual page is missing reads a coarser level or the coarse map
+    // (else it reads as lit; see page_layer in pages.wgsl).
+    page_fallback: u32,
     _pad2: u32,
 };
 

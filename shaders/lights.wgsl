@@ -111,7 +111,11 @@ fn texel_at(light: GpuLight, p: vec3<f32>, n: vec3<f32>, f: Footprint, depth: f3
             return 0.0;
         }
         let l = -light.direction;
-        return texel_size(page_layer(light, p, page_level(light, p, n, l, f)), 0.0);
+        let index = page_layer(light, p, page_level(light, p, n, l, f));
+        if (index == NO_PAGE) {
+            return 0.0;
+        }
+        return texel_size(index, 0.0);
     }
     if (light.shape == SHAPE_CASCADES) {
         let pick = pick_cascade(light, depth);
@@ -146,6 +150,9 @@ fn paged_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f
         return 1.0;
     }
     let index = page_layer(light, p, page_level(light, p, n, l, f));
+    if (index == NO_PAGE) {
+        return 1.0;
+    }
     let vis = layer_test(light, index, 0.0, p, n, l, f);
     return mix(vis, 1.0, smoothstep(frame.fade_start, frame.shadow_distance, depth));
 }

@@ -38,13 +38,19 @@ fn page_origin(light: GpuLight, level: u32) -> vec2<i32> {
     return vec2<i32>(bitcast<i32>(table_word(at)), bitcast<i32>(table_word(at + 1u)));
 }
 
+// What page_layer gives where no page is resident and the fallback is off.
+const NO_PAGE: u32 = 0xffffffffu;
+
 // The layer `light`'s lookup at `p` reads: the page holding `p` of the finest level resident
-// from `level` on, or the coarse map, its first layer, where none is.
+// from `level` on, or the coarse map, its first layer, where none is. Without the fallback
+// (frame.page_fallback 0) only level `level` is read, and NO_PAGE where its page is missing.
 fn page_layer(light: GpuLight, p: vec3<f32>, level: i32) -> u32 {
     let units = (light.page_from_world * vec4<f32>(p, 1.0)).xy;
     let entries = light.page_word + 2u * light.page_levels;
     let grid = i32(PAGE_GRID);
-    for (var l = u32(max(level, 0)); l < light.page_levels; l += 1u) {
+    let first = u32(max(level, 0));
+    let last = select(first + 1u, light.page_levels, frame.page_fallback == 1u);
+    for (var l = first; l < min(last, light.page_levels); l += 1u) {
         let at = vec2<i32>(floor(units / exp2(f32(l)))) - page_origin(light, l);
         if (all(at >= vec2<i32>(0)) && all(at < vec2<i32>(grid))) {
             let entry = table_word(entries + (l * PAGE_GRID + u32(at.y)) * PAGE_GRID + u32(at.x));
@@ -53,5 +59,5 @@ fn page_layer(light: GpuLight, p: vec3<f32>, level: i32) -> u32 {
             }
         }
     }
-    return light.first_layer;
+    return select(NO_PAGE, light.first_layer, frame.page_fallback == 1u);
 }

@@ -206,6 +206,8 @@ fn settings_options(s: &Settings) -> Vec<String> {
     flag(!s.maps.instancing, "no-instancing");
     flag(s.maps.static_cache, "static-cache");
     flag(!s.maps.atlas_guard, "no-atlas-guard");
+    flag(!s.maps.page_fallback, "no-page-fallback");
+    flag(!s.maps.old_bounds, "no-old-bounds");
     flag(!s.scene.character, "no-character");
     flag(!s.view.ground_grid, "no-ground-grid");
     flag(s.view.light_volumes, "light-volumes");

@@ -41,6 +41,12 @@ pub struct SceneArgs {
     /// Let filters read past their tile into a neighbour's texels (the atlas-seams case).
     #[arg(long)]
     pub no_atlas_guard: bool,
+    /// Let a pixel whose virtual page is missing read as lit (the camera-cut case).
+    #[arg(long)]
+    pub no_page_fallback: bool,
+    /// Let a moved caster leave the maps over where it was (the moving-caster case).
+    #[arg(long)]
+    pub no_old_bounds: bool,
     /// How dark shadows are, 0..1.
     #[arg(long, value_name = "0..1", allow_negative_numbers = true)]
     pub shadow_strength: Option<f32>,
@@ -339,6 +345,8 @@ impl SceneArgs {
             sun_maps: self.sun_maps.unwrap_or(d.maps.sun_maps),
             page_bias: self.page_bias.unwrap_or(d.maps.page_bias),
             page_memory: self.page_memory.unwrap_or(d.maps.page_memory),
+            page_fallback: !self.no_page_fallback,
+            old_bounds: !self.no_old_bounds,
             ..d.maps
         };
         let cascade = CascadeSettings {

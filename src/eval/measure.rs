@@ -4,7 +4,9 @@
 
 use super::truth::{SizeOverride, Truth, truth_of};
 use crate::App;
-use crate::render::{DebugFrame, Gpu, HEADLESS_FORMAT, RenderError, Renderer, render_debug_frame};
+use crate::render::{
+    DebugFrame, Gpu, HEADLESS_FORMAT, RenderError, Renderer, render_debug_frame, render_debug_frame_as_is,
+};
 use crate::settings::{Settings, SettingsError};
 use std::collections::HashMap;
 
@@ -121,6 +123,16 @@ pub enum CaseScene {
     ContactEdge,
     /// Three spots over sliding posts sharing a starved update budget.
     StarvedBudget,
+    /// An open ground under the sun, probed either side of its virtual pages' borders.
+    PageSeams,
+    /// Two groups of pillars far apart, the camera cut from one to the other.
+    CameraCut,
+    /// A box sliding across the ground under the sun.
+    MovingCaster,
+    /// Poles over a wide ground, seen through a virtual-page pool of 1 MiB.
+    PoolTooSmall,
+    /// Posts seen by a camera creeping to and fro across a virtual level's boundary.
+    LevelCreep,
 }
 
 /// The truth of a frame: one column per light in the frame's order (sun, then spots), one entry
@@ -201,9 +213,24 @@ impl<'g> Measurer<'g> {
     /// Renders the measuring view of scene `id` as its app is now, with the truth; `key` names
     /// the view (same key, same scene and camera: the truth is reused).
     pub fn measure(&mut self, id: SubjectId, key: &str) -> Result<Measured, MeasureError> {
+        self.measure_drawn(id, key, true)
+    }
+
+    /// [`Measurer::measure`] of the frame as a window would draw it next: nothing drawn first
+    /// (no SDSM fit or virtual page made ready for it; see [`render_debug_frame_as_is`]).
+    pub fn measure_as_is(&mut self, id: SubjectId, key: &str) -> Result<Measured, MeasureError> {
+        self.measure_drawn(id, key, false)
+    }
+
+    fn measure_drawn(&mut self, id: SubjectId, key: &str, primed: bool) -> Result<Measured, MeasureError> {
         let (w, h) = self.size;
         let subject = self.subjects.get_mut(&id).ok_or(MeasureError::NoSubject(id))?;
-        let frame = render_debug_frame(self.gpu, &mut subject.renderer, &mut subject.app, w, h)?;
+        let (gpu, renderer, app) = (self.gpu, &mut subject.renderer, &mut subject.app);
+        let frame = if primed {
+            render_debug_frame(gpu, renderer, app, w, h)?
+        } else {
+            render_debug_frame_as_is(gpu, renderer, app, w, h)?
+        };
         let key = (id, key.to_string());
         if let Some((positions, truth)) = self.cache.get(&key)
             && *positions == frame.position

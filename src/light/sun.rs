@@ -62,7 +62,13 @@ impl Kind for Sun {
         let settings = context.cascade;
         let sun = SunScene::from_boxes(self.direction, context.scene.iter().copied());
         let depth = depth_range(depth, sun.depth_extent());
-        let clipmap = Clipmap::new(self.direction, settings.shadow_distance, depth);
+        let mut clipmap = Clipmap::new(self.direction, settings.shadow_distance, depth);
+        // The guards taken away, to show what they guard against: no border round the pages
+        // without the atlas guard, and a grid that follows the camera when unsnapped.
+        clipmap.border = if context.maps.atlas_guard { clipmap.border } else { 0 };
+        if settings.fit_mode == FitMode::Unsnapped {
+            clipmap = clipmap.centred_on(transform.translation);
+        }
         let frustum =
             ViewFrustum { position: transform.translation, rotation: transform.rotation, fov_y: camera.fov_y, aspect };
         let slice = (camera.near, camera.shadow_far(settings.shadow_distance));

@@ -22,6 +22,9 @@ pub enum Motion {
     OneCube,
     /// Every cube moves and the camera turns.
     Everything,
+    /// Nothing moves but the camera, which circles the point it looks at (half a degree a
+    /// frame): every frame shows ground a little to the side of the last.
+    Orbit,
 }
 
 /// What the window's lab does on top of the frame.
@@ -54,8 +57,9 @@ pub struct Scenario {
 }
 
 /// The scenarios of the shadow-cache bench, the baseline (still, no shadows) first; one cube
-/// moving is run without the static cache (the default) and with it.
-pub const SCENARIOS: [Scenario; 5] = [
+/// moving is run without the static cache (the default) and with it; the camera orbiting a still
+/// scene last.
+pub const SCENARIOS: [Scenario; 6] = [
     Scenario { name: "still, shadows off", shadows: false, motion: Motion::Still, lab: Lab::Off, static_cache: false },
     Scenario { name: "still, shadows on", shadows: true, motion: Motion::Still, lab: Lab::Off, static_cache: false },
     Scenario { name: "one cube moving", shadows: true, motion: Motion::OneCube, lab: Lab::Off, static_cache: false },
@@ -73,6 +77,7 @@ pub const SCENARIOS: [Scenario; 5] = [
         lab: Lab::Off,
         static_cache: false,
     },
+    Scenario { name: "camera orbiting", shadows: true, motion: Motion::Orbit, lab: Lab::Off, static_cache: false },
 ];
 
 /// The scenarios of the lab bench, the baseline (the still scene alone) first.
@@ -200,9 +205,12 @@ impl Run {
                 fly.yaw += 0.004;
             }
         }
+        if self.scenario.motion == Motion::Orbit {
+            orbit(&mut self.app.world, ORBIT_STEP);
+        }
         // A still scene still updates (with its clock held): a virtual map takes in the pages
         // its last marking asked for. The update is not timed.
-        if self.scenario.motion == Motion::Still {
+        if matches!(self.scenario.motion, Motion::Still | Motion::Orbit) {
             self.app.step_held();
         } else {
             self.app.step();
@@ -263,6 +271,21 @@ fn freeze_all_but_one_cube(world: &mut World) {
     for e in walkers {
         world.entity_mut(e).remove::<(Walker, Animator)>();
     }
+}
+
+/// How far the orbiting camera circles a frame, radians.
+const ORBIT_STEP: f32 = 0.5 * std::f32::consts::PI / 180.0;
+
+/// Turns the camera `angle` radians round the vertical through the ground point it looks at (the
+/// point 10 m ahead where it looks up or along the ground), still looking at it.
+fn orbit(world: &mut World, angle: f32) {
+    let mut cameras = world.query_filtered::<&crate::components::Transform, With<crate::components::Camera>>();
+    let Some(t) = cameras.iter(world).next().copied() else { return };
+    let (eye, forward) = (t.translation, t.forward());
+    let ahead = if forward.y < -1e-3 { (-eye.y / forward.y).min(100.0) } else { 10.0 };
+    let target = eye + forward * ahead;
+    let turned = target + glam::Quat::from_rotation_y(angle) * (eye - target);
+    crate::scene::place_camera(world, turned, target);
 }
 
 /// Runs every scenario of `scenarios` for `frames` measured frames (after a few unmeasured ones),
@@ -332,6 +355,30 @@ mod tests {
         freeze_all_but_one_cube(&mut app.world);
         assert_eq!(app.world.query::<(&Spin, &Bob)>().iter(&app.world).count(), 1);
         assert_eq!(app.world.query::<&Walker>().iter(&app.world).count(), 0);
+    }
+
+    #[test]
+    fn an_orbit_keeps_the_camera_looking_at_the_same_point_from_as_far() {
+        let mut app = App::new(Settings::default()).unwrap();
+        let eye = |w: &mut World| {
+            w.query_filtered::<&crate::components::Transform, With<crate::components::Camera>>()
+                .single(w)
+                .unwrap()
+                .translation
+        };
+        let before = eye(&mut app.world);
+        for _ in 0..90 {
+            orbit(&mut app.world, ORBIT_STEP);
+        }
+        let after = eye(&mut app.world);
+        assert!((after.y - before.y).abs() < 1e-3, "{before} -> {after}");
+        assert!(after.distance(before) > 1.0, "an eighth of a turn moves the camera");
+        let t = app
+            .world
+            .query_filtered::<&crate::components::Transform, With<crate::components::Camera>>()
+            .single(&app.world)
+            .unwrap();
+        assert!(t.forward().y < 0.0, "still looking down at the scene");
     }
 
     #[test]

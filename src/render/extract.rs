@@ -217,6 +217,7 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
         cascade_debug: settings.view.cascade_debug as u32,
         light_count: lights.len() as u32,
         atlas_guard: settings.maps.atlas_guard as u32,
+        page_fallback: settings.maps.page_fallback as u32,
         cluster_near: clusters.0,
         cluster_far: clusters.1,
         cube_seams: settings.maps.cube_seams as u32,

@@ -70,6 +70,12 @@ impl Gpu {
         Ok(Gpu { instance, adapter, device, queue, errors })
     }
 
+    /// True when the device runs compute shaders (the SDSM reduction and the marking of virtual
+    /// pages need them).
+    pub fn computes(&self) -> bool {
+        super::depth_reduction::computes(&self.adapter)
+    }
+
     /// One line naming the adapter, its kind and its backend.
     pub fn describe(&self) -> String {
         let info = self.adapter.get_info();

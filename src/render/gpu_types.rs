@@ -107,7 +107,8 @@ gpu_struct! {
         pub camera_far: f32,
         /// Radians a pixel of the picture spans (at its middle).
         pub pixel_angle: f32,
-        pub _pad1: u32,
+        /// 1 when a pixel whose virtual page is missing reads a coarser one (else it is lit).
+        pub page_fallback: u32,
         pub _pad2: u32,
     }
 }

@@ -19,8 +19,9 @@ pub struct MapSettings {
     /// Octaves what a light shows must move from its tile's size class before the class changes
     /// (the defence against tiles resized to and fro; see the tile-resize case).
     pub tile_hysteresis: f32,
-    /// Lookups keep every filter's taps inside their own tile of the atlas (the guard against
-    /// atlas seams); off only to show what reading a neighbour's texels does.
+    /// Lookups keep every filter's taps inside their own tile of the atlas, and virtual pages are
+    /// drawn with a border as wide as a filter reaches (the guard against atlas and page seams);
+    /// off only to show what reading a neighbour's texels does.
     pub atlas_guard: bool,
     /// Texels of shadow tiles redrawn per frame at most (0: no limit). Layers whose light or
     /// casters moved wait their turn by priority, sampled meanwhile as they were last drawn; a
@@ -77,6 +78,14 @@ pub struct MapSettings {
     pub page_bias: f32,
     /// MiB of the shadow memory the sun's virtual pages may take (its pool), at most half of it.
     pub page_memory: u32,
+    /// A pixel whose virtual page is not resident reads a coarser level's, or the coarse map
+    /// (the guard of the camera-cut and pool-too-small cases); off only to show what a missing
+    /// page does (it reads as lit).
+    pub page_fallback: bool,
+    /// A caster that moved makes the maps over its box before it moved stale as well as those
+    /// over its box after (the guard of the moving-caster case); off only to show an old shadow
+    /// left behind in the pages it moved out of.
+    pub old_bounds: bool,
 }
 
 impl Default for MapSettings {
@@ -113,6 +122,8 @@ impl Default for MapSettings {
             page_bias: -1.0,
             // A 1280x720 view's pages, with room for the pages about it as the camera turns.
             page_memory: 32,
+            page_fallback: true,
+            old_bounds: true,
         }
     }
 }

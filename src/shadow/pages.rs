@@ -59,6 +59,9 @@ pub struct Clipmap {
     /// Light-space z of the near plane (towards the light) and the far plane, shared by every
     /// page so that a page's depths stay good while the camera moves.
     pub depth: (f32, f32),
+    /// Texels of border round each page's square in its tile: [`PAGE_BORDER`], or 0 to show
+    /// what a filter reading past a page does (the page-seams case).
+    pub border: u32,
 }
 
 impl Clipmap {
@@ -71,7 +74,16 @@ impl Clipmap {
             finest_log2: FINEST_TEXEL_LOG2,
             levels: levels_for(shadow_distance, FINEST_TEXEL_LOG2),
             depth,
+            border: PAGE_BORDER,
         }
+    }
+
+    /// The same clipmap with its grid's origin moved to the point `at`: no longer fixed in light
+    /// space, so its texels slide as `at` does (to show what the fixed grid guards against).
+    #[must_use]
+    pub fn centred_on(self, at: Vec3) -> Clipmap {
+        let shift = Mat4::from_translation(-self.across(at).extend(0.0));
+        Clipmap { light_from_world: shift * self.light_from_world, ..self }
     }
 
     /// World size of a texel of `level`, in metres.
@@ -84,6 +96,12 @@ impl Clipmap {
     #[must_use]
     pub fn page_size(&self, level: u32) -> f32 {
         self.texel(level) * PAGE_TEXELS as f32
+    }
+
+    /// World size of a page's border on `level`, in metres.
+    #[must_use]
+    pub fn border_size(&self, level: u32) -> f32 {
+        self.texel(level) * self.border as f32
     }
 
     /// Where world point `p` is across the light (light-space x and y).
@@ -119,10 +137,11 @@ impl Clipmap {
     /// clipmap's depth range.
     #[must_use]
     pub fn projection(&self, page: PageId) -> LightProjection {
-        let (size, texel) = (self.page_size(page.level), self.texel(page.level));
-        let border = PAGE_BORDER as f32 * texel;
+        let (size, border) = (self.page_size(page.level), self.border_size(page.level));
         let min = Vec2::new(page.x as f32, page.y as f32) * size - border;
         let max = min + Vec2::splat(size + 2.0 * border);
+        // The level's texel, unless the border is not the default one.
+        let texel = (size + 2.0 * border) / PAGE_TILE as f32;
         let (near_z, far_z) = self.depth;
         let proj = directx::orthographic(min.x, max.x, min.y, max.y, -near_z, -far_z);
         let view = self.light_from_world;
@@ -132,7 +151,7 @@ impl Clipmap {
     /// The square across the light (min, max) that `page` holds, border included.
     #[must_use]
     pub fn footprint(&self, page: PageId) -> (Vec2, Vec2) {
-        let (size, border) = (self.page_size(page.level), PAGE_BORDER as f32 * self.texel(page.level));
+        let (size, border) = (self.page_size(page.level), self.border_size(page.level));
         let min = Vec2::new(page.x as f32, page.y as f32) * size;
         (min - border, min + Vec2::splat(size + border))
     }
@@ -247,7 +266,7 @@ impl Clipmap {
     /// light; none for a square that is not finite.
     #[must_use]
     pub fn pages_meeting(&self, level: u32, (min, max): (Vec2, Vec2)) -> PageRange {
-        let (size, border) = (self.page_size(level), PAGE_BORDER as f32 * self.texel(level));
+        let (size, border) = (self.page_size(level), self.border_size(level));
         let cell = |v: f32| (v / size).floor().clamp(i32::MIN as f32 / 2.0, i32::MAX as f32 / 2.0) as i32;
         if !(min.is_finite() && max.is_finite()) {
             return PageRange { level, min: IVec2::ONE, max: IVec2::ZERO };
@@ -338,6 +357,33 @@ mod tests {
         }
         assert_eq!(levels_for(f32::INFINITY, FINEST_TEXEL_LOG2), MAX_PAGE_LEVELS);
         assert_eq!(levels_for(1e30, FINEST_TEXEL_LOG2), MAX_PAGE_LEVELS);
+    }
+
+    #[test]
+    fn without_a_border_a_page_is_drawn_over_its_own_square_alone() {
+        let page = PageId { level: 2, x: 3, y: -2 };
+        let mut c = clipmap();
+        let with = c.projection(page);
+        assert!((with.texel.x - c.texel(2)).abs() < 1e-9, "the border keeps the level's texel");
+        c.border = 0;
+        let (min, max) = c.footprint(page);
+        assert_eq!(max - min, Vec2::splat(c.page_size(2)));
+        let without = c.projection(page);
+        assert!((without.texel.x * PAGE_TILE as f32 - c.page_size(2)).abs() < 1e-6, "128 texels over 120's square");
+        let corner = c.light_from_world.inverse().transform_point3(min.extend(0.0));
+        let clip = without.view_proj.project_point3(corner);
+        assert!((clip.truncate() - Vec2::new(-1.0, -1.0)).length() < 1e-4, "its square fills the tile: {clip}");
+    }
+
+    #[test]
+    fn a_grid_centred_on_a_point_puts_it_at_the_origin_and_keeps_the_turn() {
+        let c = clipmap();
+        let at = Vec3::new(12.3, 4.0, -7.7);
+        let moved = c.centred_on(at);
+        assert!(moved.across(at).length() < 1e-4);
+        assert_eq!(glam::Mat3::from_mat4(moved.light_from_world), glam::Mat3::from_mat4(c.light_from_world));
+        let nan = c.centred_on(Vec3::NAN);
+        assert!(nan.across(Vec3::ZERO).is_nan(), "a NaN point gives a NaN grid, not a panic");
     }
 
     #[test]

@@ -105,6 +105,7 @@ pub fn track_casters(
         ),
     >,
     mut removed: RemovedComponents<ShadowCaster>,
+    settings: Res<crate::settings::MapSettings>,
 ) {
     let Tracked { known, update } = &mut *tracked;
     *update += 1;
@@ -126,7 +127,8 @@ pub fn track_casters(
         match known.get_mut(&entity) {
             Some(old) if old.state == state => {}
             Some(old) => {
-                moved.extend([old.state.bounds, bounds.0]);
+                // Without the old box (a setting, to show what it guards) an old shadow stays.
+                moved.extend(settings.old_bounds.then_some(old.state.bounds).into_iter().chain([bounds.0]));
                 if old.resting {
                     at_rest.0.remove(&entity);
                     settled.push(old.state.bounds);
@@ -161,6 +163,7 @@ mod tests {
         world.insert_resource(MeshLibrary::default());
         world.insert_resource(CasterChanges::default());
         world.insert_resource(CastersAtRest::default());
+        world.insert_resource(crate::settings::MapSettings::default());
         world
     }
 
@@ -206,6 +209,20 @@ mod tests {
         world.despawn(e);
         schedule.run(&mut world);
         assert_eq!(moved(&world), vec![after[1]], "removed");
+    }
+
+    #[test]
+    fn without_old_bounds_a_move_names_only_where_the_caster_went() {
+        let mut world = world();
+        world.resource_mut::<crate::settings::MapSettings>().old_bounds = false;
+        let mesh = world.resource_mut::<MeshLibrary>().add(cube(Vec3::splat(0.5)));
+        let mut schedule = Schedule::default();
+        schedule.add_systems((update_bounds, track_casters).chain());
+        let e = world.spawn((mesh, Transform::default(), ShadowCaster)).id();
+        schedule.run(&mut world);
+        world.get_mut::<Transform>(e).unwrap().translation = Vec3::new(3.0, 0.0, 0.0);
+        schedule.run(&mut world);
+        assert_eq!(moved(&world), vec![Aabb::new(Vec3::new(2.5, -0.5, -0.5), Vec3::new(3.5, 0.5, 0.5))]);
     }
 
     #[test]

@@ -108,10 +108,12 @@ pub(super) fn refresh_paged(map: &mut ShadowMap, fit: PagedFit, coarse: u32, how
     map.pages = Some(pages);
 }
 
-/// True when marks made against `marked` name the same pages as `now` has: the same light
-/// space and levels (a new depth range changes what a page holds, not which page it is).
+/// True when marks made against `marked` name the same pages as `now` has: the same light's
+/// turn and levels (a new depth range changes what a page holds, not which page it is; a grid
+/// that follows the camera, unsnapped, moves a page by less than itself a frame).
 fn same_pages(marked: &Clipmap, now: &Clipmap) -> bool {
-    (marked.light_from_world, marked.finest_log2, marked.levels) == (now.light_from_world, now.finest_log2, now.levels)
+    let turn = |c: &Clipmap| glam::Mat3::from_mat4(c.light_from_world);
+    (turn(marked), marked.finest_log2, marked.levels) == (turn(now), now.finest_log2, now.levels)
 }
 
 /// The pages of every level that each of `boxes` lies across (its square across the light).

@@ -1,12 +1,14 @@
 //! The ways shadow maps fail, each a small scene and one number measured against the truth:
 //! acne, peter-panning, shimmer, thin casters, an off-screen caster, degenerate lights, the far
-//! field and a skinned caster that leaves its bind pose. The tests hold each number under a
+//! field, a skinned caster that leaves its bind pose, and the cases of many lights, soft filters,
+//! contact shadows and virtual pages. The tests hold each number under a
 //! threshold at the default settings and show it crossing when the defence is taken away; the
 //! benchmark charts each against the cost of every configuration.
 
 pub mod budget;
 mod contact;
 pub use contact::contact_edge;
+pub mod pages;
 pub mod precision;
 pub mod scenes;
 mod soft;
@@ -63,7 +65,7 @@ pub struct Case {
 }
 
 /// Every case, in the order the issues list them.
-pub const CASES: [Case; 20] = [
+pub const CASES: [Case; 25] = [
     Case {
         name: "acne", measures: "false-shadow share of an open plane, sun at 2°..89°", threshold: 0.001, run: acne
     },
@@ -180,6 +182,36 @@ pub const CASES: [Case; 20] = [
         measures: "false-shadow share of the ground seen past a 5 cm bar near the camera, with contact shadows on",
         threshold: 0.002,
         run: contact::contact_halos,
+    },
+    Case {
+        name: "page-seams",
+        measures: "share of the sun's open ground 0.5 to 3 texels either side of its virtual pages' borders darkened by 10 % (Poisson 32)",
+        threshold: 0.001,
+        run: pages::page_seams,
+    },
+    Case {
+        name: "camera-cut",
+        measures: "misclassified share of the sun's pixels from a camera cut until every page the new view needs is resident (not within 6 frames: 100%)",
+        threshold: 0.01,
+        run: pages::camera_cut,
+    },
+    Case {
+        name: "moving-caster",
+        measures: "misclassified share of the ground while a 1 m box slides 50 cm a frame under the sun",
+        threshold: 0.001,
+        run: pages::moving_caster,
+    },
+    Case {
+        name: "pool-too-small",
+        measures: "misclassified share of the sun's pixels over 10 cm poles and a canopy with 1 MiB of virtual pages, from a cut to them until the pool has made do (not within 6 frames: 100%)",
+        threshold: 0.015,
+        run: pages::pool_too_small,
+    },
+    Case {
+        name: "level-creep",
+        measures: "share of ground points round posts flipping lit/shadowed per frame as the camera creeps to and fro across a virtual level's boundary",
+        threshold: 0.0004,
+        run: pages::level_creep,
     },
 ];
 

@@ -1,0 +1,70 @@
+//! The virtual-page failure cases (`src/eval/cases/pages.rs`), each held under its threshold with
+//! the sun's maps virtual and shown crossing it when its guard is taken away: no border round the
+//! pages (the atlas guard off), no fallback to a coarser level for a missing page (twice: a camera
+//! cut and a pool too small), no stale mark on the pages a caster moved out of, and a page grid
+//! that follows the camera (unsnapped). Where the device runs no compute shaders no page is
+//! marked, and the tests say SKIPPED.
+
+mod common;
+
+use umbra::eval::cases::{Score, case};
+use umbra::eval::measure::{Measurer, TruthSettings};
+use umbra::settings::{Settings, SunMaps};
+use umbra::shadow::FitMode;
+
+const SIZE: (u32, u32) = (192, 192);
+
+/// The default settings with virtual sun maps and `change` made.
+fn paged(change: impl FnOnce(&mut Settings)) -> Settings {
+    Settings::default().with(|s| {
+        s.maps.sun_maps = SunMaps::Virtual;
+        change(s);
+    })
+}
+
+/// Runs case `name` with virtual sun maps and with `broken` made to them too; the first must stay
+/// under the case's threshold, the second go over it. None (SKIPPED said) where pages cannot be
+/// marked.
+fn holds_and_breaks(name: &str, broken: impl FnOnce(&mut Settings)) -> Option<(Score, Score)> {
+    let gpu = common::gpu();
+    if !gpu.computes() {
+        eprintln!("SKIPPED: {name}: this device runs no compute shaders, so no page is marked");
+        return None;
+    }
+    let case = case(name).unwrap();
+    let measurer = || Measurer::new(&gpu, SIZE, TruthSettings { soft_rays: 0, ..TruthSettings::default() });
+    let good = (case.run)(&mut measurer(), &paged(|_| ())).unwrap();
+    let bad = (case.run)(&mut measurer(), &paged(broken)).unwrap();
+    eprintln!("{name}: {:.5} with virtual maps ({good:?}), {:.5} broken ({bad:?})", good.value(), bad.value());
+    assert!(good.of > 100, "{name}: too few samples to judge ({good:?})");
+    assert!(good.value() <= case.threshold, "{name}: {:.5} > {}", good.value(), case.threshold);
+    assert!(bad.value() > case.threshold, "{name} broken: {:.5} <= {}", bad.value(), case.threshold);
+    Some((good, bad))
+}
+
+#[test]
+fn filters_near_a_page_border_read_its_border_but_read_a_stranger_without_one() {
+    holds_and_breaks("page-seams", |s| s.maps.atlas_guard = false);
+}
+
+#[test]
+fn a_camera_cut_reads_coarser_pages_until_its_own_come_but_shows_holes_without_the_fallback() {
+    if let Some((good, _)) = holds_and_breaks("camera-cut", |s| s.maps.page_fallback = false) {
+        assert_eq!(good.garbage, 0, "its pages come within the frames the case allows");
+    }
+}
+
+#[test]
+fn a_moving_box_leaves_no_shadow_behind_unless_the_pages_it_left_are_kept() {
+    holds_and_breaks("moving-caster", |s| s.maps.old_bounds = false);
+}
+
+#[test]
+fn a_pool_too_small_shadows_through_coarser_pages_but_not_without_the_fallback() {
+    holds_and_breaks("pool-too-small", |s| s.maps.page_fallback = false);
+}
+
+#[test]
+fn a_camera_creeping_across_a_level_boundary_flips_few_shadows_unless_the_grid_follows_it() {
+    holds_and_breaks("level-creep", |s| s.cascade.fit_mode = FitMode::Unsnapped);
+}
