@@ -224,7 +224,7 @@ pub fn pool_too_small(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score
 
 /// Frames the level-creep camera creeps, and how far it swings either way (octaves round the
 /// boundary between two levels).
-const CREEP_FRAMES: u32 = 16;
+const CREEP_FRAMES: u32 = 12;
 const CREEP_SWING: f32 = 0.2;
 /// The direction the level-creep camera looks at its target from.
 const CREEP_FROM: Vec3 = Vec3::new(0.0, 0.6, 0.8);
@@ -237,15 +237,15 @@ fn creep_scene(settings: &Settings) -> Result<App, crate::AppError> {
     Ok(app)
 }
 
-/// Share of fixed ground points round the posts (every 2 cm) that flip lit/shadowed per frame
+/// Share of fixed ground points round the posts (every 3 cm) that flip lit/shadowed per frame
 /// as the camera creeps to and fro along its view, so that the ground it looks at wants a
 /// level's boundary ± [`CREEP_SWING`] octaves.
 pub fn level_creep(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let app = &mut m.subject(LEVEL_CREEP, settings, creep_scene)?.app;
     let from = CREEP_FROM.normalize();
     let boundary = wanted_octaves(app, from * 6.0, Vec3::ZERO).floor() + 0.5;
-    let points: Vec<Vertex> = (-75..=75)
-        .flat_map(|i| (-75..=75).map(move |j| Vec3::new(i as f32 * 0.02, 0.0, j as f32 * 0.02)))
+    let points: Vec<Vertex> = (-50..=50)
+        .flat_map(|i| (-50..=50).map(move |j| Vec3::new(i as f32 * 0.03, 0.0, j as f32 * 0.03)))
         .map(|p| Vertex::new(p.to_array(), [0.0, 1.0, 0.0]))
         .collect();
     let gpu = m.gpu();
