@@ -8,6 +8,7 @@ mod bounds;
 mod cascade;
 mod cull;
 mod fit;
+mod frustum_pages;
 mod page_pool;
 mod pages;
 mod planar;
@@ -29,6 +30,7 @@ pub use fit::{
     CUBE_FACES, LightProjection, MAX_MAP_HALF_ANGLE, MAX_SPOT_HALF_ANGLE, MIN_SPOT_HALF_ANGLE, cube_face,
     cube_projections, depth_terms, light_range, light_view, near_plane, spot_cone, spot_projection, view_distance,
 };
+pub use frustum_pages::{FrustumPages, MAX_FRUSTUM_PAGES, pages_for};
 pub use page_pool::{MAX_FINER, MAX_PRESSURE, PagePool, Pressure, Residency, Resident};
 pub use pages::{
     Clipmap, FINEST_TEXEL_LOG2, MARK_WORDS, MAX_PAGE_LEVELS, MIN_GRAZE, PAGE_BORDER, PAGE_GRID, PAGE_TEXELS, PAGE_TILE,

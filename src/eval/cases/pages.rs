@@ -239,7 +239,7 @@ fn creep_scene(settings: &Settings) -> Result<App, crate::AppError> {
 
 /// Share of fixed ground points round the posts (every 3 cm) that flip lit/shadowed per frame
 /// as the camera creeps to and fro along its view, so that the ground it looks at wants a
-/// level's boundary ± [`CREEP_SWING`] octaves.
+/// level's boundary ± 0.2 octaves.
 pub fn level_creep(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     let app = &mut m.subject(LEVEL_CREEP, settings, creep_scene)?.app;
     let from = CREEP_FROM.normalize();
