@@ -186,8 +186,8 @@ fn a_camera_cut_reads_what_is_resident_until_its_own_pages_come_and_is_never_uns
         app.step_held();
         let frame = render_debug_frame_as_is(&gpu, &mut renderer, &mut app, W, H).expect("no wgpu error");
         frames += 1;
-        let r = pages(&mut app).update.residency;
-        if r.placed == 0 && r.missing == 0 && r.waiting == 0 && pages(&mut app).update.needed > 0 {
+        let update = pages(&mut app).update;
+        if update.settled() && update.needed > 0 {
             let (settled, _) = sun_tally(&mut app, &frame);
             eprintln!(
                 "camera cut: {:.4} % of the sun's pixels wrong on its frame, {:.4} % once its pages came, \

@@ -175,6 +175,16 @@ pub struct PageUpdate {
     pub dropped: u32,
 }
 
+impl PageUpdate {
+    /// True when the update took no page in and none waits or is missing: every page the last
+    /// marking asked for was already resident.
+    #[must_use]
+    pub fn settled(&self) -> bool {
+        let r = self.residency;
+        r.placed == 0 && r.waiting == 0 && r.missing == 0
+    }
+}
+
 /// A light's shadow maps, written by the light-matrix system and read by the renderer: one per
 /// sun cascade, one for a spot light, six (cube faces +X, -X, +Y, -Y, +Z, -Z) for a point light
 /// or a spot too wide for one map. A light without this component casts no shadow.

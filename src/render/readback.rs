@@ -144,7 +144,7 @@ fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, 
         app.hear(renderer.news());
         app.step_held();
         let updates = paged(app);
-        if updates.iter().all(|u| u.residency.placed == 0 && u.residency.waiting == 0 && u.residency.missing == 0) {
+        if updates.iter().all(crate::components::PageUpdate::settled) {
             break;
         }
     }

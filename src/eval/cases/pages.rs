@@ -71,8 +71,9 @@ pub fn page_seams(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, Me
     let app = &mut m.subject(PAGE_SEAMS, settings, seams_scene)?.app;
     let level = wanted_octaves(app, Vec3::Y * 8.0, Vec3::ZERO).round().max(0.0);
     let eye = Vec3::Y * distance_wanting(app, Vec3::ZERO, Vec3::Y, level) + Vec3::Z * 0.01;
-    let (c, levels) = (clipmap(app), clipmap(app).levels as f32);
-    let level_at = |app: &App, p: Vec3| wanted_octaves(app, eye, p).round().clamp(0.0, levels - 1.0) as u32;
+    let c = clipmap(app);
+    let last = (c.levels - 1) as f32;
+    let level_at = |app: &App, p: Vec3| wanted_octaves(app, eye, p).round().clamp(0.0, last) as u32;
     let measured = measure_at(m, PAGE_SEAMS, "over", |app| place_camera(&mut app.world, eye, Vec3::ZERO))?;
     let (app, _) = m.parts(PAGE_SEAMS)?;
     let mut score = Score::default();
@@ -106,7 +107,7 @@ fn pillars(app: &mut App, at: Vec3) {
     }
 }
 
-/// A view of the pillars round `at`, from 8 m to the south and 5 m up.
+/// A view of the pillars round `at`, from 8 m along +Z and 5 m up.
 fn view_of(at: Vec3) -> (Vec3, Vec3) {
     (at + Vec3::new(1.0, 5.0, 8.0), at)
 }
@@ -121,16 +122,11 @@ fn cut_scene(settings: &Settings) -> Result<App, crate::AppError> {
 /// True when no paged light in `app` waits for a page (one without pages never does).
 fn pages_settled(app: &mut App) -> bool {
     let mut maps = app.world.query::<&ShadowMap>();
-    maps.iter(&app.world).filter_map(|m| m.pages.as_ref()).all(|p| {
-        let r = p.update.residency;
-        r.placed == 0 && r.missing == 0 && r.waiting == 0
-    })
+    maps.iter(&app.world).filter_map(|m| m.pages.as_ref()).all(|p| p.update.settled())
 }
 
-/// The misclassified share of the sun's pixels over the frames from a cut to the other group of
-/// pillars until every page the new view needs is resident (its pages come a frame after they
-/// are marked), frames drawn as a window draws them; not settled within [`PRIME_ROUNDS`] frames
-/// more: garbage.
+/// The misclassified share of the sun's pixels from a camera cut to the other group of pillars
+/// until every page the new view needs is resident (not within [`PRIME_ROUNDS`] frames: garbage).
 pub fn camera_cut(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     m.subject(CAMERA_CUT, settings, cut_scene)?;
     after_cut(m, CAMERA_CUT, view_of(CUT_FROM), view_of(CUT_TO))
