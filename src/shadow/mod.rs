@@ -31,7 +31,7 @@ pub use fit::{
     cube_projections, depth_terms, light_range, light_view, near_plane, spot_cone, spot_projection, view_distance,
 };
 pub use frustum_pages::{FrustumPages, MAX_FRUSTUM_PAGES, pages_for};
-pub use page_pool::{MAX_FINER, MAX_PRESSURE, PagePool, Pressure, Residency, Resident};
+pub use page_pool::{LightPage, MAX_FINER, MAX_PRESSURE, PagePool, PoolKey, Pressure, Residency, Resident};
 pub use pages::{
     Clipmap, FINEST_TEXEL_LOG2, MARK_WORDS, MAX_PAGE_LEVELS, MIN_GRAZE, PAGE_BORDER, PAGE_GRID, PAGE_TEXELS, PAGE_TILE,
     PageId, PageMarks, PageRange, Window, depth_range, levels_for, wanted_texel,

@@ -8,18 +8,60 @@
 //! everywhere, as a renderer lowers its resolution when memory runs short; while it has room to
 //! spare it asks for finer ones ([`Pressure`]), so the view gets the sharpest shadow its memory
 //! holds.
+//!
+//! A pool names its pages by a [`PoolKey`]: a [`PageId`] where one light has a pool of its own
+//! (the sun's, today), a [`LightPage`] where lights share one.
 
 use super::pages::PageId;
 use std::collections::HashMap;
+use std::hash::Hash;
+
+/// What names a page in a pool.
+pub trait PoolKey: Copy + Eq + Hash + std::fmt::Debug {
+    /// Its level: the coarser come into the pool first (a coarse page serves every pixel under
+    /// it).
+    fn level(&self) -> u32;
+    /// The order the pages of one level come in.
+    fn order(&self) -> (u32, i32, i32);
+}
+
+impl PoolKey for PageId {
+    fn level(&self) -> u32 {
+        self.level
+    }
+
+    fn order(&self) -> (u32, i32, i32) {
+        (0, self.y, self.x)
+    }
+}
+
+/// A page of light `light`'s virtual map, as a pool that every light shares names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct LightPage {
+    /// The light, by a number its owner gives it.
+    pub light: u32,
+    /// The page of its map.
+    pub page: PageId,
+}
+
+impl PoolKey for LightPage {
+    fn level(&self) -> u32 {
+        self.page.level
+    }
+
+    fn order(&self) -> (u32, i32, i32) {
+        (self.light, self.page.y, self.page.x)
+    }
+}
 
 /// Most octaves the pool's pressure makes every level coarser by.
 pub const MAX_PRESSURE: u32 = 4;
 
 /// One page holding a slot.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Resident {
+pub struct Resident<K = PageId> {
     /// The page.
-    pub page: PageId,
+    pub page: K,
     /// Its contents: a new number whenever it must be drawn again.
     pub version: u64,
     /// What its casters at rest draw: a new number when one of them changed.
@@ -46,17 +88,23 @@ pub struct Residency {
 }
 
 /// Slots and the pages in them.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct PagePool {
-    slots: Vec<Option<Resident>>,
-    by_page: HashMap<PageId, u32>,
+#[derive(Clone, Debug, PartialEq)]
+pub struct PagePool<K: PoolKey = PageId> {
+    slots: Vec<Option<Resident<K>>>,
+    by_page: HashMap<K, u32>,
     frame: u64,
 }
 
-impl PagePool {
+impl<K: PoolKey> Default for PagePool<K> {
+    fn default() -> Self {
+        PagePool::new(0)
+    }
+}
+
+impl<K: PoolKey> PagePool<K> {
     /// A pool of `capacity` empty slots.
     #[must_use]
-    pub fn new(capacity: u32) -> PagePool {
+    pub fn new(capacity: u32) -> PagePool<K> {
         PagePool { slots: vec![None; capacity as usize], by_page: HashMap::new(), frame: 0 }
     }
 
@@ -85,13 +133,13 @@ impl PagePool {
     }
 
     /// The pages holding slots, with their slots, in slot order.
-    pub fn resident(&self) -> impl Iterator<Item = (u32, &Resident)> {
+    pub fn resident(&self) -> impl Iterator<Item = (u32, &Resident<K>)> {
         self.slots.iter().enumerate().filter_map(|(i, s)| s.as_ref().map(|r| (i as u32, r)))
     }
 
     /// The slot `page` holds, if any.
     #[must_use]
-    pub fn slot_of(&self, page: PageId) -> Option<u32> {
+    pub fn slot_of(&self, page: K) -> Option<u32> {
         self.by_page.get(&page).copied()
     }
 
@@ -105,10 +153,10 @@ impl PagePool {
     /// it); a new page takes a free slot, else that of the page needed least recently of those
     /// not needed now. Pages not needed keep their slots until one is wanted. `next_version`
     /// numbers new contents.
-    pub fn update(&mut self, needed: &[PageId], admit: usize, mut next_version: impl FnMut() -> u64) -> Residency {
+    pub fn update(&mut self, needed: &[K], admit: usize, mut next_version: impl FnMut() -> u64) -> Residency {
         self.frame += 1;
         let frame = self.frame;
-        let mut wanted: Vec<PageId> = Vec::new();
+        let mut wanted: Vec<K> = Vec::new();
         for page in needed {
             match self.by_page.get(page) {
                 Some(&slot) => {
@@ -119,7 +167,7 @@ impl PagePool {
                 None => wanted.push(*page),
             }
         }
-        wanted.sort_unstable_by(|a, b| b.level.cmp(&a.level).then(a.y.cmp(&b.y)).then(a.x.cmp(&b.x)));
+        wanted.sort_unstable_by(|a, b| b.level().cmp(&a.level()).then(a.order().cmp(&b.order())));
         wanted.dedup();
         let mut out = Residency::default();
         // Free slots first, then the least recently needed of those not needed now, oldest first.
@@ -163,7 +211,7 @@ impl PagePool {
     /// moved), if the last marking needed it; one it did not need gives up its slot instead, so
     /// that no page out of view is drawn again (it is drawn anew if it is needed again). Returns
     /// how many were given new contents, and how many gave up their slots.
-    pub fn invalidate(&mut self, hit: impl Fn(PageId) -> bool, mut next_version: impl FnMut() -> u64) -> (u32, u32) {
+    pub fn invalidate(&mut self, hit: impl Fn(K) -> bool, mut next_version: impl FnMut() -> u64) -> (u32, u32) {
         let (mut redrawn, mut dropped) = (0, 0);
         for slot in &mut self.slots {
             let Some(r) = slot.as_mut().filter(|r| hit(r.page)) else { continue };
@@ -181,7 +229,7 @@ impl PagePool {
 
     /// Gives every resident page for which `hit` is true a new static version (a caster at rest
     /// in it changed).
-    pub fn resettle(&mut self, hit: impl Fn(PageId) -> bool, mut next_version: impl FnMut() -> u64) {
+    pub fn resettle(&mut self, hit: impl Fn(K) -> bool, mut next_version: impl FnMut() -> u64) {
         for r in self.slots.iter_mut().flatten().filter(|r| hit(r.page)) {
             r.static_version = next_version();
         }
@@ -325,6 +373,23 @@ mod tests {
         assert_eq!((pool.len(), pool.slot_of(page(0, 2))), (1, None));
         pool.clear();
         assert!(pool.is_empty() && pool.resident().next().is_none());
+    }
+
+    #[test]
+    fn lights_sharing_a_pool_keep_the_same_page_of_each_apart() {
+        let mut pool: PagePool<LightPage> = PagePool::new(3);
+        let mut v = counter();
+        let (sun, spot) = (LightPage { light: 0, page: page(0, 1) }, LightPage { light: 7, page: page(0, 1) });
+        let lantern = LightPage { light: 3, page: page(2, 0) };
+        let r = pool.update(&[spot, sun, lantern], 2, &mut v);
+        assert_eq!((r.placed, r.waiting), (2, 1));
+        assert!(pool.slot_of(lantern).is_some(), "the coarsest first, whichever light it is");
+        assert!(pool.slot_of(sun).is_some() && pool.slot_of(spot).is_none(), "then by light");
+        pool.update(&[spot, sun, lantern], usize::MAX, &mut v);
+        pool.clean();
+        assert_eq!(pool.invalidate(|k| k.light == 7, &mut v), (1, 0), "the spot's page, not the sun's");
+        let dirty: Vec<u32> = pool.resident().filter(|(_, r)| r.dirty).map(|(_, r)| r.page.light).collect();
+        assert_eq!(dirty, [7]);
     }
 
     #[test]
