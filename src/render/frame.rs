@@ -148,8 +148,7 @@ impl FrameLight {
         g.cookie_from_world = kind.cookie_from_world.unwrap_or(Mat4::ZERO);
         if let Some(pages) = &light.pages {
             let clipmap = &pages.clipmap;
-            let units = Mat4::from_scale(glam::Vec3::splat(1.0 / clipmap.page_size(0)));
-            g.page_from_world = units * clipmap.light_from_world;
+            g.page_from_world = clipmap.page_from_world();
             (g.page_levels, g.page_word) = (clipmap.levels, self.page_word);
             (g.page_finest_log2, g.page_bias) = (clipmap.finest_log2 as f32, pages.bias);
         }

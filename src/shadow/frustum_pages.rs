@@ -53,6 +53,28 @@ impl FrustumPages {
         2.0 * distance / (self.focal() * (self.pages_across(level) * PAGE_TEXELS) as f32)
     }
 
+    /// World to level-0 page units, to be divided by w: a point's page on level `l` is the floor
+    /// of its units over `2^l`, and w is its distance along the light's axis, so its level-0
+    /// texel is `2^finest_log2 · w` (the sun's clipmap reads the same way, with w 1).
+    #[must_use]
+    pub fn page_from_world(&self) -> Mat4 {
+        let half = self.pages as f32 * 0.5;
+        // Device x and y from -1..1 to 0..pages, in step with w.
+        let units = Mat4::from_cols(
+            Vec4::new(half, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, half, 0.0, 0.0),
+            Vec4::Z,
+            Vec4::new(half, half, 0.0, 1.0),
+        );
+        units * self.map.view_proj
+    }
+
+    /// log2 of level 0's texel in metres one metre from the light along its axis.
+    #[must_use]
+    pub fn finest_log2(&self) -> f32 {
+        self.texel(0, 1.0).log2()
+    }
+
     /// Where world point `p` falls on the map: its x and y in normalised device coordinates
     /// (-1..1 across the map); none behind the light.
     #[must_use]
@@ -200,6 +222,24 @@ mod tests {
         }
         // A tile texel is a texel of the page's level.
         assert!((projection.texel.y * 6.0 - p.texel(1, 6.0)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn page_units_over_w_name_the_page_and_w_scales_the_finest_texel() {
+        let p = spot();
+        let to_units = p.page_from_world();
+        for (ndc, distance) in [(Vec2::ZERO, 1.0), (Vec2::new(0.9, -0.3), 4.0), (Vec2::new(-0.99, 0.99), 15.0)] {
+            let world = at(&p, ndc, distance);
+            let u = to_units * world.extend(1.0);
+            assert!((u.w - distance).abs() < 1e-3, "w is the distance along the axis: {}", u.w);
+            for level in 0..p.levels {
+                let cell = (u.truncate().truncate() / u.w / 2f32.powi(level as i32)).floor();
+                let page = p.page_at(level, ndc).unwrap();
+                assert_eq!((cell.x as i32, cell.y as i32), (page.x, page.y), "{ndc} on level {level}");
+            }
+            let texel = 2f32.powf(p.finest_log2()) * u.w;
+            assert!((texel - p.texel(0, distance)).abs() < 1e-6 * distance);
+        }
     }
 
     #[test]

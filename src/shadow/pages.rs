@@ -104,6 +104,16 @@ impl Clipmap {
         self.texel(level) * self.border as f32
     }
 
+    /// World to level-0 page units across the light: a point's page on level `l` is the floor of
+    /// its units over `2^l` (as [`FrustumPages::page_from_world`], whose units are divided by w;
+    /// here w is 1).
+    ///
+    /// [`FrustumPages::page_from_world`]: super::FrustumPages::page_from_world
+    #[must_use]
+    pub fn page_from_world(&self) -> Mat4 {
+        Mat4::from_scale(Vec3::splat(1.0 / self.page_size(0))) * self.light_from_world
+    }
+
     /// Where world point `p` is across the light (light-space x and y).
     #[must_use]
     pub fn across(&self, p: Vec3) -> Vec2 {
@@ -373,6 +383,20 @@ mod tests {
         let corner = c.light_from_world.inverse().transform_point3(min.extend(0.0));
         let clip = without.view_proj.project_point3(corner);
         assert!((clip.truncate() - Vec2::new(-1.0, -1.0)).length() < 1e-4, "its square fills the tile: {clip}");
+    }
+
+    #[test]
+    fn page_units_name_the_page_a_point_lies_in_on_every_level() {
+        let c = clipmap();
+        for p in [Vec3::ZERO, Vec3::new(3.3, 0.2, -7.9), Vec3::new(-250.0, 4.0, 90.0)] {
+            let u = c.page_from_world() * p.extend(1.0);
+            assert!((u.w - 1.0).abs() < 1e-6);
+            for level in [0, 4, 9] {
+                let cell = (u.truncate().truncate() / 2f32.powi(level as i32)).floor();
+                let page = c.page_at(level, c.across(p));
+                assert_eq!((cell.x as i32, cell.y as i32), (page.x, page.y), "{p} on level {level}");
+            }
+        }
     }
 
     #[test]
