@@ -4,13 +4,12 @@
 //! spots that wait their turn under a starved update budget.
 
 use super::scenes::{add_box, unlit_ground};
-use super::{Score, count_flips, measure_at, misclassified, on_ground};
+use super::{Score, flips, ground_probes, measure_at, misclassified, on_ground};
 use crate::App;
-use crate::assets::Vertex;
 use crate::components::{Camera, ShadowCaster, ShadowMap, SpotLight, Transform};
 use crate::eval::measure::{CaseScene, MeasureError, Measured, Measurer, SubjectId, place_camera};
 use crate::light::{Kind, light_list};
-use crate::render::{ShadowStats, probe_visibility};
+use crate::render::ShadowStats;
 use crate::settings::{Settings, TileSizes};
 use crate::shadow::MAX_STALE;
 use glam::Vec3;
@@ -165,28 +164,21 @@ fn height_wanting(app: &mut App, side: f32, largest: u32) -> f32 {
 /// the camera creeps up and down across the height where the spot's tile would change class.
 pub fn tile_resize(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     m.subject(TILE_RESIZE, settings, tile_spot_scene)?;
-    let points: Vec<Vertex> = (-95..=95)
-        .flat_map(|i| (-95..=95).map(move |j| Vec3::new(i as f32 * 0.03, 0.0, j as f32 * 0.03)))
-        .filter(|p| (0.6..2.8).contains(&p.length()))
-        .map(|p| Vertex::new((p + TILE_SPOT.0.with_y(0.0)).to_array(), [0.0, 1.0, 0.0]))
-        .collect();
-    let gpu = m.gpu();
-    let (app, renderer) = m.parts(TILE_RESIZE)?;
+    let points = ground_probes(
+        (-95..=95)
+            .flat_map(|i| (-95..=95).map(move |j| Vec3::new(i as f32 * 0.03, 0.0, j as f32 * 0.03)))
+            .filter(|p| (0.6..2.8).contains(&p.length()))
+            .map(|p| p + TILE_SPOT.0.with_y(0.0)),
+    );
     let largest = settings.maps.shadow_map_size.max(1);
     // The edge between two classes, half an octave under the largest side.
     let edge = largest as f32 / 2f32.powf(1.5);
-    let mut last: Option<Vec<bool>> = None;
-    let mut score = Score::default();
-    for frame in 0..RESIZE_FRAMES {
+    flips(m, TILE_RESIZE, &points, RESIZE_FRAMES, |app, frame| {
         let swing = RESIZE_SWING * (frame as f32 * std::f32::consts::TAU / 6.0).sin();
         let height = height_wanting(app, edge * 2f32.powf(swing), largest);
         let (eye, target) = over(TILE_SPOT.0, height);
         place_camera(&mut app.world, eye, target);
-        app.set_time(0.0);
-        let seen = probe_visibility(gpu, renderer, app, &points)?.swap_remove(0);
-        count_flips(&seen, &mut last, &mut score);
-    }
-    Ok(score)
+    })
 }
 
 /// Spots (each over its own posts) sharing the starved budget, and the frames they are watched.

@@ -330,22 +330,41 @@ fn shimmer_scene(s: &Settings) -> Result<App, crate::AppError> {
 fn shimmer(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
     m.subject(SHIMMER, settings, shimmer_scene)?;
     // Fixed points on the ground every 10 cm (those under a box stay dark and never flip).
-    let points: Vec<Vertex> = (0..=120)
-        .flat_map(|i| (0..=100).map(move |j| Vec3::new(-6.0 + i as f32 * 0.1, 0.0, -6.0 + j as f32 * 0.1)))
-        .map(|p| Vertex::new(p.to_array(), [0.0, 1.0, 0.0]))
-        .collect();
-    let gpu = m.gpu();
-    let (app, renderer) = m.parts(SHIMMER)?;
-    let mut last: Option<Vec<bool>> = None;
-    let mut score = Score::default();
+    let points = ground_probes(
+        (0..=120).flat_map(|i| (0..=100).map(move |j| Vec3::new(-6.0 + i as f32 * 0.1, 0.0, -6.0 + j as f32 * 0.1))),
+    );
     // 120 frames: the camera creeps 1 mm and turns 0.03° a frame, far less than a texel.
-    for frame in 0..120 {
+    flips(m, SHIMMER, &points, 120, |app, frame| {
         let f = frame as f32;
         let eye = Vec3::new(f * 0.001, 4.0, 8.0);
         let turn = glam::Quat::from_rotation_y((f * 0.03).to_radians());
         place_camera(&mut app.world, eye, eye + turn * (Vec3::ZERO - Vec3::new(0.0, 4.0, 8.0)));
+    })
+}
+
+/// Probes at `points` on the ground, facing up.
+fn ground_probes(points: impl Iterator<Item = Vec3>) -> Vec<Vertex> {
+    points.map(|p| Vertex::new(p.to_array(), [0.0, 1.0, 0.0])).collect()
+}
+
+/// The share of the probes at `points` that flip lit/shadowed from one frame to the next over
+/// `frames` frames of scene `id`, its camera placed by `place` before each frame (given the
+/// frame's number); any probe that is not a number counts as garbage.
+fn flips(
+    m: &mut Measurer<'_>,
+    id: SubjectId,
+    points: &[Vertex],
+    frames: u32,
+    mut place: impl FnMut(&mut App, u32),
+) -> Result<Score, MeasureError> {
+    let gpu = m.gpu();
+    let (app, renderer) = m.parts(id)?;
+    let mut last: Option<Vec<bool>> = None;
+    let mut score = Score::default();
+    for frame in 0..frames {
+        place(app, frame);
         app.set_time(0.0);
-        let seen = probe_visibility(gpu, renderer, app, &points)?.swap_remove(0);
+        let seen = probe_visibility(gpu, renderer, app, points)?.swap_remove(0);
         count_flips(&seen, &mut last, &mut score);
     }
     Ok(score)

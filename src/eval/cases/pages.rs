@@ -5,15 +5,14 @@
 //! cascades do there.
 
 use super::scenes::{add_box, ground, sun_direction};
-use super::{Score, count_flips, measure_at, misclassified, on_ground};
+use super::{Score, flips, ground_probes, measure_at, misclassified, on_ground};
 use crate::App;
-use crate::assets::Vertex;
 use crate::components::{Camera, DirectionalLight, ShadowMap, ShadowMethod, Transform, Viewport};
 use crate::eval::measure::{CaseScene, MeasureError, Measurer, SubjectId, place_camera};
 use crate::eval::metrics::{out_of_range, rendered};
-use crate::render::{PRIME_ROUNDS, probe_visibility};
+use crate::render::PRIME_ROUNDS;
 use crate::settings::Settings;
-use crate::shadow::{Clipmap, wanted_texel};
+use crate::shadow::{Clipmap, FINEST_TEXEL_LOG2, wanted_texel};
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
@@ -41,7 +40,7 @@ fn wanted_octaves(app: &App, eye: Vec3, p: Vec3) -> f32 {
     let angle = Camera::default().pixel_angle(height);
     let to_eye = eye - p;
     let wanted = wanted_texel(to_eye.length(), angle, to_eye.normalize().y, -sun().y);
-    wanted.log2() - clipmap(app).finest_log2 as f32 + app.settings().maps.page_bias
+    wanted.log2() - FINEST_TEXEL_LOG2 as f32 + app.settings().maps.page_bias
 }
 
 /// How far from `target` along `from` (a unit vector) an eye stands for the ground at `target`
@@ -240,21 +239,12 @@ pub fn level_creep(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, M
     let app = &mut m.subject(LEVEL_CREEP, settings, creep_scene)?.app;
     let from = CREEP_FROM.normalize();
     let boundary = wanted_octaves(app, from * 6.0, Vec3::ZERO).floor() + 0.5;
-    let points: Vec<Vertex> = (-50..=50)
-        .flat_map(|i| (-50..=50).map(move |j| Vec3::new(i as f32 * 0.03, 0.0, j as f32 * 0.03)))
-        .map(|p| Vertex::new(p.to_array(), [0.0, 1.0, 0.0]))
-        .collect();
-    let gpu = m.gpu();
-    let (app, renderer) = m.parts(LEVEL_CREEP)?;
-    let mut last: Option<Vec<bool>> = None;
-    let mut score = Score::default();
-    for frame in 0..CREEP_FRAMES {
+    let points = ground_probes(
+        (-50..=50).flat_map(|i| (-50..=50).map(move |j| Vec3::new(i as f32 * 0.03, 0.0, j as f32 * 0.03))),
+    );
+    flips(m, LEVEL_CREEP, &points, CREEP_FRAMES, |app, frame| {
         let swing = CREEP_SWING * (frame as f32 * std::f32::consts::TAU / 6.0).sin();
         let distance = distance_wanting(app, Vec3::ZERO, from, boundary + swing);
         place_camera(&mut app.world, from * distance, Vec3::ZERO);
-        app.set_time(0.0);
-        let seen = probe_visibility(gpu, renderer, app, &points)?.swap_remove(0);
-        count_flips(&seen, &mut last, &mut score);
-    }
-    Ok(score)
+    })
 }
