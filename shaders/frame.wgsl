@@ -89,13 +89,14 @@ struct GpuLight {
     receiver_plane: u32,
     // 1 when its shadow test adds a contact-shadow march (see contact.wgsl).
     contact: u32,
-    _pad1: u32,
+    // 1 when a paged light's shadow ends at the shadow distance (a sun's clipmap).
+    page_fades: u32,
     _pad2: u32,
     // The cookie's projection (spots with a cookie only).
     cookie_from_world: mat4x4<f32>,
-    // A paged light's virtual map (see pages.wgsl): world to level-0 page units across the
-    // light, its levels (0: not paged), its page table's first word, log2 of its finest texel
-    // in metres and the octaves coarser a pixel's page is chosen.
+    // A paged light's virtual map (see pages.wgsl): world to level-0 page units (over w), its
+    // levels (0: not paged), its page table's first word, log2 of its finest texel in metres
+    // where w is 1 and the octaves coarser a pixel's page is chosen.
     page_from_world: mat4x4<f32>,
     page_levels: u32,
     page_word: u32,

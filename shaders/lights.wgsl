@@ -107,15 +107,16 @@ fn texel_at(light: GpuLight, p: vec3<f32>, n: vec3<f32>, f: Footprint, depth: f3
         return 0.0;
     }
     if (light.shape == SHAPE_PAGES) {
-        if (depth >= frame.shadow_distance) {
+        if (light.page_fades == 1u && depth >= frame.shadow_distance) {
             return 0.0;
         }
-        let l = -light.direction;
+        let to_light = light.position - p;
+        let l = select(normalize(to_light), -light.direction, light.kind == LIGHT_SUN);
         let index = page_layer(light, p, page_level(light, p, n, l, f));
         if (index == NO_PAGE) {
             return 0.0;
         }
-        return texel_size(index, 0.0);
+        return texel_size(index, length(to_light));
     }
     if (light.shape == SHAPE_CASCADES) {
         let pick = pick_cascade(light, depth);
@@ -142,19 +143,21 @@ fn sun_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: 
     return mix(vis, 1.0, fade);
 }
 
-// Visibility of a paged light at `p`: through the page its footprint wants (or a coarser one,
-// or the coarse map while none is there); past the shadow distance everything is lit, and the
-// shadow fades out before it as a sun's cascades do.
-fn paged_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint, depth: f32) -> f32 {
-    if (depth >= frame.shadow_distance) {
+// Visibility of a paged light at `p`, `distance` metres from it: through the page its footprint
+// wants (or a coarser one, or the coarse map while none is there). A sun's clipmap ends at the
+// shadow distance: past it everything is lit, and the shadow fades out before it as the
+// cascades' does.
+fn paged_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint, depth: f32, distance: f32) -> f32 {
+    let fades = light.page_fades == 1u;
+    if (fades && depth >= frame.shadow_distance) {
         return 1.0;
     }
     let index = page_layer(light, p, page_level(light, p, n, l, f));
     if (index == NO_PAGE) {
         return 1.0;
     }
-    let vis = layer_test(light, index, 0.0, p, n, l, f);
-    return mix(vis, 1.0, smoothstep(frame.fade_start, frame.shadow_distance, depth));
+    let vis = layer_test(light, index, distance, p, n, l, f);
+    return select(vis, mix(vis, 1.0, smoothstep(frame.fade_start, frame.shadow_distance, depth)), fades);
 }
 
 // The cube face (0..6: +X, -X, +Y, -Y, +Z, -Z) that holds direction `d`: its largest axis, as
@@ -183,7 +186,7 @@ fn light_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f
             return layer_test(light, light.first_layer, distance, p, n, l, f);
         }
         case SHAPE_PAGES: {
-            return paged_visibility(light, p, n, l, f, depth);
+            return paged_visibility(light, p, n, l, f, depth, distance);
         }
         default: {
             return cube_test(light, distance, p, n, l, f);

@@ -11,16 +11,24 @@ struct Marking {
     page_from_world: mat4x4<f32>,
     // Each level's window origin, two levels a vector.
     origins: array<vec4<i32>, 8>,
+    // Where the light is: its position (w 1) or the direction towards it (w 0).
+    light: vec4<f32>,
+    // The sphere its light reaches: centre and radius (negative: everywhere).
+    reach: vec4<f32>,
     eye: vec3<f32>,
     shadow_distance: f32,
     forward: vec3<f32>,
+    // log2 of level 0's texel where w is 1.
     finest_log2: f32,
-    towards_light: vec3<f32>,
-    bias: f32,
     size: vec2<u32>,
     levels: u32,
     // Radians a pixel spans.
     pixel_angle: f32,
+    bias: f32,
+    // Level-0 page units a side of a perspective map (0: a clipmap, with no edge).
+    extent: f32,
+    _pad0: u32,
+    _pad1: u32,
 };
 
 @group(0) @binding(0) var<uniform> marking: Marking;
@@ -86,6 +94,16 @@ fn wanted_pages(at: vec2<i32>) -> array<vec2<u32>, 2> {
     if (dot(p - marking.eye, marking.forward) >= marking.shadow_distance) {
         return none;
     }
+    // Only where the light reaches, and on its map (page units over w, as page_layer reads them).
+    if (marking.reach.w >= 0.0 && distance(p, marking.reach.xyz) > marking.reach.w) {
+        return none;
+    }
+    let u = marking.page_from_world * vec4<f32>(p, 1.0);
+    let units = u.xy / u.w;
+    let off_map = marking.extent > 0.0 && (any(units < vec2<f32>(0.0)) || any(units >= vec2<f32>(marking.extent)));
+    if (u.w <= 0.0 || off_map) {
+        return none;
+    }
     let c = cross(step_along(at, p, d, vec2<i32>(1, 0)), step_along(at, p, d, vec2<i32>(0, 1)));
     let area = length(c);
     let to_eye = marking.eye - p;
@@ -95,17 +113,17 @@ fn wanted_pages(at: vec2<i32>) -> array<vec2<u32>, 2> {
     if (dot(n, v) < 0.0) {
         n = -n;
     }
-    let n_dot_l = dot(n, marking.towards_light);
+    let n_dot_l = dot(n, normalize(marking.light.xyz - p * marking.light.w));
     // A surface turned away from the light makes no lookup (a little slack for shading normals).
     if (n_dot_l < -0.1) {
         return none;
     }
     let size = max(distance * marking.pixel_angle, 0.0);
     let wanted = size * sqrt(clamp(abs(n_dot_l), MIN_GRAZE, 1.0) / clamp(abs(dot(n, v)), MIN_GRAZE, 1.0));
-    let octaves = log2(wanted) - marking.finest_log2 + marking.bias;
+    // A texel of level 0 here is 2^finest_log2 · w (w is 1 for a sun).
+    let octaves = log2(wanted) - marking.finest_log2 - log2(u.w) + marking.bias;
     let top = f32(marking.levels - 1u);
     let level = clamp(round(octaves), 0.0, top);
-    let units = (marking.page_from_world * vec4<f32>(p, 1.0)).xy;
     var bits = array<vec2<u32>, 2>(page_bit(units, u32(level)), vec2<u32>(0u));
     let other = clamp(select(level - 1.0, level + 1.0, octaves > level), 0.0, top);
     if (abs(abs(octaves - level) - 0.5) < 0.1 && other != level) {

@@ -1,7 +1,16 @@
-// Virtual (paged) shadow maps: which layer a lookup of a paged light reads. The light's clipmap
-// is a stack of levels round the camera, each a window of PAGE_GRID² pages; its page table
-// (src/render/page_table.rs) gives each level's window origin and, for each page of the window,
-// the layer its resident page is in. The math mirrors src/shadow/pages.rs.
+// Virtual (paged) shadow maps: which layer a lookup of a paged light reads. A sun's clipmap is a
+// stack of levels round the camera, each a window of PAGE_GRID² pages; a spot's levels each cover
+// its whole map, from one window at the origin. A point's level-0 page units are its
+// page_from_world over w, and a texel of level 0 there is 2^page_finest_log2 · w (w is 1 for a
+// sun, the distance along a spot's axis). Its page table (src/render/page_table.rs) gives each
+// level's window origin and, for each page of the window, the layer its resident page is in. The
+// math mirrors src/shadow/pages.rs and src/shadow/page_space.rs.
+
+// `p`'s level-0 page units of `light` (xy) and its w (z); w <= 0 behind the light.
+fn page_units(light: GpuLight, p: vec3<f32>) -> vec3<f32> {
+    let u = light.page_from_world * vec4<f32>(p, 1.0);
+    return vec3<f32>(u.xy / u.w, u.w);
+}
 
 // Word `i` of the page tables.
 fn table_word(i: u32) -> u32 {
@@ -27,7 +36,8 @@ fn page_level(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Foot
     let to_eye = frame.camera_position - p;
     let distance = length(to_eye);
     let wanted = wanted_texel(distance, frame.pixel_angle, dot(facing, to_eye / max(distance, 1e-6)), dot(facing, l));
-    let octaves = log2(wanted) - light.page_finest_log2 + light.page_bias;
+    let w = page_units(light, p).z;
+    let octaves = log2(wanted) - light.page_finest_log2 - log2(max(w, 1e-6)) + light.page_bias;
     // No footprint (log2 of 0 is minus infinity): the finest.
     return i32(clamp(round(octaves), 0.0, f32(light.page_levels - 1u)));
 }
@@ -45,12 +55,15 @@ const NO_PAGE: u32 = 0xffffffffu;
 // from `level` on, or the coarse map, its first layer, where none is. Without the fallback
 // (frame.page_fallback 0) only level `level` is read, and NO_PAGE where its page is missing.
 fn page_layer(light: GpuLight, p: vec3<f32>, level: i32) -> u32 {
-    let units = (light.page_from_world * vec4<f32>(p, 1.0)).xy;
+    let at_p = page_units(light, p);
+    let units = at_p.xy;
+    // Behind the light nothing is paged: the coarse map.
+    let behind = !(at_p.z > 0.0);
     let entries = light.page_word + 2u * light.page_levels;
     let grid = i32(PAGE_GRID);
     let first = u32(max(level, 0));
     let last = select(first + 1u, light.page_levels, frame.page_fallback == 1u);
-    for (var l = first; l < min(last, light.page_levels); l += 1u) {
+    for (var l = first; l < select(min(last, light.page_levels), 0u, behind); l += 1u) {
         let at = vec2<i32>(floor(units / exp2(f32(l)))) - page_origin(light, l);
         if (all(at >= vec2<i32>(0)) && all(at < vec2<i32>(grid))) {
             let entry = table_word(entries + (l * PAGE_GRID + u32(at.y)) * PAGE_GRID + u32(at.x));

@@ -243,6 +243,7 @@ fn settings_options(s: &Settings) -> Vec<String> {
     );
     value(s.cascade.fit_mode != d.cascade.fit_mode, "fit", s.cascade.fit_mode.name().into());
     value(s.maps.sun_maps != d.maps.sun_maps, "sun-maps", s.maps.sun_maps.name().into());
+    value(s.maps.light_maps != d.maps.light_maps, "light-maps", s.maps.light_maps.name().into());
     value(s.maps.page_bias != d.maps.page_bias, "page-bias", s.maps.page_bias.to_string());
     value(s.maps.page_memory != d.maps.page_memory, "page-memory", s.maps.page_memory.to_string());
     value(s.shadow.method != d.shadow.method, "method", s.shadow.method.name().into());

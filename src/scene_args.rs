@@ -9,8 +9,8 @@ use umbra::reproduce::{
     LightSetting, parse_bias, parse_contact, parse_method, parse_size as parse_light_size, parse_texels,
 };
 use umbra::settings::{
-    CascadeSettings, CasterCulling, MapSettings, MomentBits, MomentResolve, MomentSource, SceneSettings, ShadowDepth,
-    ShadowFaces, ShadowSettings, SunMaps, TileSizes, ViewSettings,
+    CascadeSettings, CasterCulling, LightMaps, MapSettings, MomentBits, MomentResolve, MomentSource, SceneSettings,
+    ShadowDepth, ShadowFaces, ShadowSettings, SunMaps, TileSizes, ViewSettings,
 };
 use umbra::shadow::FitMode;
 
@@ -87,11 +87,17 @@ pub struct SceneArgs {
     /// pixels need; depth methods only).
     #[arg(long, value_name = "KIND")]
     pub sun_maps: Option<SunMaps>,
+    /// How spot lights' shadows are laid out: atlas (the default: a tile sized by what the light
+    /// shows), or virtual (its map in 128² pages, every level over the whole map, each drawn once
+    /// and kept, at the resolution the visible pixels need; depth methods, and spots one map
+    /// holds, only).
+    #[arg(long, value_name = "KIND")]
+    pub light_maps: Option<LightMaps>,
     /// Octaves (-4..4) coarser than each pixel's footprint its virtual page is chosen (negative:
     /// finer, more pages; default -1, two texels across a pixel).
     #[arg(long, value_name = "OCTAVES", allow_negative_numbers = true)]
     pub page_bias: Option<f32>,
-    /// MiB of the shadow memory the sun's virtual pages may take (default 32; at most half of
+    /// MiB of the shadow memory each paged light's pages may take (default 32; at most half of
     /// --shadow-memory): when the view needs more, every level is chosen coarser.
     #[arg(long, value_name = "MIB")]
     pub page_memory: Option<u32>,
@@ -343,6 +349,7 @@ impl SceneArgs {
             moment_blur: self.moment_blur.unwrap_or(d.maps.moment_blur),
             moment_samples: self.moment_samples.unwrap_or(d.maps.moment_samples),
             sun_maps: self.sun_maps.unwrap_or(d.maps.sun_maps),
+            light_maps: self.light_maps.unwrap_or(d.maps.light_maps),
             page_bias: self.page_bias.unwrap_or(d.maps.page_bias),
             page_memory: self.page_memory.unwrap_or(d.maps.page_memory),
             page_fallback: !self.no_page_fallback,
@@ -366,8 +373,8 @@ impl SceneArgs {
             ..d.view
         };
         let settings = Settings { scene, shadow, maps, cascade, view };
-        if let Some(why) = settings.sun_maps_refused() {
-            anyhow::bail!("--sun-maps virtual with --method {}: {why}", settings.shadow.method.name());
+        if let Some(why) = settings.pages_refused() {
+            anyhow::bail!("virtual maps with --method {}: {why}", settings.shadow.method.name());
         }
         Ok(settings)
     }

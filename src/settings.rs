@@ -116,16 +116,16 @@ impl Settings {
         self.scene.validate()
     }
 
-    /// Why the sun's maps cannot be what the settings ask for: virtual maps are pages of depth,
-    /// which a method reading a colour map (moments, depth in colour) or planar shadows cannot use
-    /// (such a sun keeps its cascades). None when they can.
+    /// Why the lights' maps cannot be what the settings ask for: virtual maps are pages of
+    /// depth, which a method reading a colour map (moments, depth in colour) or planar shadows
+    /// cannot use (such a light keeps its cascades or its tile). None when they can.
     #[must_use]
-    pub fn sun_maps_refused(&self) -> Option<String> {
-        (self.maps.sun_maps == SunMaps::Virtual && !self.shadow.method.pages()).then(|| {
+    pub fn pages_refused(&self) -> Option<String> {
+        (self.maps.paged() && !self.shadow.method.pages()).then(|| {
             format!(
                 "virtual shadow maps are pages of depth, and {} reads {}: moment maps, depth in colour and \
                  planar shadows stay on the atlas's tiles. Choose a depth method (nearest, bilinear, pcf3, pcf5, \
-                 gauss5, poisson16, poisson32, pcss) or --sun-maps cascades",
+                 gauss5, poisson16, poisson32, pcss), or --sun-maps cascades and --light-maps atlas",
                 self.shadow.method.name(),
                 if self.shadow.method == ShadowMethod::Planar { "no map" } else { "a colour map" }
             )
@@ -170,11 +170,11 @@ mod tests {
     fn virtual_sun_maps_refuse_a_method_without_depth_maps_by_name() {
         let virtual_with =
             |method| Settings::default().with(|s| (s.maps.sun_maps, s.shadow.method) = (SunMaps::Virtual, method));
-        let why = virtual_with(ShadowMethod::Vsm).sun_maps_refused().unwrap();
+        let why = virtual_with(ShadowMethod::Vsm).pages_refused().unwrap();
         assert!(why.contains("vsm reads a colour map") && why.contains("--sun-maps cascades"), "{why}");
-        assert!(virtual_with(ShadowMethod::Planar).sun_maps_refused().unwrap().contains("planar reads no map"));
-        assert_eq!(virtual_with(ShadowMethod::Pcss).sun_maps_refused(), None);
-        assert_eq!(Settings::default().with(|s| s.shadow.method = ShadowMethod::Vsm).sun_maps_refused(), None);
+        assert!(virtual_with(ShadowMethod::Planar).pages_refused().unwrap().contains("planar reads no map"));
+        assert_eq!(virtual_with(ShadowMethod::Pcss).pages_refused(), None);
+        assert_eq!(Settings::default().with(|s| s.shadow.method = ShadowMethod::Vsm).pages_refused(), None);
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! Lights: the three kinds (directional, spot, point), each with its colour, reach and size, and
 //! what a light's shadow is made of (its layers, bias and sampling method).
 
-use crate::shadow::{Clipmap, PageId, PagePool, Pressure, Residency, Window};
+use crate::shadow::{PageId, PagePool, PageSpace, Pressure, Residency, Window};
 use bevy_ecs::prelude::*;
 use glam::{Mat4, Vec2, Vec3};
 
@@ -130,12 +130,12 @@ pub struct PagePlace {
     pub slot: u32,
 }
 
-/// A light's virtual shadow map, kept by the light systems: its clipmap and windows round the
-/// camera, the pages holding slots of its pool, and what its last update did.
+/// A light's virtual shadow map, kept by the light systems: its pages and the windows of them
+/// that may be asked for, the pages holding slots of its pool, and what its last update did.
 #[derive(Clone, Debug, PartialEq)]
 pub struct VirtualPages {
-    /// Its levels, light space and depth range.
-    pub clipmap: Clipmap,
+    /// Its levels, how they are cut into pages and their depth.
+    pub space: PageSpace,
     /// Each level's window round the camera, this update.
     pub windows: Vec<Window>,
     /// The pages holding slots.

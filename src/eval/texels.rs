@@ -119,13 +119,13 @@ fn texel_at(
         ShadowShape::Single | ShadowShape::Cube => Some(first.texel.x + first.texel.y * distance()),
         ShadowShape::Pages => {
             let view = light.pages.as_ref()?;
-            let clipmap = &view.clipmap;
+            let space = &view.space;
             let to_eye = eye.position - p;
             let wanted = wanted_texel(to_eye.length(), eye.pixel_angle, n.dot(to_eye.normalize_or_zero()), n.dot(l));
-            let at = clipmap.across(p);
-            let from = clipmap.level_for(wanted, view.bias);
-            let level = (from..clipmap.levels).find(|&level| resident.contains(&clipmap.page_at(level, at)));
-            Some(level.map_or(first.texel.x, |level| clipmap.texel(level)))
+            let from = space.level_for(wanted, p, view.bias);
+            let held = |level: &u32| space.page_at(*level, p).is_some_and(|page| resident.contains(&page));
+            let level = (from..space.levels()).find(held);
+            Some(level.map_or(first.texel.x + first.texel.y * distance(), |level| space.texel(level, p)))
         }
     }
 }

@@ -16,7 +16,7 @@ mod spot;
 mod sun;
 
 pub use point::Point;
-pub use spot::Spot;
+pub use spot::{SPOT_COARSE, Spot};
 pub use sun::Sun;
 
 use crate::components::{
@@ -24,11 +24,11 @@ use crate::components::{
     SpotLight, Transform, VirtualPages,
 };
 use crate::settings::{CascadeSettings, MapSettings, ShadowSettings};
-use crate::shadow::{Aabb, Clipmap, LightProjection, VisibleSamples, Window, cube_projections};
+use crate::shadow::{Aabb, LightProjection, PageSpace, VisibleSamples, Window, cube_projections};
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
 use clusters::Reach;
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec3, Vec4};
 
 /// Its kind's number on the GPU for a sun (`LIGHT_SUN` in the shaders).
 pub const LIGHT_SUN: u32 = 0;
@@ -74,8 +74,8 @@ pub enum ShadowShape {
     Single,
     /// Six perspective layers, one per cube face.
     Cube,
-    /// A virtual map: a coarse layer over the whole shadow distance, then one layer a resident
-    /// page of a clipmap round the camera.
+    /// A virtual map: a coarse layer over all the shadow reaches, then one layer a resident page
+    /// (of a sun's clipmap round the camera, or of a spot's perspective map).
     Pages,
 }
 
@@ -148,16 +148,18 @@ impl LayerContext<'_> {
     }
 }
 
-/// A light's virtual map as fitted this update: its clipmap, where the camera is across its
-/// light, and its coarse map over the whole shadow distance.
+/// A light's virtual map as fitted this update: its pages, where the camera is (a clipmap's
+/// windows are centred on it), and its coarse map over all its shadow reaches.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PagedFit {
-    /// Its levels, light space and depth range.
-    pub clipmap: Clipmap,
-    /// The camera's place across the light, which the levels' windows are centred on.
-    pub camera: Vec2,
+    /// Its levels, how they are cut into pages and their depth.
+    pub space: PageSpace,
+    /// Where the camera is.
+    pub camera: Vec3,
     /// The map every pixel whose page is not there reads.
     pub coarse: LayerFit,
+    /// Texels a side of the coarse map.
+    pub coarse_side: u32,
 }
 
 /// A light's size as a person sets it: the number, what it is and the largest a slider offers.
@@ -347,12 +349,12 @@ pub struct Light {
     pub pages: Option<PageView>,
 }
 
-/// A virtual map as the lookups (and the marking) read it: its clipmap, the windows its page
+/// A virtual map as the lookups (and the marking) read it: its pages, the windows its page
 /// table covers and the octaves coarser a pixel's page is chosen.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PageView {
-    /// Its levels, light space and depth range.
-    pub clipmap: Clipmap,
+    /// Its levels, how they are cut into pages and their depth.
+    pub space: PageSpace,
     /// Each level's window round the camera.
     pub windows: Vec<Window>,
     /// Octaves coarser than its footprint a pixel's page is chosen.
@@ -363,7 +365,7 @@ impl PageView {
     /// What the lookups read of `pages`.
     #[must_use]
     pub fn of(pages: &VirtualPages) -> PageView {
-        PageView { clipmap: pages.clipmap, windows: pages.windows.clone(), bias: pages.lookup_bias() }
+        PageView { space: pages.space, windows: pages.windows.clone(), bias: pages.lookup_bias() }
     }
 }
 
@@ -445,7 +447,7 @@ pub fn light_list(world: &World) -> Vec<Light> {
             // What the last update laid out, until it lays it out anew.
             let shape = match (kind.shape(&maps, method), &pages) {
                 (_, Some(_)) => ShadowShape::Pages,
-                (ShadowShape::Pages, None) => ShadowShape::Cascades,
+                (ShadowShape::Pages, None) => kind.shape(&maps.unpaged(), method),
                 (shape, None) => shape,
             };
             Light {

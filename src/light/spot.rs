@@ -4,10 +4,14 @@
 use super::clusters::Reach;
 use super::{Emitter, Kind, KindGpu, LIGHT_SPOT, LayerContext, LayerFit, PagedFit, ShadowShape, SizeControl, Source};
 use crate::components::{ShadowMethod, SpotLight, Transform};
-use crate::settings::MapSettings;
-use crate::shadow::{light_range, spot_cone, spot_projection};
+use crate::settings::{LightMaps, MapSettings};
+use crate::shadow::{FrustumPages, MAX_FRUSTUM_PAGES, PageSpace, light_range, spot_cone, spot_projection};
 use bevy_ecs::prelude::*;
 use glam::{Vec3, Vec4};
+
+/// Texels a side of a paged spot's coarse map: a fallback while its pages come (a 256² map
+/// holds the shape of a shadow a few metres across, in 256 KiB).
+pub const SPOT_COARSE: u32 = 256;
 
 /// Light from `position` along `direction` inside a cone, out to `range`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,17 +52,33 @@ impl Kind for Spot {
     }
 
     /// One map, unless its cone is wider than `spot_map_limit` (the widest half angle one map
-    /// shadows): then a cube, as a point light has.
-    fn shape(&self, settings: &MapSettings, _: ShadowMethod) -> ShadowShape {
-        if self.outer <= settings.spot_map_limit { ShadowShape::Single } else { ShadowShape::Cube }
+    /// shadows): then a cube, as a point light has. One map is paged where the settings ask for
+    /// virtual light maps and the method reads depth.
+    fn shape(&self, settings: &MapSettings, method: ShadowMethod) -> ShadowShape {
+        let paged = settings.light_maps == LightMaps::Virtual && method.pages();
+        match self.outer <= settings.spot_map_limit {
+            true if paged => ShadowShape::Pages,
+            true => ShadowShape::Single,
+            false => ShadowShape::Cube,
+        }
     }
 
-    fn pages(&self, _: &LayerContext, _: u32, _: Option<(f32, f32)>) -> Option<PagedFit> {
-        None
+    /// Its one map in pages of [`MAX_FRUSTUM_PAGES`] a side at the finest level (a pixel far
+    /// away or seen small reads a coarser level, so the finest costs only what is asked of it);
+    /// the coarse map is the whole map, `coarse` texels a side and at most [`SPOT_COARSE`].
+    fn pages(&self, context: &LayerContext, coarse: u32, _: Option<(f32, f32)>) -> Option<PagedFit> {
+        let map = |resolution| spot_projection(self.position, self.direction, self.outer, self.range, resolution);
+        let mut pages = FrustumPages::new(map(1), MAX_FRUSTUM_PAGES);
+        // Without the atlas guard, no border round the pages (as the sun's).
+        pages.border = if context.maps.atlas_guard { pages.border } else { 0 };
+        let camera = context.view.map_or(Vec3::ZERO, |v| v.transform.translation);
+        let coarse_side = coarse.min(SPOT_COARSE);
+        let coarse = LayerFit::everywhere(map(coarse_side));
+        Some(PagedFit { space: PageSpace::Frustum(pages), camera, coarse, coarse_side })
     }
 
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {
-        match self.shape(context.maps, ShadowMethod::default()) {
+        match self.shape(&context.maps.unpaged(), ShadowMethod::default()) {
             ShadowShape::Single => {
                 let cone = spot_projection(self.position, self.direction, self.outer, self.range, resolution);
                 vec![LayerFit::everywhere(cone)]

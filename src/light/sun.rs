@@ -8,7 +8,7 @@ use super::{
 use crate::components::{DirectionalLight, ShadowMethod};
 use crate::settings::{MapSettings, SunMaps};
 use crate::shadow::{
-    Clipmap, FitMode, SunScene, ViewFrustum, VisibleSamples, blend_bands, depth_range, fit_seen, fit_slice,
+    Clipmap, FitMode, PageSpace, SunScene, ViewFrustum, VisibleSamples, blend_bands, depth_range, fit_seen, fit_slice,
     geometric_splits, split_depths,
 };
 use bevy_ecs::prelude::*;
@@ -72,9 +72,10 @@ impl Kind for Sun {
         let frustum =
             ViewFrustum { position: transform.translation, rotation: transform.rotation, fov_y: camera.fov_y, aspect };
         let slice = (camera.near, camera.shadow_far(settings.shadow_distance));
-        let projection = fit_slice(&sun, &frustum, slice, FitMode::Stable, coarse);
-        let coarse = LayerFit { projection, far: slice.1, blend: 0.0 };
-        Some(PagedFit { clipmap, camera: clipmap.across(transform.translation), coarse })
+        let coarse_side = coarse;
+        let projection = fit_slice(&sun, &frustum, slice, FitMode::Stable, coarse_side);
+        let (space, camera) = (PageSpace::Clipmap(clipmap), transform.translation);
+        Some(PagedFit { space, camera, coarse: LayerFit { projection, far: slice.1, blend: 0.0 }, coarse_side })
     }
 
     fn penumbra_size(&self) -> f32 {

@@ -9,7 +9,7 @@ use super::gpu_types::{Frame, GpuLayer, Object};
 use super::planar::{ground, planar_draws};
 use crate::components::*;
 use crate::light::clusters::{ClusterView, LightGrid, Reach};
-use crate::light::{Kind, Light, ShadowShape, light_list};
+use crate::light::{Kind, Light, light_list};
 use crate::settings::{CasterCulling, FrameSettings, ShadowSettings};
 use crate::shadow::{Aabb, CasterIndex, intersects_clip_volume};
 use crate::systems::CastersAtRest;
@@ -177,7 +177,8 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
                 methods |= 1 << light.method as u32;
             }
             draws.extend(layer_draws(&light, layers.len(), (&items, &index), cull_to));
-            // Where a light at a point is; nothing for one infinitely far away (w = 0).
+            // Where a light at a point is; nothing for one infinitely far away (w = 0). A light at
+            // a point sees in perspective, every layer of it: its map or faces, or its pages.
             let at = light.kind.homogeneous();
             let origin = (at.truncate() * at.w).to_array();
             layers.extend(light.layers.iter().map(|l| GpuLayer {
@@ -188,7 +189,7 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
                 blend: l.blend,
                 depth_terms: l.depth.to_array(),
                 method: light.method as u32,
-                perspective: matches!(light.shape, ShadowShape::Single | ShadowShape::Cube) as u32,
+                perspective: (at.w > 0.0) as u32,
                 bleed: settings.shadow.light_bleeding,
                 origin,
                 ..GpuLayer::zeroed()

@@ -147,10 +147,10 @@ impl FrameLight {
         (g.direction, g.cos_outer, g.cos_inner) = (kind.direction.to_array(), kind.cos_outer, kind.cos_inner);
         g.cookie_from_world = kind.cookie_from_world.unwrap_or(Mat4::ZERO);
         if let Some(pages) = &light.pages {
-            let clipmap = &pages.clipmap;
-            g.page_from_world = clipmap.page_from_world();
-            (g.page_levels, g.page_word) = (clipmap.levels, self.page_word);
-            (g.page_finest_log2, g.page_bias) = (clipmap.finest_log2 as f32, pages.bias);
+            g.page_from_world = pages.space.page_from_world();
+            (g.page_levels, g.page_word) = (pages.space.levels(), self.page_word);
+            (g.page_finest_log2, g.page_bias) = (pages.space.finest_log2(), pages.bias);
+            g.page_fades = pages.space.fades() as u32;
         }
         g
     }

@@ -158,7 +158,9 @@ gpu_struct! {
         pub receiver_plane: u32,
         /// 1 when its shadow test adds a contact-shadow march.
         pub contact: u32,
-        pub _pad1: u32,
+        /// 1 when a paged light's shadow ends at the shadow distance, fading out before it (a
+        /// sun's clipmap); 0 where it reaches as far as its light (a spot's pages).
+        pub page_fades: u32,
         pub _pad2: u32,
         /// World to the cookie's clip space (spots with a cookie).
         pub cookie_from_world: Mat4,
@@ -270,24 +272,31 @@ gpu_struct! {
         pub page_from_world: Mat4,
         /// Each level's window origin, two levels a vector (x, y, x, y).
         pub origins: [[i32; 4]; (crate::shadow::MAX_PAGE_LEVELS / 2) as usize],
+        /// Where the light is as a homogeneous point: its position with w 1, or the direction
+        /// towards it with w 0.
+        pub light: [f32; 4],
+        /// The sphere its light reaches (centre, radius; a negative radius: everywhere).
+        pub reach: [f32; 4],
         /// The camera's position.
         pub eye: [f32; 3],
         /// View depth past which nothing takes the light's shadow.
         pub shadow_distance: f32,
         /// The camera's forward direction.
         pub forward: [f32; 3],
-        /// log2 of level 0's texel, in metres.
+        /// log2 of level 0's texel where w is 1, in metres.
         pub finest_log2: f32,
-        /// Unit direction towards the light.
-        pub towards_light: [f32; 3],
-        /// Octaves coarser than its footprint a pixel's page is chosen.
-        pub bias: f32,
         /// The depth buffer's width and height.
         pub size: [u32; 2],
         /// The light's levels.
         pub levels: u32,
         /// Radians a pixel of the picture spans (at its middle).
         pub pixel_angle: f32,
+        /// Octaves coarser than its footprint a pixel's page is chosen.
+        pub bias: f32,
+        /// Level-0 page units a side of the map, past which a point is off it (0: no edge).
+        pub extent: f32,
+        pub _pad0: u32,
+        pub _pad1: u32,
     }
 }
 

@@ -10,12 +10,14 @@ use super::frame::FrameData;
 use super::gpu_types::Marking;
 use super::shaders::PAGE_MARKS;
 use crate::light::Kind;
-use crate::shadow::{Clipmap, MARK_WORDS, MAX_PAGE_LEVELS, PageMarks, Window};
+use crate::light::clusters::Reach;
+use crate::shadow::{MARK_WORDS, MAX_PAGE_LEVELS, PageMarks, PageSpace, Window};
+use bytemuck::Zeroable;
 
-/// What a marking was made against: the light, its clipmap and its windows.
+/// What a marking was made against: the light, its pages and their windows.
 struct MarkTag {
     light: u64,
-    clipmap: Clipmap,
+    space: PageSpace,
     windows: Vec<Window>,
 }
 
@@ -71,26 +73,34 @@ impl PageMarking {
             origins[l / 2][2 * (l % 2)..2 * (l % 2) + 2].copy_from_slice(&[w.origin.x, w.origin.y]);
         }
         let frame = &data.frame;
+        let kind = &light.light.kind;
+        let reach = match kind.reach() {
+            Reach::Everywhere => [0.0, 0.0, 0.0, -1.0],
+            Reach::Sphere { centre, radius } => centre.extend(radius).to_array(),
+        };
         let marking = Marking {
             world_from_clip: data.clip_from_world.inverse(),
-            page_from_world: light.gpu().page_from_world,
+            page_from_world: view.space.page_from_world(),
             origins,
+            light: kind.homogeneous().to_array(),
+            reach,
             eye: frame.camera_position,
-            shadow_distance: frame.shadow_distance,
+            shadow_distance: if view.space.fades() { frame.shadow_distance } else { f32::MAX },
             forward: frame.camera_forward,
-            finest_log2: view.clipmap.finest_log2 as f32,
-            towards_light: light.light.kind.homogeneous().truncate().normalize_or_zero().to_array(),
-            bias: view.bias,
+            finest_log2: view.space.finest_log2(),
             size: [size.0, size.1],
-            levels: view.clipmap.levels,
+            levels: view.space.levels(),
             pixel_angle: frame.pixel_angle,
+            bias: view.bias,
+            extent: view.space.extent().unwrap_or(0.0),
+            ..Marking::zeroed()
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&marking));
         encoder.clear_buffer(&self.marks, 0, None);
         // Each invocation marks 4x4 pixels, a workgroup 8x8 invocations.
         let groups = (size.0.div_ceil(32), size.1.div_ceil(32));
         self.pass.dispatch(device, encoder, (&self.uniform, &self.marks), (depth, made), groups);
-        let tag = MarkTag { light: light.light.entity.to_bits(), clipmap: view.clipmap, windows: view.windows.clone() };
+        let tag = MarkTag { light: light.light.entity.to_bits(), space: view.space, windows: view.windows.clone() };
         self.read.copy(encoder, &self.marks, tag);
     }
 
@@ -99,6 +109,6 @@ impl PageMarking {
     pub fn poll(&mut self, device: &wgpu::Device, wait: bool) -> Option<PageMarks> {
         let (bits, tag) = self.read.poll(device, wait)?;
         let seq = self.started;
-        Some(PageMarks { light: tag.light, seq, clipmap: tag.clipmap, windows: tag.windows, bits })
+        Some(PageMarks { light: tag.light, seq, space: tag.space, windows: tag.windows, bits })
     }
 }

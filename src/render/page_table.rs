@@ -51,7 +51,7 @@ mod tests {
             bits[level * MARK_WORDS + i / 32] |= 1 << (i % 32);
         }
         let marks =
-            PageMarks { light: sun.to_bits(), seq: 1, clipmap: pages_now.clipmap, windows: pages_now.windows, bits };
+            PageMarks { light: sun.to_bits(), seq: 1, space: pages_now.space, windows: pages_now.windows, bits };
         app.world.insert_resource(crate::components::MarkedPages(vec![marks]));
         app.step_held();
         crate::render::extract(&app.world)

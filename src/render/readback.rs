@@ -117,12 +117,13 @@ fn prime_sdsm(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u
     Ok(())
 }
 
-/// Most frames a headless frame draws first for its virtual pages.
+/// Most frames a headless frame draws first for each paged light's virtual pages.
 pub const PRIME_ROUNDS: u32 = 6;
 
 /// With virtual shadow maps a frame reads the pages the camera's pixels asked for a frame or two
 /// before: a headless frame first draws its view (the clock held) until what it asks for has
-/// slots and is drawn, at most [`PRIME_ROUNDS`] times, so the frame it returns reads the pages
+/// slots and is drawn, at most [`PRIME_ROUNDS`] times for each paged light (they take turns at
+/// the marking), so the frame it returns reads the pages
 /// its own view needs and is the same every time. A view whose pages do not all fit the pool
 /// stops at the limit, its pixels on coarser pages.
 fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u32)) -> Result<(), RenderError> {
@@ -130,7 +131,7 @@ fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, 
         let mut maps = app.world.query::<&crate::components::ShadowMap>();
         maps.iter(&app.world).filter_map(|m| m.pages.as_ref()).map(|p| p.update).collect::<Vec<_>>()
     };
-    if app.settings().maps.sun_maps != crate::settings::SunMaps::Virtual && paged(app).is_empty() {
+    if !app.settings().maps.paged() && paged(app).is_empty() {
         return Ok(());
     }
     // A marking of an earlier frame still under way would keep this view's from being made.
@@ -138,7 +139,8 @@ fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, 
     app.hear(renderer.news());
     let texture = gpu.target("page priming", (w, h), HEADLESS_FORMAT)?;
     let view = texture.create_view(&Default::default());
-    for _ in 0..PRIME_ROUNDS {
+    // The paged lights take turns at the marking: each has its rounds.
+    for _ in 0..PRIME_ROUNDS as usize * paged(app).len().max(1) {
         renderer.render(gpu, &app.world, &view, w, h)?;
         renderer.wait_for_samples(gpu);
         app.hear(renderer.news());

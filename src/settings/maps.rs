@@ -74,9 +74,12 @@ pub struct MapSettings {
     /// How the sun's shadow is laid out: cascades, or a virtual map in pages where the visible
     /// pixels need them (depth methods only; a moment or colour method stays on cascades).
     pub sun_maps: SunMaps,
+    /// How a spot light's shadow is laid out: a tile of the atlas, or a virtual map in pages
+    /// where the visible pixels need them (depth methods and spots one map holds only).
+    pub light_maps: LightMaps,
     /// Octaves coarser (negative: finer) than its footprint a pixel's virtual page is chosen.
     pub page_bias: f32,
-    /// MiB of the shadow memory the sun's virtual pages may take (its pool), at most half of it.
+    /// MiB of the shadow memory each paged light's pages may take (its pool), at most half of it.
     pub page_memory: u32,
     /// A pixel whose virtual page is not resident reads a coarser level's, or the coarse map
     /// (the guard of the camera-cut and pool-too-small cases); off only to show what a missing
@@ -115,6 +118,7 @@ impl Default for MapSettings {
             moment_blur: DEFAULT_MOMENT_BLUR,
             moment_samples: 1,
             sun_maps: SunMaps::Cascades,
+            light_maps: LightMaps::Atlas,
             // Two texels across each pixel's footprint: at one, a bilinear lookup puts an edge up
             // to half a pixel off and the texel-sized bias moves it as far again (on the sample
             // view at 1280x720: 0.083 % of the sun's pixels wrong at 0, 0.040 % at -1 in 27 MiB of
@@ -257,6 +261,35 @@ pub enum SunMaps {
 }
 
 named_choices!(SunMaps, "a kind of sun maps", Cascades = "cascades", Virtual = "virtual");
+
+/// How a spot light's shadow is laid out.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum LightMaps {
+    /// A tile of the shadow atlas, sized by what the light shows.
+    #[default]
+    Atlas,
+    /// A virtual map: its perspective map in pages, every level over the whole map, each page
+    /// drawn once and kept, at the resolution the visible pixels need (see
+    /// [`crate::shadow::FrustumPages`]).
+    Virtual,
+}
+
+named_choices!(LightMaps, "a kind of light maps", Atlas = "atlas", Virtual = "virtual");
+
+impl MapSettings {
+    /// True when some light's shadow may be paged.
+    #[must_use]
+    pub fn paged(&self) -> bool {
+        self.sun_maps == SunMaps::Virtual || self.light_maps == LightMaps::Virtual
+    }
+
+    /// The same settings with no light paged: how each light lays out its shadow before its
+    /// first virtual map is fitted.
+    #[must_use]
+    pub fn unpaged(self) -> MapSettings {
+        MapSettings { sun_maps: SunMaps::Cascades, light_maps: LightMaps::Atlas, ..self }
+    }
+}
 named_choices!(TileSizes, "a tile-size policy", Screen = "screen", Fixed = "fixed", Bevy = "bevy");
 named_choices!(ShadowFaces, "a face choice", Both = "both", Back = "back");
 named_choices!(ShadowDepth, "a depth-map format", Float32 = "d32", Unorm16 = "d16");

@@ -7,12 +7,13 @@
 //! follows from its footprint against the texel there, and a light far away or small on screen
 //! reads few, coarse pages.
 
-use super::{LightProjection, PAGE_BORDER, PAGE_TEXELS, PAGE_TILE, PageId};
+use super::{LightProjection, PAGE_BORDER, PAGE_GRID, PAGE_TEXELS, PAGE_TILE, PageId};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-/// The most pages a side of a perspective map's finest level: 128 pages of [`PAGE_TEXELS`],
-/// 15,360 texels across, as a level of the sun's clipmap.
-pub const MAX_FRUSTUM_PAGES: u32 = 128;
+/// The most pages a side of a perspective map's finest level: a window of the sun's clipmap,
+/// [`PAGE_GRID`] pages of [`PAGE_TEXELS`] (7,680 texels across), so that every level lies in one
+/// window with its origin at 0 and the marking and the page table read it as they read the sun's.
+pub const MAX_FRUSTUM_PAGES: u32 = PAGE_GRID;
 
 /// A perspective light's map, paged.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -171,7 +172,7 @@ mod tests {
         assert_eq!((p.pages, p.levels), (16, 5));
         assert_eq!((0..6).map(|l| p.pages_across(l)).collect::<Vec<_>>(), [16, 8, 4, 2, 1, 1]);
         assert_eq!(p.pages_across(u32::MAX), 1);
-        for (asked, got) in [(0, 1), (1, 1), (3, 2), (100, 64), (128, 128), (u32::MAX, 128)] {
+        for (asked, got) in [(0, 1), (1, 1), (3, 2), (100, 64), (128, 64), (u32::MAX, 64)] {
             assert_eq!(FrustumPages::new(p.map, asked).pages, got, "{asked}");
         }
         assert!((p.texel(1, 5.0) - 2.0 * p.texel(0, 5.0)).abs() < 1e-7);

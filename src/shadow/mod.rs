@@ -10,6 +10,7 @@ mod cull;
 mod fit;
 mod frustum_pages;
 mod page_pool;
+mod page_space;
 mod pages;
 mod planar;
 mod poisson;
@@ -32,6 +33,7 @@ pub use fit::{
 };
 pub use frustum_pages::{FrustumPages, MAX_FRUSTUM_PAGES, pages_for};
 pub use page_pool::{LightPage, MAX_FINER, MAX_PRESSURE, PagePool, PoolKey, Pressure, Residency, Resident};
+pub use page_space::PageSpace;
 pub use pages::{
     Clipmap, FINEST_TEXEL_LOG2, MARK_WORDS, MAX_PAGE_LEVELS, MIN_GRAZE, PAGE_BORDER, PAGE_GRID, PAGE_TEXELS, PAGE_TILE,
     PageId, PageMarks, PageRange, Window, depth_range, levels_for, wanted_texel,

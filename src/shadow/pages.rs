@@ -322,8 +322,8 @@ pub struct PageMarks {
     pub light: u64,
     /// The marking's number: each marking the renderer reads back has a new one.
     pub seq: u64,
-    /// The clipmap the pixels were marked against.
-    pub clipmap: Clipmap,
+    /// The pages the pixels were marked against.
+    pub space: super::PageSpace,
     /// Its windows then, one a level.
     pub windows: Vec<Window>,
     /// [`MARK_WORDS`] words a level.
@@ -554,7 +554,8 @@ mod tests {
         let mut bits = vec![0u32; 2 * MARK_WORDS];
         bits[0] = 1 << 3;
         bits[MARK_WORDS + 2] = 1 << 31;
-        let marks = PageMarks { light: 7, seq: 1, clipmap: c, windows: windows.clone(), bits };
+        let marks =
+            PageMarks { light: 7, seq: 1, space: crate::shadow::PageSpace::Clipmap(c), windows: windows.clone(), bits };
         let pages: Vec<PageId> = marks.pages().collect();
         assert_eq!(pages, vec![windows[0].page(3), windows[1].page(2 * 32 + 31)]);
         // Too few words (a broken readback) read as no marks, not a panic.

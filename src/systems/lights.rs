@@ -135,7 +135,7 @@ pub fn update_light_matrices(
             if pageable && shape != ShadowShape::Pages && refused.insert((source.entity, method)) {
                 let why = format!(
                     "a {}'s {} shadow reads a colour map (or none), which virtual pages do not hold: it keeps \
-                     its cascades",
+                     the maps it has without them",
                     source.kind.word(),
                     method.name()
                 );
@@ -145,7 +145,7 @@ pub fn update_light_matrices(
             }
             let paged = (shape == ShadowShape::Pages)
                 .then(|| {
-                    let depth = map.pages.as_ref().map(|p| p.clipmap.depth);
+                    let depth = map.pages.as_ref().and_then(|p| p.space.depth());
                     source.kind.pages(&context, coarse_side(&settings), depth)
                 })
                 .flatten();
@@ -160,7 +160,7 @@ pub fn update_light_matrices(
                         admit: admit_limit(&settings),
                         bias: settings.page_bias,
                     };
-                    refresh_paged(&mut map, fit, coarse_side(&settings), &how);
+                    refresh_paged(&mut map, fit, &how);
                 }
                 None => {
                     let fits = source.kind.layers(&context, resolution);

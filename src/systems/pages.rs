@@ -8,7 +8,7 @@ use super::layers::{fitted_layers, next_version};
 use crate::components::{MarkedPages, PagePlace, PageUpdate, ShadowLayer, ShadowMap, VirtualPages};
 use crate::light::PagedFit;
 use crate::settings::MapSettings;
-use crate::shadow::{Aabb, Clipmap, PAGE_TILE, PageId, PagePool, Pressure, depth_terms};
+use crate::shadow::{Aabb, PAGE_TILE, PageId, PagePool, PageSpace, Pressure, depth_terms};
 use bevy_ecs::prelude::Entity;
 
 /// Side of a paged light's coarse map, in texels: what every pixel whose page is not there yet
@@ -61,10 +61,10 @@ pub(super) struct PagedUpdate<'a> {
 
 /// Updates `map`'s virtual map to `fit` (see the module's notes): a new clipmap (the light
 /// turned, or the scene's depth outgrew the range) or a forced redraw gives up every page.
-pub(super) fn refresh_paged(map: &mut ShadowMap, fit: PagedFit, coarse: u32, how: &PagedUpdate) {
-    let kept = map.pages.take().filter(|p| p.clipmap == fit.clipmap && p.pool.capacity() == how.capacity);
+pub(super) fn refresh_paged(map: &mut ShadowMap, fit: PagedFit, how: &PagedUpdate) {
+    let kept = map.pages.take().filter(|p| p.space == fit.space && p.pool.capacity() == how.capacity);
     let mut pages = kept.filter(|_| !how.forced).unwrap_or_else(|| VirtualPages {
-        clipmap: fit.clipmap,
+        space: fit.space,
         windows: Vec::new(),
         pool: PagePool::new(how.capacity),
         pressure: Pressure::default(),
@@ -73,14 +73,14 @@ pub(super) fn refresh_paged(map: &mut ShadowMap, fit: PagedFit, coarse: u32, how
         update: PageUpdate::default(),
         marked: PageUpdate::default(),
     });
-    pages.windows = fit.clipmap.windows(fit.camera);
+    pages.windows = fit.space.windows(fit.camera);
     pages.bias = how.bias;
     pages.update = PageUpdate::default();
     pages.pool.clean();
     let marks = how.marked.and_then(|m| m.0.iter().find(|m| m.light == how.light.to_bits()));
     if let Some(marks) = marks.filter(|m| m.seq != pages.marks_seen) {
         pages.marks_seen = marks.seq;
-        if same_pages(&marks.clipmap, &pages.clipmap) {
+        if pages.space.same_pages(&marks.space) {
             let windows = &pages.windows;
             let needed: Vec<PageId> = marks
                 .pages()
@@ -94,13 +94,13 @@ pub(super) fn refresh_paged(map: &mut ShadowMap, fit: PagedFit, coarse: u32, how
         }
     }
     pages.update.residency.resident = pages.pool.len() as u32;
-    let moved = crossing(&pages.clipmap, &how.changes.moved);
+    let moved = crossing(&pages.space, &how.changes.moved);
     (pages.update.invalidated, pages.update.dropped) =
         pages.pool.invalidate(|p| moved.iter().any(|r| r.contains(p)), next_version);
-    let settled = crossing(&pages.clipmap, &how.changes.settled);
+    let settled = crossing(&pages.space, &how.changes.settled);
     pages.pool.resettle(|p| settled.iter().any(|r| r.contains(p)), next_version);
     let old = &map.layers[..map.layers.len().min(1)];
-    let mut layers = fitted_layers(old, &[fit.coarse], coarse, how.forced, how.changes);
+    let mut layers = fitted_layers(old, &[fit.coarse], fit.coarse_side, how.forced, how.changes);
     layers.extend(page_layers(&pages));
     if map.layers != layers {
         map.layers = layers;
@@ -108,31 +108,15 @@ pub(super) fn refresh_paged(map: &mut ShadowMap, fit: PagedFit, coarse: u32, how
     map.pages = Some(pages);
 }
 
-/// True when marks made against `marked` name the same pages as `now` has: the same light's
-/// turn and levels (a new depth range changes what a page holds, not which page it is; a grid
-/// that follows the camera, unsnapped, moves a page by less than itself a frame).
-fn same_pages(marked: &Clipmap, now: &Clipmap) -> bool {
-    let turn = |c: &Clipmap| glam::Mat3::from_mat4(c.light_from_world);
-    (turn(marked), marked.finest_log2, marked.levels) == (turn(now), now.finest_log2, now.levels)
-}
-
-/// The pages of every level that each of `boxes` lies across (its square across the light).
-fn crossing(clipmap: &Clipmap, boxes: &[Aabb]) -> Vec<crate::shadow::PageRange> {
-    boxes
-        .iter()
-        .filter(|b| b.is_usable())
-        .flat_map(|b| {
-            let across = b.transformed(&clipmap.light_from_world);
-            let square = (across.min.truncate(), across.max.truncate());
-            (0..clipmap.levels).map(move |level| clipmap.pages_meeting(level, square))
-        })
-        .collect()
+/// The pages of every level that each of `boxes` lies across, seen from the light.
+fn crossing(space: &PageSpace, boxes: &[Aabb]) -> Vec<crate::shadow::PageRange> {
+    boxes.iter().flat_map(|b| space.crossing(b)).collect()
 }
 
 /// One layer a resident page, in slot order.
 fn page_layers(pages: &VirtualPages) -> impl Iterator<Item = ShadowLayer> + '_ {
     pages.pool.resident().map(|(slot, r)| {
-        let projection = pages.clipmap.projection(r.page);
+        let projection = pages.space.projection(r.page);
         ShadowLayer {
             clip_from_world: projection.view_proj,
             texel: projection.texel,
@@ -152,23 +136,27 @@ fn page_layers(pages: &VirtualPages) -> impl Iterator<Item = ShadowLayer> + '_ {
 mod tests {
     use super::*;
     use crate::light::LayerFit;
-    use crate::shadow::{MARK_WORDS, PageMarks};
+    use crate::shadow::{Clipmap, MARK_WORDS, PageMarks};
     use glam::{Vec2, Vec3};
 
+    fn clipmap() -> Clipmap {
+        Clipmap::new(Vec3::new(0.2, -1.0, 0.3), 60.0, (20.0, -20.0))
+    }
+
     fn fit() -> PagedFit {
-        let clipmap = Clipmap::new(Vec3::new(0.2, -1.0, 0.3), 60.0, (20.0, -20.0));
-        let coarse = clipmap.projection(PageId { level: 9, x: 0, y: 0 });
-        PagedFit { clipmap, camera: Vec2::ZERO, coarse: LayerFit::everywhere(coarse) }
+        let coarse = clipmap().projection(PageId { level: 9, x: 0, y: 0 });
+        let coarse = LayerFit::everywhere(coarse);
+        PagedFit { space: PageSpace::Clipmap(clipmap()), camera: Vec3::ZERO, coarse, coarse_side: 1024 }
     }
 
     /// Marks asking for the window pages `indices` of level `level`.
     fn marks(fit: &PagedFit, seq: u64, light: Entity, level: usize, indices: &[usize]) -> MarkedPages {
-        let windows = fit.clipmap.windows(fit.camera);
+        let windows = fit.space.windows(fit.camera);
         let mut bits = vec![0u32; windows.len() * MARK_WORDS];
         for i in indices {
             bits[level * MARK_WORDS + i / 32] |= 1 << (i % 32);
         }
-        MarkedPages(vec![PageMarks { light: light.to_bits(), seq, clipmap: fit.clipmap, windows, bits }])
+        MarkedPages(vec![PageMarks { light: light.to_bits(), seq, space: fit.space, windows, bits }])
     }
 
     fn how<'a>(light: Entity, marked: Option<&'a MarkedPages>, changes: &'a CasterChanges) -> PagedUpdate<'a> {
@@ -179,24 +167,24 @@ mod tests {
     fn marked_pages_become_layers_after_the_coarse_map_and_keep_their_versions() {
         let (fit, light, still) = (fit(), Entity::from_bits(42), CasterChanges::default());
         let mut map = ShadowMap::default();
-        refresh_paged(&mut map, fit, 1024, &how(light, None, &still));
+        refresh_paged(&mut map, fit, &how(light, None, &still));
         assert_eq!(map.layers.len(), 1, "the coarse map alone before any marking");
         assert!(map.layers[0].page.is_none() && map.layers[0].resolution == 1024);
         let marked = marks(&fit, 1, light, 2, &[5, 6, 7]);
-        refresh_paged(&mut map, fit, 1024, &how(light, Some(&marked), &still));
+        refresh_paged(&mut map, fit, &how(light, Some(&marked), &still));
         assert_eq!(map.layers.len(), 4);
         let pages = map.pages.as_ref().unwrap();
         assert_eq!((pages.update.needed, pages.update.residency.placed), (3, 3));
         let first: Vec<ShadowLayer> = map.layers.clone();
         assert!(first[1..].iter().all(|l| l.dirty && l.resolution == PAGE_TILE && l.page.unwrap().id.level == 2));
         // The same marking again is not counted twice; nothing moved, nothing is dirty.
-        refresh_paged(&mut map, fit, 1024, &how(light, Some(&marked), &still));
+        refresh_paged(&mut map, fit, &how(light, Some(&marked), &still));
         assert_eq!(map.pages.as_ref().unwrap().update.residency.placed, 0);
         assert!(map.layers.iter().all(|l| !l.dirty));
         assert!(map.layers.iter().zip(&first).all(|(a, b)| a.version == b.version));
         // Another light's marks are not this light's.
         let other = marks(&fit, 2, Entity::from_bits(7), 3, &[1]);
-        refresh_paged(&mut map, fit, 1024, &how(light, Some(&other), &still));
+        refresh_paged(&mut map, fit, &how(light, Some(&other), &still));
         assert_eq!(map.layers.len(), 4);
     }
 
@@ -204,16 +192,16 @@ mod tests {
     fn a_caster_moving_through_a_page_dirties_it_and_no_other() {
         let (fit, light) = (fit(), Entity::from_bits(42));
         let mut map = ShadowMap::default();
-        let window = fit.clipmap.window(0, fit.camera);
+        let window = clipmap().window(0, Vec2::ZERO);
         let marked = marks(&fit, 1, light, 0, &[0, 2080]);
-        refresh_paged(&mut map, fit, 1024, &how(light, Some(&marked), &CasterChanges::default()));
-        refresh_paged(&mut map, fit, 1024, &how(light, Some(&marked), &CasterChanges::default()));
+        refresh_paged(&mut map, fit, &how(light, Some(&marked), &CasterChanges::default()));
+        refresh_paged(&mut map, fit, &how(light, Some(&marked), &CasterChanges::default()));
         // A small box inside the second page's square, seen along the light.
-        let (min, max) = fit.clipmap.footprint(window.page(2080));
+        let (min, max) = clipmap().footprint(window.page(2080));
         let centre = (min + max) * 0.5;
-        let world = fit.clipmap.light_from_world.inverse().transform_point3(centre.extend(0.0));
+        let world = clipmap().light_from_world.inverse().transform_point3(centre.extend(0.0));
         let moved = CasterChanges { moved: vec![Aabb::new(world - 0.01, world + 0.01)], settled: Vec::new() };
-        refresh_paged(&mut map, fit, 1024, &how(light, None, &moved));
+        refresh_paged(&mut map, fit, &how(light, None, &moved));
         let dirty: Vec<bool> = map.layers.iter().map(|l| l.dirty).collect();
         assert_eq!(dirty, vec![true, false, true], "the coarse map and the page it crossed");
         assert_eq!(map.pages.as_ref().unwrap().update.invalidated, 1);
@@ -224,14 +212,15 @@ mod tests {
         let (fit, light, still) = (fit(), Entity::from_bits(42), CasterChanges::default());
         let mut map = ShadowMap::default();
         let marked = marks(&fit, 1, light, 1, &[9]);
-        refresh_paged(&mut map, fit, 1024, &how(light, Some(&marked), &still));
+        refresh_paged(&mut map, fit, &how(light, Some(&marked), &still));
         assert_eq!(map.layers.len(), 2);
-        let turned = PagedFit { clipmap: Clipmap::new(Vec3::new(-0.5, -1.0, 0.0), 60.0, (20.0, -20.0)), ..fit };
-        refresh_paged(&mut map, turned, 1024, &how(light, Some(&marked), &still));
+        let turned = Clipmap::new(Vec3::new(-0.5, -1.0, 0.0), 60.0, (20.0, -20.0));
+        let turned = PagedFit { space: PageSpace::Clipmap(turned), ..fit };
+        refresh_paged(&mut map, turned, &how(light, Some(&marked), &still));
         assert_eq!(map.layers.len(), 1, "the sun turned: no page is good, and old marks name other pages");
         let mut map = ShadowMap::default();
-        refresh_paged(&mut map, fit, 1024, &how(light, Some(&marked), &still));
-        refresh_paged(&mut map, fit, 1024, &PagedUpdate { forced: true, ..how(light, None, &still) });
+        refresh_paged(&mut map, fit, &how(light, Some(&marked), &still));
+        refresh_paged(&mut map, fit, &PagedUpdate { forced: true, ..how(light, None, &still) });
         assert_eq!(map.layers.len(), 1);
     }
 

@@ -10,7 +10,7 @@ use crate::eval::metrics::Tally;
 use crate::light::{Kind, Light, light_list};
 use crate::render::ShadowStats;
 use crate::settings::{
-    CascadeSettings, CasterCulling, MAX_BIAS_SCALE, MapSettings, MomentBits, MomentResolve, MomentSource,
+    CascadeSettings, CasterCulling, LightMaps, MAX_BIAS_SCALE, MapSettings, MomentBits, MomentResolve, MomentSource,
     SettingsGroup, ShadowDepth, ShadowFaces, ShadowSettings, SunMaps, ViewSettings,
 };
 use crate::shadow::FitMode;
@@ -272,12 +272,15 @@ fn bias_sliders(ui: &mut Ui, constant: &mut f32, slope: &mut f32, normal: &mut f
     ui.add(slide(scale, 0.0..=MAX_BIAS_SCALE).text("scale (share of distance)"));
 }
 
-/// Cascades or a virtual map for the sun, and a virtual map's bias and pool.
+/// Cascades or a virtual map for the sun, atlas tiles or virtual maps for the spots, and the
+/// virtual maps' bias and pool.
 fn sun_maps(ui: &mut Ui, s: &mut MapSettings, shadow: &ShadowSettings) {
     choice(ui, "sun's maps", &mut s.sun_maps, SunMaps::ALL, SunMaps::name);
-    if s.sun_maps == SunMaps::Virtual {
+    choice(ui, "spots' maps", &mut s.light_maps, LightMaps::ALL, LightMaps::name);
+    if s.paged() {
         if !shadow.method.pages() {
-            let line = format!("{} reads no depth pages: the sun keeps its cascades", shadow.method.name());
+            let line =
+                format!("{} reads no depth pages: every light keeps its cascades or tiles", shadow.method.name());
             ui.colored_label(Color32::from_rgb(240, 80, 80), line);
         }
         let bias = crate::settings::MAX_PAGE_BIAS;

@@ -1,0 +1,110 @@
+//! Virtual shadow maps for spot lights (`--light-maps virtual`): each spot's perspective map in
+//! pages, marked from the camera's depth where its light reaches and on its map, drawn once and
+//! kept. The spots' shadows land where the ray-traced truth puts them, much sharper than the
+//! coarse map alone (the atlas's numbers are printed beside them); a still view draws no page.
+//! Where the device runs no compute shaders, pages cannot be marked: the tests say SKIPPED.
+
+mod common;
+
+use common::gpu;
+use glam::Vec3;
+use umbra::components::{ShadowMap, VirtualPages};
+use umbra::eval::{metrics, truth};
+use umbra::render::{DebugFrame, HEADLESS_FORMAT, Renderer, ShadowStats, render_debug_frame, render_debug_frame_as_is};
+use umbra::settings::LightMaps;
+use umbra::shadow::PageSpace;
+use umbra::{App, Settings};
+
+const W: u32 = 640;
+const H: u32 = 360;
+
+/// For each spot (lights 1 and 2: the sun comes first), a view from a few metres over its pool
+/// of light, where its shadows want finer texels than its coarse map holds.
+const VIEWS: [(usize, Vec3, Vec3); 2] = [
+    (1, Vec3::new(-1.5, 2.5, 3.0), Vec3::new(-3.0, 0.0, 0.5)),
+    (2, Vec3::new(5.5, 2.5, 3.5), Vec3::new(4.0, 0.0, 1.0)),
+];
+
+/// The sample scene at t = 6 s, `W` x `H`, seen from `eye` towards `target`, with `change` made
+/// to the default settings.
+fn app((eye, target): (Vec3, Vec3), change: impl FnOnce(&mut Settings)) -> App {
+    let mut app = App::new(Settings::default().with(change)).unwrap();
+    app.resize(W, H);
+    app.set_time(6.0);
+    umbra::scene::place_camera(&mut app.world, eye, target);
+    app
+}
+
+/// [`app`] with virtual light maps.
+fn paged(view: (Vec3, Vec3)) -> App {
+    app(view, |s| s.maps.light_maps = LightMaps::Virtual)
+}
+
+/// Light `light`'s virtual map in `app` (light order: the sun, then the spots).
+fn light_pages(app: &App, light: usize) -> VirtualPages {
+    let entity = umbra::light::light_list(&app.world)[light].entity;
+    app.world.get::<ShadowMap>(entity).and_then(|m| m.pages.clone()).expect("the spot is paged")
+}
+
+/// Light `light`'s pixels of `frame` against the truth.
+fn tally(app: &mut App, frame: &DebugFrame, light: usize) -> metrics::Tally {
+    let t = truth::truth_of(&mut app.world, frame, truth::SizeOverride::default(), 1);
+    metrics::tally(frame, &t[light], light, |_| true)
+}
+
+/// True (and SKIPPED said) when the device cannot mark pages.
+fn cannot_mark(app: &mut App) -> bool {
+    let skip = app.take_notices().iter().any(|n| n.contains("compute pass"));
+    if skip {
+        eprintln!("SKIPPED: this device runs no compute shaders; the spots read their coarse maps alone");
+    }
+    skip
+}
+
+#[test]
+fn paged_spots_put_their_shadows_where_the_truth_does_sharper_than_their_coarse_maps() {
+    let gpu = gpu();
+    for (light, eye, target) in VIEWS {
+        let mut atlas = app((eye, target), |_| ());
+        let frame = render_debug_frame(&gpu, &mut Renderer::new(&gpu, HEADLESS_FORMAT).unwrap(), &mut atlas, W, H)
+            .expect("no wgpu error");
+        let by_atlas = tally(&mut atlas, &frame, light);
+        // Before any marking, a fresh renderer's spots read their coarse maps alone.
+        let mut coarse = paged((eye, target));
+        let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
+        coarse.hear(renderer.news());
+        let frame = render_debug_frame_as_is(&gpu, &mut renderer, &mut coarse, W, H).expect("no wgpu error");
+        let by_coarse = tally(&mut coarse, &frame, light);
+        let mut virt = paged((eye, target));
+        let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
+        let frame = render_debug_frame(&gpu, &mut renderer, &mut virt, W, H).expect("no wgpu error");
+        if cannot_mark(&mut virt) {
+            return;
+        }
+        let by_pages = tally(&mut virt, &frame, light);
+        let pages = &light_pages(&virt, light);
+        let percent = |t: &metrics::Tally| 100.0 * t.misclassified();
+        eprintln!(
+            "spot {light}: {} pixels; misclassified atlas {:.4} %, coarse map {:.4} %, pages {:.4} % ({} resident)",
+            by_pages.pixels,
+            percent(&by_atlas),
+            percent(&by_coarse),
+            percent(&by_pages),
+            pages.pool.len()
+        );
+        assert!(by_pages.pixels > 20_000, "the view shows spot {light}'s light");
+        assert!(pages.pool.len() > 4 && pages.marked.residency.missing == 0, "{:?}", pages.marked);
+        assert!(by_pages.misclassified() * 2.0 < by_coarse.misclassified(), "the pages are read");
+        // Only pages on its map are asked for: the view shows ground past the map's edge.
+        let PageSpace::Frustum(map) = pages.space else { panic!("a spot's pages cut its perspective map") };
+        for (_, r) in pages.pool.resident() {
+            let side = map.pages_across(r.page.level) as i32;
+            assert!((0..side).contains(&r.page.x) && (0..side).contains(&r.page.y), "{:?} is off the map", r.page);
+        }
+        // A still view draws no page.
+        virt.step_held();
+        render_debug_frame_as_is(&gpu, &mut renderer, &mut virt, W, H).expect("no wgpu error");
+        let still = virt.world.resource::<ShadowStats>().pages;
+        assert_eq!(still.drawn, 0, "a still view keeps every page: {still:?}");
+    }
+}
