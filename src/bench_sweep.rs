@@ -22,6 +22,7 @@ pub(super) fn sweep(args: &BenchArgs) -> Result<()> {
     }
     let mut options = sweep_options::SweepOptions::new(args.quick);
     options.families = args.family.clone();
+    options.skipped = args.skip_family.clone();
     if let Some(n) = args.threads {
         options.workers = n as usize;
     }
@@ -51,7 +52,7 @@ pub(super) fn sweep(args: &BenchArgs) -> Result<()> {
     println!(
         "{} sweep{}: {configs} configurations; {scene} at {}x{} from {} views, failure cases at {}x{}; timed by {timing}",
         if args.quick { "quick" } else { "full" },
-        families(&options.families),
+        families(&options),
         options.size.0,
         options.size.1,
         options.views.len(),
@@ -85,7 +86,7 @@ pub(super) fn sweep(args: &BenchArgs) -> Result<()> {
          together; the soft truth from {} rays over each light's disc: {}).",
         if args.quick { " --quick" } else { "" },
         rows.len(),
-        families(&options.families),
+        families(&options),
         gpu.describe(),
         total,
         timed,
@@ -103,9 +104,15 @@ pub(super) fn sweep(args: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
-/// The families a sweep was narrowed to, in words ("" for all).
-fn families(names: &[String]) -> String {
-    if names.is_empty() { String::new() } else { format!(" (the family {} and the default)", names.join(", ")) }
+/// The families a sweep was narrowed to and those it left out, in words ("" for all).
+fn families(options: &umbra::eval::sweep_options::SweepOptions) -> String {
+    let (names, skipped) = (&options.families, &options.skipped);
+    match (names.is_empty(), skipped.is_empty()) {
+        (true, true) => String::new(),
+        (false, true) => format!(" (the family {} and the default)", names.join(", ")),
+        (true, false) => format!(" (without the family {})", skipped.join(", ")),
+        (false, false) => format!(" (the family {} and the default, without {})", names.join(", "), skipped.join(", ")),
+    }
 }
 
 /// The light sizes the soft truth takes, in words.

@@ -162,6 +162,11 @@ struct BenchArgs {
     /// twin without.
     #[arg(long, value_name = "FAMILY", conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]
     family: Vec<String>,
+    /// Sweep without the configurations of this family (the default stays, for the ratios); give
+    /// it again for more. CI sweeps without "moment maps", half the quick sweep's time on a
+    /// software rasterizer.
+    #[arg(long, value_name = "FAMILY", conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]
+    skip_family: Vec<String>,
     /// Configurations whose errors the sweep measures at once, each on a thread of its own
     /// (default: one per four cores, one to four; the timing is never shared).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=64), conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]

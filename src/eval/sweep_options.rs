@@ -65,6 +65,8 @@ pub struct SweepOptions {
     pub truth: TruthSettings,
     /// Only the configurations of these families, and the default's (all when empty).
     pub families: Vec<String>,
+    /// None of the configurations of these families but the default's.
+    pub skipped: Vec<String>,
     /// Configurations whose errors are measured at once, each by a thread with renderers of
     /// its own (the timing is never shared).
     pub workers: usize,
@@ -91,6 +93,7 @@ impl SweepOptions {
                 frames: 4,
                 truth: TruthSettings { soft_rays: 8, ..Default::default() },
                 families: Vec::new(),
+                skipped: Vec::new(),
                 workers,
             }
         } else {
@@ -103,15 +106,17 @@ impl SweepOptions {
                 frames: 10,
                 truth: TruthSettings::default(),
                 families: Vec::new(),
+                skipped: Vec::new(),
                 workers,
             }
         }
     }
 
     /// The configurations it sweeps: [`configs`], only those of its families (and the
-    /// default's) when it names any. [`CONTACT_GROUP`] names every configuration with contact
-    /// shadows and each one's twin without them, whatever their families. A name no
-    /// configuration has is an error that lists those there are.
+    /// default's) when it names any, less those of the families it skips (but the default).
+    /// [`CONTACT_GROUP`] names every configuration with contact shadows and each one's twin
+    /// without them, whatever their families. A name no configuration has is an error that lists
+    /// those there are.
     pub fn configs(&self) -> Result<Vec<Config>, String> {
         let all = configs(self.quick);
         let mut known: Vec<&str> = all.iter().fold(Vec::new(), |mut names, c| {
@@ -123,7 +128,7 @@ impl SweepOptions {
         if all.iter().any(|c| c.contact) {
             known.push(CONTACT_GROUP);
         }
-        if let Some(unknown) = self.families.iter().find(|f| !known.contains(&f.as_str())) {
+        if let Some(unknown) = self.families.iter().chain(&self.skipped).find(|f| !known.contains(&f.as_str())) {
             return Err(format!(
                 "no configuration is of the family \"{unknown}\"; the families are: {}",
                 known.join(", ")
@@ -138,7 +143,8 @@ impl SweepOptions {
                 || self.families.iter().any(|f| f == c.family())
                 || (contact && has_contact_twin(c))
         };
-        Ok(all.iter().copied().filter(wanted).collect())
+        let skipped = |c: &Config| *c != d && self.skipped.iter().any(|f| f == c.family());
+        Ok(all.iter().copied().filter(|c| wanted(c) && !skipped(c)).collect())
     }
 }
 
@@ -177,6 +183,20 @@ mod tests {
             err.starts_with(&format!("no configuration is of the family \"{CONTACT_GROUP}\"")),
             "the quick sweep has none: {err}"
         );
+    }
+
+    #[test]
+    fn a_family_skipped_leaves_out_its_configurations_but_the_defaults() {
+        let mut options = SweepOptions::new(true);
+        options.skipped = vec!["moment maps".into()];
+        let some = options.configs().unwrap();
+        assert!(some.contains(&Config::default_settings()));
+        assert!(some.iter().all(|c| !c.method.moments()), "no moment map left");
+        let moments = configs(true).iter().filter(|c| c.family() == "moment maps").count();
+        assert!(moments > 0);
+        assert_eq!(some.len() + moments, configs(true).len());
+        options.skipped = vec!["moments".into()];
+        assert!(options.configs().unwrap_err().contains("\"moments\""));
     }
 
     #[test]
