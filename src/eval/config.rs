@@ -4,7 +4,9 @@
 //! both read these.
 
 use crate::components::ShadowMethod;
-use crate::settings::{MomentBits, MomentResolve, MomentSource, Settings, ShadowDepth, ShadowFaces, SunMaps};
+use crate::settings::{
+    LightMaps, MomentBits, MomentResolve, MomentSource, Settings, ShadowDepth, ShadowFaces, SunMaps,
+};
 use crate::shadow::FitMode;
 
 /// One shadow configuration.
@@ -44,6 +46,9 @@ pub struct Config {
     /// virtual map (its coarse map at the map size up to 1024², its pages as the defaults have
     /// them).
     pub sun_maps: SunMaps,
+    /// How the spots' shadows are laid out: atlas tiles, or virtual maps (their pages as the
+    /// defaults have them).
+    pub light_maps: LightMaps,
     /// Instead of the above: the Bevy-like baseline ([`bevy_like`]).
     pub bevy_like: bool,
 }
@@ -98,6 +103,7 @@ impl Config {
             bias_scale: d.shadow.bias_scale,
             contact: d.shadow.contact_shadows,
             sun_maps: d.maps.sun_maps,
+            light_maps: d.maps.light_maps,
             bevy_like: false,
         }
     }
@@ -127,6 +133,7 @@ impl Config {
             s.maps.shadow_memory = self.memory_mib();
             s.shadow.contact_shadows = self.contact;
             s.maps.sun_maps = self.sun_maps;
+            s.maps.light_maps = self.light_maps;
         })
     }
 
@@ -218,16 +225,23 @@ impl Config {
 
     /// Its family for the charts and the summary: the method's, or the baseline's own.
     pub fn family(&self) -> &'static str {
-        match (self.bevy_like, self.sun_maps) {
-            (true, _) => BEVY_FAMILY,
-            (false, SunMaps::Virtual) => VIRTUAL_FAMILY,
-            (false, SunMaps::Cascades) => self.method.family(),
+        match (self.bevy_like, self.sun_maps, self.light_maps) {
+            (true, _, _) => BEVY_FAMILY,
+            (false, SunMaps::Virtual, _) | (false, _, LightMaps::Virtual) => VIRTUAL_FAMILY,
+            (false, SunMaps::Cascades, LightMaps::Atlas) => self.method.family(),
         }
     }
 
     /// How the sun's maps are laid out, as labels start: `2048 x4` for cascades (with the fit
-    /// when it is not the default's), `virtual` for pages.
+    /// when it is not the default's), `virtual` for pages; `+ virtual spots` follows where the
+    /// spots are paged.
     fn sun_label(&self, full: bool) -> String {
+        let spots = if self.light_maps == LightMaps::Virtual { " + virtual spots" } else { "" };
+        self.sun_maps_label(full) + spots
+    }
+
+    /// The sun's part of [`Config::sun_label`].
+    fn sun_maps_label(&self, full: bool) -> String {
         let d = Config::default_settings();
         match self.sun_maps {
             SunMaps::Virtual => "virtual".into(),
@@ -376,13 +390,15 @@ pub fn configs(quick: bool) -> Vec<Config> {
     }
     push(Config { faces: ShadowFaces::Back, bias: 0.0, ..d });
     push(Config { bevy_like: true, ..d });
-    // Virtual maps for the sun: the default method, and in the full sweep every depth method.
+    // Virtual maps for the sun: the default method, and in the full sweep every depth method;
+    // and the sun's and the spots' maps virtual, at the default method.
     use ShadowMethod::*;
     let paged: &[ShadowMethod] =
         if quick { &[Bilinear] } else { &[Nearest, Bilinear, Pcf3, Pcf5, Gauss5, Poisson32, Pcss] };
     for &method in paged {
         push(Config { method, sun_maps: SunMaps::Virtual, ..d });
     }
+    push(Config { sun_maps: SunMaps::Virtual, light_maps: LightMaps::Virtual, ..d });
     // Contact shadows over the default, a member of every family with a map (two moment maps)
     // and Bevy-like (full sweep only).
     if !quick {

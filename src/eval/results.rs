@@ -36,7 +36,7 @@ fn pct(x: f64) -> String {
 /// The table: one row per configuration, errors in percent.
 pub fn csv(rows: &[Row]) -> String {
     let mut out = String::from(
-        "configuration,map_size,cascades,fit,sun_maps,filter,bias,faces,depth,bias_scale,texel_bytes,cost_ms,shadow_ms,lookup_ms,min_shadow_ms,max_shadow_ms,\
+        "configuration,map_size,cascades,fit,sun_maps,light_maps,filter,bias,faces,depth,bias_scale,texel_bytes,cost_ms,shadow_ms,lookup_ms,min_shadow_ms,max_shadow_ms,\
          misclassified_pct,false_shadow_pct,false_lit_pct,mae_hard,mae_soft,edge_misclassified_pct,\
          texels_per_pixel_median,texels_per_pixel_p99",
     );
@@ -56,12 +56,13 @@ pub fn csv(rows: &[Row]) -> String {
         let label = if c.label().contains(',') { format!("\"{}\"", c.label()) } else { c.label() };
         let _ = write!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.5},{:.5},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.5},{:.5},{}",
             label,
             s.maps.shadow_map_size,
             s.cascade.cascades,
             s.cascade.fit_mode.name(),
             s.maps.sun_maps.name(),
+            s.maps.light_maps.name(),
             s.shadow.method.name(),
             s.shadow.depth_bias,
             s.maps.shadow_faces.name(),
@@ -360,9 +361,16 @@ pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
         );
     }
     out += &against_bevy(rows);
-    // The default, and the default with virtual sun maps, light by light.
+    // The default, and the default with virtual sun maps, then with every light's virtual, light
+    // by light.
     let paged = Config { sun_maps: crate::settings::SunMaps::Virtual, ..default };
-    for (config, what) in [(default, "The default configuration"), (paged, "With the sun's maps virtual")] {
+    let every = Config { light_maps: crate::settings::LightMaps::Virtual, ..paged };
+    let each = [
+        (default, "The default configuration"),
+        (paged, "With the sun's maps virtual"),
+        (every, "With the sun's and the spots' maps virtual"),
+    ];
+    for (config, what) in each {
         if let Some(d) = rows.iter().find(|r| r.config == config) {
             out += &light_by_light(d, what);
         }
