@@ -7,8 +7,8 @@
 //! follows from its footprint against the texel there, and a light far away or small on screen
 //! reads few, coarse pages.
 
-use super::{LightProjection, PAGE_BORDER, PAGE_GRID, PAGE_TEXELS, PAGE_TILE, PageId};
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use super::{Aabb, LightProjection, PAGE_BORDER, PAGE_GRID, PAGE_TEXELS, PAGE_TILE, PageId, PageRange};
+use glam::{IVec2, Mat4, Vec2, Vec3, Vec4};
 
 /// The most pages a side of a perspective map's finest level: a window of the sun's clipmap,
 /// [`PAGE_GRID`] pages of [`PAGE_TEXELS`] (7,680 texels across), so that every level lies in one
@@ -132,6 +132,41 @@ impl FrustumPages {
             return 0;
         }
         octaves.round().clamp(0.0, (self.levels - 1) as f32) as u32
+    }
+
+    /// The pages of every level whose tiles (border included) `b` lies across, seen from the
+    /// light: what a caster moving through `b` dirties. A box reaching from before the light to
+    /// behind it crosses the whole map; one off the map, or wholly behind the light, none.
+    #[must_use]
+    pub fn crossing(&self, b: &Aabb) -> Vec<PageRange> {
+        if !b.is_usable() {
+            return Vec::new();
+        }
+        let clips = b.corners().map(|c| self.map.view_proj * c.extend(1.0));
+        let ahead = clips.iter().filter(|c| c.w > 0.0).count();
+        if ahead == 0 {
+            return Vec::new();
+        }
+        let (mut min, mut max) = (Vec2::splat(-1.0), Vec2::ONE);
+        if ahead == clips.len() {
+            let ndc = clips.map(|c| c.truncate().truncate() / c.w);
+            min = ndc.iter().fold(Vec2::INFINITY, |m, n| m.min(*n));
+            max = ndc.iter().fold(Vec2::NEG_INFINITY, |m, n| m.max(*n));
+        }
+        if min.cmpgt(Vec2::ONE).any() || max.cmplt(Vec2::splat(-1.0)).any() {
+            return Vec::new();
+        }
+        (0..self.levels)
+            .map(|level| {
+                let side = self.pages_across(level);
+                // A tile's border reaches `border` texels past its page's square.
+                let border = 2.0 / side as f32 * self.border as f32 / PAGE_TEXELS as f32;
+                let cell = |v: f32| (((v + 1.0) * 0.5 * side as f32).floor() as i32).clamp(0, side as i32 - 1);
+                let lo = IVec2::new(cell(min.x - border), cell(min.y - border));
+                let hi = IVec2::new(cell(max.x + border), cell(max.y + border));
+                PageRange { level, min: lo, max: hi }
+            })
+            .collect()
     }
 }
 

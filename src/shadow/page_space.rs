@@ -5,7 +5,7 @@
 //! and the lookups read either alike; what differs (windows, what a moving box crosses, when old
 //! marks still name the same pages) is answered here.
 
-use super::{Aabb, Clipmap, FrustumPages, LightProjection, PAGE_TEXELS, PageId, PageRange, Window};
+use super::{Aabb, Clipmap, FrustumPages, LightProjection, PageId, PageRange, Window};
 use glam::{IVec2, Mat3, Mat4, Vec2, Vec3};
 
 /// The pages of a paged light's virtual map.
@@ -160,34 +160,9 @@ impl PageSpace {
                 let square = (across.min.truncate(), across.max.truncate());
                 (0..c.levels).map(|level| c.pages_meeting(level, square)).collect()
             }
-            PageSpace::Frustum(f) => frustum_crossing(f, b),
+            PageSpace::Frustum(f) => f.crossing(b),
         }
     }
-}
-
-/// [`PageSpace::crossing`] for a perspective map.
-fn frustum_crossing(f: &FrustumPages, b: &Aabb) -> Vec<PageRange> {
-    let clips = b.corners().map(|c| f.map.view_proj * c.extend(1.0));
-    let (mut min, mut max) = (Vec2::splat(-1.0), Vec2::ONE);
-    if clips.iter().all(|c| c.w > 0.0) {
-        let ndc = clips.map(|c| c.truncate().truncate() / c.w);
-        min = ndc.iter().fold(Vec2::INFINITY, |m, n| m.min(*n));
-        max = ndc.iter().fold(Vec2::NEG_INFINITY, |m, n| m.max(*n));
-    }
-    if min.cmpgt(Vec2::ONE).any() || max.cmplt(Vec2::splat(-1.0)).any() {
-        return Vec::new();
-    }
-    (0..f.levels)
-        .map(|level| {
-            let side = f.pages_across(level);
-            // A tile's border reaches `border` texels past its page's square.
-            let border = 2.0 / side as f32 * f.border as f32 / PAGE_TEXELS as f32;
-            let cell = |v: f32| (((v + 1.0) * 0.5 * side as f32).floor() as i32).clamp(0, side as i32 - 1);
-            let lo = IVec2::new(cell(min.x - border), cell(min.y - border));
-            let hi = IVec2::new(cell(max.x + border), cell(max.y + border));
-            PageRange { level, min: lo, max: hi }
-        })
-        .collect()
 }
 
 #[cfg(test)]
@@ -270,6 +245,8 @@ mod tests {
         let PageSpace::Frustum(f) = space else { unreachable!() };
         assert_eq!(around[0].count(), u64::from(f.pages * f.pages), "round the light: the whole map");
         assert!(space.crossing(&Aabb::new(Vec3::NAN, Vec3::ONE)).is_empty());
+        let behind = Vec3::new(1.0, 9.0, -2.0);
+        assert!(space.crossing(&Aabb::new(behind - 0.5, behind + 0.5)).is_empty(), "wholly behind the light");
         // The sun's, as its clipmap finds them.
         let PageSpace::Clipmap(c) = sun() else { unreachable!() };
         let b = Aabb::new(p - 0.3, p + 0.3);
