@@ -91,7 +91,8 @@ struct GpuLight {
     contact: u32,
     // 1 when a paged light's shadow ends at the shadow distance (a sun's clipmap).
     page_fades: u32,
-    _pad2: u32,
+    // 6 for a point light's cube of pages (its face matrices in its page table), else 1.
+    page_faces: u32,
     // The cookie's projection (spots with a cookie only).
     cookie_from_world: mat4x4<f32>,
     // A paged light's virtual map (see pages.wgsl): world to level-0 page units (over w), its

@@ -8,7 +8,8 @@
 
 struct Marking {
     world_from_clip: mat4x4<f32>,
-    page_from_world: mat4x4<f32>,
+    // World to level-0 page units: a cube's six faces', or one map's first.
+    page_from_world: array<mat4x4<f32>, 6>,
     // Each level's window origin, two levels a vector.
     origins: array<vec4<i32>, 8>,
     // Where the light is: its position (w 1) or the direction towards it (w 0).
@@ -27,8 +28,10 @@ struct Marking {
     bias: f32,
     // Level-0 page units a side of a perspective map (0: a clipmap, with no edge).
     extent: f32,
-    _pad0: u32,
-    _pad1: u32,
+    // 6 for a cube, 1 for others.
+    faces: u32,
+    // Level-0 page units a side of a cube's face.
+    face_side: f32,
 };
 
 @group(0) @binding(0) var<uniform> marking: Marking;
@@ -98,8 +101,22 @@ fn wanted_pages(at: vec2<i32>) -> array<vec2<u32>, 2> {
     if (marking.reach.w >= 0.0 && distance(p, marking.reach.xyz) > marking.reach.w) {
         return none;
     }
-    let u = marking.page_from_world * vec4<f32>(p, 1.0);
-    let units = u.xy / u.w;
+    // A cube's face holding `p` looks along its largest axis from the light: the largest w.
+    var u = marking.page_from_world[0] * vec4<f32>(p, 1.0);
+    var face = 0u;
+    for (var f = 1u; f < marking.faces; f += 1u) {
+        let v = marking.page_from_world[f] * vec4<f32>(p, 1.0);
+        if (v.w > u.w) {
+            u = v;
+            face = f;
+        }
+    }
+    var units = u.xy / u.w;
+    if (marking.face_side > 0.0) {
+        // Held on its face's square (its edge would round onto the next face's first page).
+        let origin = vec2<f32>(f32(face % CUBE_ACROSS), f32(face / CUBE_ACROSS)) * marking.face_side;
+        units = clamp(units, origin, origin + vec2<f32>(marking.face_side - 1e-3));
+    }
     let off_map = marking.extent > 0.0 && (any(units < vec2<f32>(0.0)) || any(units >= vec2<f32>(marking.extent)));
     if (u.w <= 0.0 || off_map) {
         return none;

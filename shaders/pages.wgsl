@@ -6,10 +6,39 @@
 // level's window origin and, for each page of the window, the layer its resident page is in. The
 // math mirrors src/shadow/pages.rs and src/shadow/page_space.rs.
 
-// `p`'s level-0 page units of `light` (xy) and its w (z); w <= 0 behind the light.
+// The face of `light` that holds `p`: a point light's cube face (as cube_face picks it), 0 for
+// a map with one.
+fn page_face(light: GpuLight, p: vec3<f32>) -> u32 {
+    return select(0u, cube_face(p - light.position), light.page_faces == 6u);
+}
+
+// `light`'s world to level-0 page units on face `face`: its own, or a cube face's from its page
+// table (after the entries, 16 words a face, column by column).
+fn page_matrix(light: GpuLight, face: u32) -> mat4x4<f32> {
+    if (light.page_faces != 6u) {
+        return light.page_from_world;
+    }
+    let at = light.page_word + light.page_levels * (2u + PAGE_GRID * PAGE_GRID) + 16u * face;
+    var columns: array<vec4<f32>, 4>;
+    for (var c = 0u; c < 4u; c += 1u) {
+        let w = at + 4u * c;
+        columns[c] = bitcast<vec4<f32>>(vec4<u32>(table_word(w), table_word(w + 1u), table_word(w + 2u), table_word(w + 3u)));
+    }
+    return mat4x4<f32>(columns[0], columns[1], columns[2], columns[3]);
+}
+
+// `p`'s level-0 page units of `light` (xy) and its w (z); w <= 0 behind the light. A cube's
+// units are held on their face's square.
 fn page_units(light: GpuLight, p: vec3<f32>) -> vec3<f32> {
-    let u = light.page_from_world * vec4<f32>(p, 1.0);
-    return vec3<f32>(u.xy / u.w, u.w);
+    let face = page_face(light, p);
+    let u = page_matrix(light, face) * vec4<f32>(p, 1.0);
+    var units = u.xy / u.w;
+    if (light.page_faces == 6u) {
+        let side = f32(CUBE_FACE_PAGES);
+        let origin = vec2<f32>(f32(face % CUBE_ACROSS), f32(face / CUBE_ACROSS)) * side;
+        units = clamp(units, origin, origin + vec2<f32>(side - 1e-3));
+    }
+    return vec3<f32>(units, u.w);
 }
 
 // Word `i` of the page tables.
@@ -52,7 +81,7 @@ fn page_origin(light: GpuLight, level: u32) -> vec2<i32> {
 const NO_PAGE: u32 = 0xffffffffu;
 
 // The layer `light`'s lookup at `p` reads: the page holding `p` of the finest level resident
-// from `level` on, or the coarse map, its first layer, where none is. Without the fallback
+// from `level` on, or the coarse map (its layer, or the cube face holding `p`) where none is. Without the fallback
 // (frame.page_fallback 0) only level `level` is read, and NO_PAGE where its page is missing.
 fn page_layer(light: GpuLight, p: vec3<f32>, level: i32) -> u32 {
     let at_p = page_units(light, p);
@@ -72,5 +101,6 @@ fn page_layer(light: GpuLight, p: vec3<f32>, level: i32) -> u32 {
             }
         }
     }
-    return select(NO_PAGE, light.first_layer, frame.page_fallback == 1u);
+    // The coarse map: its one layer, or the cube face that holds `p`.
+    return select(NO_PAGE, light.first_layer + page_face(light, p), frame.page_fallback == 1u);
 }

@@ -1,8 +1,9 @@
-//! Virtual shadow maps for spot lights (`--light-maps virtual`): each spot's perspective map in
-//! pages, marked from the camera's depth where its light reaches and on its map, drawn once and
-//! kept. The spots' shadows land where the ray-traced truth puts them, much sharper than the
-//! coarse map alone (the atlas's numbers are printed beside them); a still view draws no page.
-//! Where the device runs no compute shaders, pages cannot be marked: the tests say SKIPPED.
+//! Virtual shadow maps for spot and point lights (`--light-maps virtual`): each spot's
+//! perspective map, and each face of a point light's cube, in pages, marked from the camera's
+//! depth where its light reaches and on its map, drawn once and kept. Their shadows land where
+//! the ray-traced truth puts them, much sharper than the coarse maps alone (the atlas's numbers
+//! are printed beside them); a still view draws no page. Where the device runs no compute
+//! shaders, pages cannot be marked: the tests say SKIPPED.
 
 mod common;
 
@@ -18,11 +19,12 @@ use umbra::{App, Settings};
 const W: u32 = 640;
 const H: u32 = 360;
 
-/// For each spot (lights 1 and 2: the sun comes first), a view from a few metres over its pool
-/// of light, where its shadows want finer texels than its coarse map holds.
-const VIEWS: [(usize, Vec3, Vec3); 2] = [
+/// For each spot and the lamp (lights 1, 2 and 3: the sun comes first), a view from a few
+/// metres over its pool of light, where its shadows want finer texels than its coarse map holds.
+const VIEWS: [(usize, Vec3, Vec3); 3] = [
     (1, Vec3::new(-1.5, 2.5, 3.0), Vec3::new(-3.0, 0.0, 0.5)),
     (2, Vec3::new(5.5, 2.5, 3.5), Vec3::new(4.0, 0.0, 1.0)),
+    (3, Vec3::new(4.5, 3.5, 3.0), Vec3::new(1.0, 0.0, -1.5)),
 ];
 
 /// The sample scene at t = 6 s, `W` x `H`, seen from `eye` towards `target`, with `change` made
@@ -43,7 +45,7 @@ fn paged(view: (Vec3, Vec3)) -> App {
 /// Light `light`'s virtual map in `app` (light order: the sun, then the spots).
 fn light_pages(app: &App, light: usize) -> VirtualPages {
     let entity = umbra::light::light_list(&app.world)[light].entity;
-    app.world.get::<ShadowMap>(entity).and_then(|m| m.pages.clone()).expect("the spot is paged")
+    app.world.get::<ShadowMap>(entity).and_then(|m| m.pages.clone()).expect("the light is paged")
 }
 
 /// Light `light`'s pixels of `frame` against the truth.
@@ -62,7 +64,7 @@ fn cannot_mark(app: &mut App) -> bool {
 }
 
 #[test]
-fn paged_spots_put_their_shadows_where_the_truth_does_sharper_than_their_coarse_maps() {
+fn paged_lights_put_their_shadows_where_the_truth_does_sharper_than_their_coarse_maps() {
     let gpu = gpu();
     for (light, eye, target) in VIEWS {
         let mut atlas = app((eye, target), |_| ());
@@ -85,21 +87,28 @@ fn paged_spots_put_their_shadows_where_the_truth_does_sharper_than_their_coarse_
         let pages = &light_pages(&virt, light);
         let percent = |t: &metrics::Tally| 100.0 * t.misclassified();
         eprintln!(
-            "spot {light}: {} pixels; misclassified atlas {:.4} %, coarse map {:.4} %, pages {:.4} % ({} resident)",
+            "light {light}: {} pixels; misclassified atlas {:.4} %, coarse map {:.4} %, pages {:.4} % ({} resident)",
             by_pages.pixels,
             percent(&by_atlas),
             percent(&by_coarse),
             percent(&by_pages),
             pages.pool.len()
         );
-        assert!(by_pages.pixels > 20_000, "the view shows spot {light}'s light");
+        assert!(by_pages.pixels > 20_000, "the view shows light {light}'s light");
         assert!(pages.pool.len() > 4 && pages.marked.residency.missing == 0, "{:?}", pages.marked);
         assert!(by_pages.misclassified() * 2.0 < by_coarse.misclassified(), "the pages are read");
-        // Only pages on its map are asked for: the view shows ground past the map's edge.
-        let PageSpace::Frustum(map) = pages.space else { panic!("a spot's pages cut its perspective map") };
+        // Only pages on its map, or on its cube's faces, are asked for: the spots' views show
+        // ground past their maps' edges.
         for (_, r) in pages.pool.resident() {
-            let side = map.pages_across(r.page.level) as i32;
-            assert!((0..side).contains(&r.page.x) && (0..side).contains(&r.page.y), "{:?} is off the map", r.page);
+            let on = match pages.space {
+                PageSpace::Frustum(map) => {
+                    let side = map.pages_across(r.page.level) as i32;
+                    (0..side).contains(&r.page.x) && (0..side).contains(&r.page.y)
+                }
+                PageSpace::Cube(cube) => cube.face_of(r.page).is_some(),
+                PageSpace::Clipmap(_) => panic!("light {light} is a spot or a point light"),
+            };
+            assert!(on, "{:?} is off the map", r.page);
         }
         // A still view draws no page.
         virt.step_held();

@@ -46,8 +46,8 @@ pub struct Config {
     /// virtual map (its coarse map at the map size up to 1024², its pages as the defaults have
     /// them).
     pub sun_maps: SunMaps,
-    /// How the spots' shadows are laid out: atlas tiles, or virtual maps (their pages as the
-    /// defaults have them).
+    /// How spot and point lights' shadows are laid out: atlas tiles, or virtual maps (their
+    /// pages as the defaults have them).
     pub light_maps: LightMaps,
     /// Instead of the above: the Bevy-like baseline ([`bevy_like`]).
     pub bevy_like: bool,
@@ -233,10 +233,10 @@ impl Config {
     }
 
     /// How the sun's maps are laid out, as labels start: `2048 x4` for cascades (with the fit
-    /// when it is not the default's), `virtual` for pages; `+ virtual spots` follows where the
-    /// spots are paged.
+    /// when it is not the default's), `virtual` for pages; `+ virtual lights` follows where spot
+    /// and point lights are paged.
     fn sun_label(&self, full: bool) -> String {
-        let spots = if self.light_maps == LightMaps::Virtual { " + virtual spots" } else { "" };
+        let spots = if self.light_maps == LightMaps::Virtual { " + virtual lights" } else { "" };
         self.sun_maps_label(full) + spots
     }
 
@@ -391,7 +391,7 @@ pub fn configs(quick: bool) -> Vec<Config> {
     push(Config { faces: ShadowFaces::Back, bias: 0.0, ..d });
     push(Config { bevy_like: true, ..d });
     // Virtual maps for the sun: the default method, and in the full sweep every depth method;
-    // and the sun's and the spots' maps virtual, at the default method.
+    // and every light's maps virtual, at the default method.
     use ShadowMethod::*;
     let paged: &[ShadowMethod] =
         if quick { &[Bilinear] } else { &[Nearest, Bilinear, Pcf3, Pcf5, Gauss5, Poisson32, Pcss] };

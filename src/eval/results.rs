@@ -361,14 +361,14 @@ pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
         );
     }
     out += &against_bevy(rows);
-    // The default, and the default with virtual sun maps, then with every light's virtual, light
-    // by light.
+    // The default, and the default with virtual sun maps, then with every light's maps virtual,
+    // light by light.
     let paged = Config { sun_maps: crate::settings::SunMaps::Virtual, ..default };
     let every = Config { light_maps: crate::settings::LightMaps::Virtual, ..paged };
     let each = [
         (default, "The default configuration"),
         (paged, "With the sun's maps virtual"),
-        (every, "With the sun's and the spots' maps virtual"),
+        (every, "With every light's maps virtual"),
     ];
     for (config, what) in each {
         if let Some(d) = rows.iter().find(|r| r.config == config) {

@@ -15,7 +15,7 @@ mod point;
 mod spot;
 mod sun;
 
-pub use point::Point;
+pub use point::{POINT_COARSE, Point};
 pub use spot::{SPOT_COARSE, Spot};
 pub use sun::Sun;
 
@@ -150,14 +150,15 @@ impl LayerContext<'_> {
 
 /// A light's virtual map as fitted this update: its pages, where the camera is (a clipmap's
 /// windows are centred on it), and its coarse map over all its shadow reaches.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct PagedFit {
     /// Its levels, how they are cut into pages and their depth.
     pub space: PageSpace,
     /// Where the camera is.
     pub camera: Vec3,
-    /// The map every pixel whose page is not there reads.
-    pub coarse: LayerFit,
+    /// The map every pixel whose page is not there reads: one layer, or a cube's six faces
+    /// ([`PageSpace::coarse_layers`]).
+    pub coarse: Vec<LayerFit>,
     /// Texels a side of the coarse map.
     pub coarse_side: u32,
 }

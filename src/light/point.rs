@@ -3,10 +3,14 @@
 use super::clusters::Reach;
 use super::{Emitter, Kind, KindGpu, LIGHT_POINT, LayerContext, LayerFit, PagedFit, ShadowShape, SizeControl, Source};
 use crate::components::{PointLight, ShadowMethod, Transform};
-use crate::settings::MapSettings;
-use crate::shadow::light_range;
+use crate::settings::{CUBE_MARGIN, LightMaps, MapSettings};
+use crate::shadow::{CubePages, PageSpace, light_range};
 use bevy_ecs::prelude::*;
 use glam::{Vec3, Vec4};
+
+/// Texels a side of each face of a paged point light's coarse cube: a fallback while its pages
+/// come (six 128² faces, 384 KiB).
+pub const POINT_COARSE: u32 = 128;
 
 /// Light from `position` every way, out to `range`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,12 +37,22 @@ impl Kind for Point {
         "point"
     }
 
-    fn shape(&self, _: &MapSettings, _: ShadowMethod) -> ShadowShape {
-        ShadowShape::Cube
+    /// A cube, paged where the settings ask for virtual light maps and the method reads depth.
+    fn shape(&self, settings: &MapSettings, method: ShadowMethod) -> ShadowShape {
+        let paged = settings.light_maps == LightMaps::Virtual && method.pages();
+        if paged { ShadowShape::Pages } else { ShadowShape::Cube }
     }
 
-    fn pages(&self, _: &LayerContext, _: u32, _: Option<(f32, f32)>) -> Option<PagedFit> {
-        None
+    /// Its cube in pages ([`CubePages`]: each face 16 pages a side at the finest level, with the
+    /// cube maps' margin where seams are handled); the coarse map is a cube of faces `coarse`
+    /// texels a side and at most [`POINT_COARSE`].
+    fn pages(&self, context: &LayerContext, coarse: u32, _: Option<(f32, f32)>) -> Option<PagedFit> {
+        let margin = if context.maps.cube_seams { CUBE_MARGIN } else { 0 };
+        let cube = CubePages::new(self.position, self.range, margin);
+        let coarse_side = coarse.min(POINT_COARSE);
+        let camera = context.view.map_or(Vec3::ZERO, |v| v.transform.translation);
+        let coarse = context.cube(self.position, self.range, coarse_side);
+        Some(PagedFit { space: PageSpace::Cube(cube), camera, coarse, coarse_side })
     }
 
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {

@@ -73,7 +73,7 @@ impl Kind for Spot {
         pages.border = if context.maps.atlas_guard { pages.border } else { 0 };
         let camera = context.view.map_or(Vec3::ZERO, |v| v.transform.translation);
         let coarse_side = coarse.min(SPOT_COARSE);
-        let coarse = LayerFit::everywhere(map(coarse_side));
+        let coarse = vec![LayerFit::everywhere(map(coarse_side))];
         Some(PagedFit { space: PageSpace::Frustum(pages), camera, coarse, coarse_side })
     }
 

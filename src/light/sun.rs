@@ -75,7 +75,8 @@ impl Kind for Sun {
         let coarse_side = coarse;
         let projection = fit_slice(&sun, &frustum, slice, FitMode::Stable, coarse_side);
         let (space, camera) = (PageSpace::Clipmap(clipmap), transform.translation);
-        Some(PagedFit { space, camera, coarse: LayerFit { projection, far: slice.1, blend: 0.0 }, coarse_side })
+        let coarse = vec![LayerFit { projection, far: slice.1, blend: 0.0 }];
+        Some(PagedFit { space, camera, coarse, coarse_side })
     }
 
     fn penumbra_size(&self) -> f32 {

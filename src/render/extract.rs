@@ -11,7 +11,7 @@ use crate::components::*;
 use crate::light::clusters::{ClusterView, LightGrid, Reach};
 use crate::light::{Kind, Light, light_list};
 use crate::settings::{CasterCulling, FrameSettings, ShadowSettings};
-use crate::shadow::{Aabb, CasterIndex, intersects_clip_volume};
+use crate::shadow::{Aabb, CUBE_FACES, CasterIndex, intersects_clip_volume};
 use crate::systems::CastersAtRest;
 use bevy_ecs::prelude::*;
 use bytemuck::Zeroable;
@@ -49,8 +49,9 @@ fn layer_draws(
         .enumerate()
         .map(|(k, l)| LayerDraw {
             light: label,
-            // A page is named by its slot, so it keeps its tile while it stays resident.
-            key: (entity.to_bits(), l.page.map_or(k as u32, |p| 1 + p.slot)),
+            // A page is named by its slot, so it keeps its tile while it stays resident; its
+            // names start past a coarse map's layers (a cube's six faces at most).
+            key: (entity.to_bits(), l.page.map_or(k as u32, |p| CUBE_FACES.len() as u32 + p.slot)),
             slot: (first_slot + k) as u32,
             resolution: l.resolution,
             tile: None,

@@ -161,7 +161,9 @@ gpu_struct! {
         /// 1 when a paged light's shadow ends at the shadow distance, fading out before it (a
         /// sun's clipmap); 0 where it reaches as far as its light (a spot's pages).
         pub page_fades: u32,
-        pub _pad2: u32,
+        /// A paged light's faces: 6 for a point light's cube (each face's `page_from_world` is
+        /// in its page table, after the entries), 1 for the others.
+        pub page_faces: u32,
         /// World to the cookie's clip space (spots with a cookie).
         pub cookie_from_world: Mat4,
         /// A paged light's world to its level-0 page units across the light (x and y; a page of
@@ -171,7 +173,7 @@ gpu_struct! {
         pub page_levels: u32,
         /// Its page table's first word in the page-table texture: each level's window origin
         /// (two words), then each level's [`crate::shadow::PAGE_GRID`]² entries (a layer + 1, 0:
-        /// not there).
+        /// not there), then a cube's six face matrices (16 words each, column by column).
         pub page_word: u32,
         /// log2 of its level 0's texel, in metres.
         pub page_finest_log2: f32,
@@ -268,8 +270,9 @@ gpu_struct! {
     pub struct Marking {
         /// The camera's clip space back to the world.
         pub world_from_clip: Mat4,
-        /// The light's world to level-0 page units (see [`GpuLight::page_from_world`]).
-        pub page_from_world: Mat4,
+        /// The light's world to level-0 page units (see [`GpuLight::page_from_world`]): a cube's
+        /// six faces', or one map's first.
+        pub page_from_world: [Mat4; 6],
         /// Each level's window origin, two levels a vector (x, y, x, y).
         pub origins: [[i32; 4]; (crate::shadow::MAX_PAGE_LEVELS / 2) as usize],
         /// Where the light is as a homogeneous point: its position with w 1, or the direction
@@ -295,8 +298,10 @@ gpu_struct! {
         pub bias: f32,
         /// Level-0 page units a side of the map, past which a point is off it (0: no edge).
         pub extent: f32,
-        pub _pad0: u32,
-        pub _pad1: u32,
+        /// Faces in `page_from_world`: 6 for a cube, 1 for others.
+        pub faces: u32,
+        /// Level-0 page units a side of a cube's face, on whose square a point is held.
+        pub face_side: f32,
     }
 }
 
@@ -376,6 +381,8 @@ pub fn prelude() -> String {
     constant("PAGE_GRID", crate::shadow::PAGE_GRID as u64);
     constant("MARK_WORDS", crate::shadow::MARK_WORDS as u64);
     constant("MAX_PAGE_LEVELS", crate::shadow::MAX_PAGE_LEVELS as u64);
+    constant("CUBE_FACE_PAGES", crate::shadow::CUBE_FACE_PAGES as u64);
+    constant("CUBE_ACROSS", crate::shadow::CUBE_ACROSS as u64);
     constant("SDSM_BINS", crate::shadow::SDSM_BINS as u64);
     constant("SDSM_WORDS", crate::shadow::SDSM_WORDS as u64);
     constant("RESOLVE_BLOCK", RESOLVE_BLOCK as u64);

@@ -12,7 +12,6 @@ use super::shaders::PAGE_MARKS;
 use crate::light::Kind;
 use crate::light::clusters::Reach;
 use crate::shadow::{MARK_WORDS, MAX_PAGE_LEVELS, PageMarks, PageSpace, Window};
-use bytemuck::Zeroable;
 
 /// What a marking was made against: the light, its pages and their windows.
 struct MarkTag {
@@ -80,7 +79,7 @@ impl PageMarking {
         };
         let marking = Marking {
             world_from_clip: data.clip_from_world.inverse(),
-            page_from_world: view.space.page_from_world(),
+            page_from_world: view.space.faces().unwrap_or([view.space.page_from_world(); 6]),
             origins,
             light: kind.homogeneous().to_array(),
             reach,
@@ -93,7 +92,8 @@ impl PageMarking {
             pixel_angle: frame.pixel_angle,
             bias: view.bias,
             extent: view.space.extent().unwrap_or(0.0),
-            ..Marking::zeroed()
+            faces: if view.space.faces().is_some() { 6 } else { 1 },
+            face_side: view.space.face_side().unwrap_or(0.0),
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&marking));
         encoder.clear_buffer(&self.marks, 0, None);

@@ -1,7 +1,8 @@
 //! The page tables of paged lights, as the lookups read them (`page_layer` in pages.wgsl): for
 //! each level, its window's origin, then for each page of the window the layer its resident page
-//! is in (its slot + 1; 0 where the page is not resident, or found no tile). Written once the
-//! frame's layers have their tiles, so a lookup never reads a page that is not drawn.
+//! is in (its slot + 1; 0 where the page is not resident, or found no tile), then for a point
+//! light's cube its six faces' matrices. Written once the frame's layers have their tiles, so a
+//! lookup never reads a page that is not drawn.
 
 use super::frame::FrameData;
 use crate::shadow::PAGE_GRID;
@@ -26,6 +27,9 @@ pub fn write_page_tables(data: &mut FrameData) {
             if let Some(i) = view.windows.get(level).and_then(|w| w.index(place.id)) {
                 words[entries + level * area + i] = slot as u32 + 1;
             }
+        }
+        for face in view.space.faces().iter().flatten() {
+            words.extend(face.to_cols_array().map(f32::to_bits));
         }
     }
     data.page_words = words;

@@ -127,11 +127,20 @@ pub const PRIME_ROUNDS: u32 = 6;
 /// its own view needs and is the same every time. A view whose pages do not all fit the pool
 /// stops at the limit, its pixels on coarser pages.
 fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u32)) -> Result<(), RenderError> {
+    // Each paged light's last marking (its number, and what taking it in did) and its pool's
+    // pressure since.
     let paged = |app: &mut App| {
-        let mut maps = app.world.query::<&crate::components::ShadowMap>();
-        maps.iter(&app.world).filter_map(|m| m.pages.as_ref()).map(|p| p.update).collect::<Vec<_>>()
+        let mut maps = app.world.query::<(bevy_ecs::entity::Entity, &crate::components::ShadowMap)>();
+        let marked = maps
+            .iter(&app.world)
+            .filter_map(|(e, m)| m.pages.as_ref().map(|p| (e, (p.marks_seen, p.marked, p.pressure))));
+        marked.collect::<std::collections::HashMap<_, _>>()
     };
-    if !app.settings().maps.paged() && paged(app).is_empty() {
+    let before = paged(app);
+    let mut last = before.clone();
+    // The lights whose last marking left their pressure as it was (it would ask for other pages).
+    let mut steady = std::collections::HashSet::new();
+    if !app.settings().maps.paged() && before.is_empty() {
         return Ok(());
     }
     // A marking of an earlier frame still under way would keep this view's from being made.
@@ -145,10 +154,23 @@ fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, 
         renderer.wait_for_samples(gpu);
         app.hear(renderer.news());
         app.step_held();
-        let updates = paged(app);
-        if updates.iter().all(crate::components::PageUpdate::settled) {
+        // Done when every paged light has been marked since priming began, its last marking
+        // found every page it asked for resident and left its pressure where it was.
+        let marked = paged(app);
+        for (e, (seen, _, pressure)) in &marked {
+            match last.get(e) {
+                Some((then, _, was)) if then == seen => {}
+                Some((_, _, was)) if was == pressure => _ = steady.insert(*e),
+                _ => _ = steady.remove(e),
+            }
+        }
+        let done = |(e, (seen, update, _)): (&_, &(u64, crate::components::PageUpdate, _))| {
+            before.get(e).is_none_or(|(then, _, _)| seen > then) && update.settled() && steady.contains(e)
+        };
+        if !marked.is_empty() && marked.iter().all(done) {
             break;
         }
+        last = marked;
     }
     Ok(())
 }

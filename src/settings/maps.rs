@@ -74,8 +74,9 @@ pub struct MapSettings {
     /// How the sun's shadow is laid out: cascades, or a virtual map in pages where the visible
     /// pixels need them (depth methods only; a moment or colour method stays on cascades).
     pub sun_maps: SunMaps,
-    /// How a spot light's shadow is laid out: a tile of the atlas, or a virtual map in pages
-    /// where the visible pixels need them (depth methods and spots one map holds only).
+    /// How spot and point lights' shadows are laid out: tiles of the atlas, or virtual maps in
+    /// pages where the visible pixels need them (depth methods only; a spot too wide for one map
+    /// keeps its atlas cube).
     pub light_maps: LightMaps,
     /// Octaves coarser (negative: finer) than its footprint a pixel's virtual page is chosen.
     pub page_bias: f32,

@@ -12,7 +12,8 @@ use super::{
 use glam::{IVec2, Mat4, Vec2, Vec3, Vec4};
 
 /// Faces along a row of the grid (two rows).
-const ACROSS: u32 = 3;
+pub const CUBE_ACROSS: u32 = 3;
+use CUBE_ACROSS as ACROSS;
 
 /// Pages a side of each face at the finest level: six faces of them fit a window of
 /// [`PAGE_GRID`] pages (three of 16 across, two down), 1,920 texels across a face, a texel about
@@ -24,11 +25,12 @@ const _: () = assert!(ACROSS * CUBE_FACE_PAGES <= PAGE_GRID);
 /// A point light's cube of maps, paged.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CubePages {
-    /// Its faces in [`super::CUBE_FACES`] order, each a perspective map of
-    /// [`CUBE_FACE_PAGES`] pages a side at level 0.
-    pub faces: [FrustumPages; 6],
     /// Where the light is.
     pub position: Vec3,
+    /// Where its light fades to nothing: the faces' far plane.
+    pub range: f32,
+    /// Texels of the finest level each face reaches past its 90° edge.
+    pub margin: u32,
 }
 
 impl CubePages {
@@ -36,21 +38,28 @@ impl CubePages {
     /// the finest level past its 90° edge (as the cube maps do, for the filters at the seams).
     #[must_use]
     pub fn new(position: Vec3, range: f32, margin: u32) -> CubePages {
+        CubePages { position, range, margin }
+    }
+
+    /// Face `face` (in [`super::CUBE_FACES`] order): a perspective map of [`CUBE_FACE_PAGES`]
+    /// pages a side at level 0.
+    #[must_use]
+    pub fn face(&self, face: usize) -> FrustumPages {
         let side = CUBE_FACE_PAGES * PAGE_TEXELS;
-        let faces = cube_projections(position, range, side, margin).map(|map| FrustumPages::new(map, CUBE_FACE_PAGES));
-        CubePages { faces, position }
+        let map = cube_projections(self.position, self.range, side, self.margin)[face.min(5)];
+        FrustumPages::new(map, CUBE_FACE_PAGES)
     }
 
     /// Levels, from level 0 down to faces of a single page.
     #[must_use]
     pub fn levels(&self) -> u32 {
-        self.faces[0].levels
+        CUBE_FACE_PAGES.ilog2() + 1
     }
 
     /// Where face `face`'s first page is on level `level`'s grid.
     #[must_use]
     pub fn face_origin(&self, face: usize, level: u32) -> IVec2 {
-        let side = self.faces[0].pages_across(level) as i32;
+        let side = self.face(0).pages_across(level) as i32;
         let face = face as i32;
         IVec2::new(face % ACROSS as i32, face / ACROSS as i32) * side
     }
@@ -61,13 +70,13 @@ impl CubePages {
     pub fn page_from_world(&self, face: usize) -> Mat4 {
         let at = self.face_origin(face, 0).as_vec2();
         let place = Mat4::from_cols(Vec4::X, Vec4::Y, Vec4::Z, Vec4::new(at.x, at.y, 0.0, 1.0));
-        place * self.faces[face].page_from_world()
+        place * self.face(face).page_from_world()
     }
 
     /// log2 of level 0's texel in metres where w is 1 (every face's).
     #[must_use]
     pub fn finest_log2(&self) -> f32 {
-        self.faces[0].finest_log2()
+        self.face(0).finest_log2()
     }
 
     /// The face holding `p`, its level-0 page units on the grid and its w; none at the light.
@@ -86,7 +95,7 @@ impl CubePages {
     #[must_use]
     pub fn page_at(&self, level: u32, p: Vec3) -> Option<PageId> {
         let (face, units, _) = self.units(p)?;
-        let side = self.faces[face].pages_across(level) as i32;
+        let side = self.face(face).pages_across(level) as i32;
         let origin = self.face_origin(face, level);
         let cell = (units / (level as f32).exp2()).floor();
         // Held on its own face (a point on a face's edge rounds onto the next one's first page).
@@ -98,7 +107,7 @@ impl CubePages {
     /// The face a page of the grid lies on, and the page on that face; none between the faces.
     #[must_use]
     pub fn face_of(&self, page: PageId) -> Option<(usize, PageId)> {
-        let side = self.faces[0].pages_across(page.level) as i32;
+        let side = self.face(0).pages_across(page.level) as i32;
         let (column, row) = (page.x.div_euclid(side), page.y.div_euclid(side));
         if !((0..ACROSS as i32).contains(&column) && (0..2).contains(&row)) {
             return None;
@@ -111,7 +120,7 @@ impl CubePages {
     #[must_use]
     pub fn projection(&self, page: PageId) -> Option<LightProjection> {
         let (face, local) = self.face_of(page)?;
-        Some(self.faces[face].projection(local))
+        Some(self.face(face).projection(local))
     }
 
     /// The pages of every level, on the grid, whose tiles `b` lies across on any face.
@@ -119,7 +128,7 @@ impl CubePages {
     pub fn crossing(&self, b: &Aabb) -> Vec<PageRange> {
         (0..6)
             .flat_map(|face| {
-                self.faces[face].crossing(b).into_iter().map(move |r| {
+                self.face(face).crossing(b).into_iter().map(move |r| {
                     let origin = self.face_origin(face, r.level);
                     PageRange { level: r.level, min: r.min + origin, max: r.max + origin }
                 })
@@ -142,7 +151,7 @@ mod tests {
         let c = cube();
         assert_eq!(c.levels(), 5);
         for level in 0..c.levels() {
-            let side = c.faces[0].pages_across(level) as i32;
+            let side = c.face(0).pages_across(level) as i32;
             let mut seen = std::collections::HashMap::new();
             for face in 0..6 {
                 let origin = c.face_origin(face, level);
@@ -175,7 +184,7 @@ mod tests {
                 let ndc = clip.truncate().truncate() / clip.w;
                 assert!(ndc.abs().max_element() <= 1.0 + 1e-4, "{p} at {ndc} in {page:?}");
                 let cell = (units / (level as f32).exp2()).floor();
-                let inside = local.x < c.faces[face].pages_across(level) as i32 - 1;
+                let inside = local.x < c.face(face).pages_across(level) as i32 - 1;
                 if inside {
                     assert_eq!(cell.x as i32, page.x, "{p} on level {level}");
                 }
@@ -183,7 +192,7 @@ mod tests {
             let texel = (c.finest_log2()).exp2() * w;
             let along = (p - c.position).abs().max_element();
             assert!((w - along).abs() < 1e-3 * along.max(1.0), "w is the distance along the face's axis");
-            assert!((texel - c.faces[face].texel(0, along)).abs() < 1e-5 * along.max(1.0));
+            assert!((texel - c.face(face).texel(0, along)).abs() < 1e-5 * along.max(1.0));
         }
         assert_eq!(c.units(c.position), None, "at the light");
         assert_eq!(c.page_at(0, Vec3::NAN), None);

@@ -27,7 +27,7 @@ pub use cascade::{
     FitMode, MAX_CASCADES, SceneBounds, SunScene, ViewFrustum, blend_bands, depth_step, fit_cascade, fit_seen,
     fit_slice, geometric_splits, split_depths,
 };
-pub use cube_pages::{CUBE_FACE_PAGES, CubePages};
+pub use cube_pages::{CUBE_ACROSS, CUBE_FACE_PAGES, CubePages};
 pub use cull::CasterIndex;
 pub use fit::{
     CUBE_FACES, LightProjection, MAX_MAP_HALF_ANGLE, MAX_SPOT_HALF_ANGLE, MIN_SPOT_HALF_ANGLE, cube_face,

@@ -1,11 +1,12 @@
 //! A paged light's virtual map whichever shape it takes: the sun's clipmap round the camera
-//! ([`Clipmap`]), or a spot's perspective map ([`FrustumPages`]). Both address a point the same
-//! way (`page_from_world`: level-0 page units over w, a texel of `2^finest_log2 · w` metres; w is
-//! 1 for the sun, the distance along the light's axis for a spot), so the marking, the page table
-//! and the lookups read either alike; what differs (windows, what a moving box crosses, when old
-//! marks still name the same pages) is answered here.
+//! ([`Clipmap`]), a spot's perspective map ([`FrustumPages`]) or a point light's cube of them
+//! ([`CubePages`]). Each addresses a point the same way (a `page_from_world` matrix, a cube's
+//! face's: level-0 page units over w, a texel of `2^finest_log2 · w` metres; w is 1 for the sun,
+//! the distance along the light's axis for a spot or a face), so the marking, the page table and
+//! the lookups read them alike; what differs (windows, what a moving box crosses, when old marks
+//! still name the same pages, which pages exist) is answered here.
 
-use super::{Aabb, Clipmap, FrustumPages, LightProjection, PageId, PageRange, Window};
+use super::{Aabb, CUBE_FACE_PAGES, Clipmap, CubePages, FrustumPages, LightProjection, PageId, PageRange, Window};
 use glam::{IVec2, Mat3, Mat4, Vec2, Vec3};
 
 /// The pages of a paged light's virtual map.
@@ -15,6 +16,8 @@ pub enum PageSpace {
     Clipmap(Clipmap),
     /// A spot's perspective map, every level over the whole map.
     Frustum(FrustumPages),
+    /// A point light's six faces, each as a spot's map, side by side on one grid.
+    Cube(CubePages),
 }
 
 impl PageSpace {
@@ -24,6 +27,7 @@ impl PageSpace {
         match self {
             PageSpace::Clipmap(c) => c.levels,
             PageSpace::Frustum(f) => f.levels,
+            PageSpace::Cube(c) => c.levels(),
         }
     }
 
@@ -33,15 +37,48 @@ impl PageSpace {
         match self {
             PageSpace::Clipmap(c) => c.finest_log2 as f32,
             PageSpace::Frustum(f) => f.finest_log2(),
+            PageSpace::Cube(c) => c.finest_log2(),
         }
     }
 
-    /// World to level-0 page units, to be divided by w.
+    /// World to level-0 page units, to be divided by w (a cube's first face's: see
+    /// [`PageSpace::faces`]).
     #[must_use]
     pub fn page_from_world(&self) -> Mat4 {
         match self {
             PageSpace::Clipmap(c) => c.page_from_world(),
             PageSpace::Frustum(f) => f.page_from_world(),
+            PageSpace::Cube(c) => c.page_from_world(0),
+        }
+    }
+
+    /// A cube's six faces' `page_from_world`, in [`super::CUBE_FACES`] order (the face holding
+    /// a point has the largest w); none for a map with one.
+    #[must_use]
+    pub fn faces(&self) -> Option<[Mat4; 6]> {
+        match self {
+            PageSpace::Cube(c) => Some(std::array::from_fn(|face| c.page_from_world(face))),
+            _ => None,
+        }
+    }
+
+    /// Layers of its coarse map: a cube's six faces, one for the others.
+    #[must_use]
+    pub fn coarse_layers(&self) -> usize {
+        if matches!(self, PageSpace::Cube(_)) { 6 } else { 1 }
+    }
+
+    /// True when `page` is one of its pages: any of a clipmap's, one on a perspective map or on
+    /// a cube's face (marks read back wrong could name others).
+    #[must_use]
+    pub fn holds(&self, page: PageId) -> bool {
+        match self {
+            PageSpace::Clipmap(c) => page.level < c.levels,
+            PageSpace::Frustum(f) => {
+                let side = f.pages_across(page.level) as i32;
+                page.level < f.levels && (0..side).contains(&page.x) && (0..side).contains(&page.y)
+            }
+            PageSpace::Cube(c) => page.level < c.levels() && c.face_of(page).is_some(),
         }
     }
 
@@ -51,6 +88,10 @@ impl PageSpace {
         match self {
             PageSpace::Clipmap(c) => c.projection(page),
             PageSpace::Frustum(f) => f.projection(page),
+            // Only pages it holds are drawn; any other is drawn as its first face's first.
+            PageSpace::Cube(c) => {
+                c.projection(page).unwrap_or_else(|| c.face(0).projection(PageId { x: 0, y: 0, ..page }))
+            }
         }
     }
 
@@ -60,7 +101,7 @@ impl PageSpace {
     pub fn windows(&self, camera: Vec3) -> Vec<Window> {
         match self {
             PageSpace::Clipmap(c) => c.windows(c.across(camera)),
-            PageSpace::Frustum(f) => (0..f.levels).map(|level| Window { level, origin: IVec2::ZERO }).collect(),
+            _ => (0..self.levels()).map(|level| Window { level, origin: IVec2::ZERO }).collect(),
         }
     }
 
@@ -76,8 +117,18 @@ impl PageSpace {
     #[must_use]
     pub fn extent(&self) -> Option<f32> {
         match self {
-            PageSpace::Clipmap(_) => None,
+            PageSpace::Clipmap(_) | PageSpace::Cube(_) => None,
             PageSpace::Frustum(f) => Some(f.pages as f32),
+        }
+    }
+
+    /// Level-0 page units a side of a cube's face: a point's units are held on its face's square
+    /// (a point on a face's edge would round onto the next face's first page). None for others.
+    #[must_use]
+    pub fn face_side(&self) -> Option<f32> {
+        match self {
+            PageSpace::Cube(_) => Some(CUBE_FACE_PAGES as f32),
+            _ => None,
         }
     }
 
@@ -87,7 +138,7 @@ impl PageSpace {
     pub fn depth(&self) -> Option<(f32, f32)> {
         match self {
             PageSpace::Clipmap(c) => Some(c.depth),
-            PageSpace::Frustum(_) => None,
+            PageSpace::Frustum(_) | PageSpace::Cube(_) => None,
         }
     }
 
@@ -105,6 +156,7 @@ impl PageSpace {
             (PageSpace::Frustum(now), PageSpace::Frustum(then)) => {
                 (now.map.view_proj, now.pages) == (then.map.view_proj, then.pages)
             }
+            (PageSpace::Cube(now), PageSpace::Cube(then)) => now == then,
             _ => false,
         }
     }
@@ -112,6 +164,9 @@ impl PageSpace {
     /// `p`'s level-0 page units (divided by w) and its w; none behind the light.
     #[must_use]
     pub fn units(&self, p: Vec3) -> Option<(Vec2, f32)> {
+        if let PageSpace::Cube(c) = self {
+            return c.units(p).map(|(_, units, w)| (units, w));
+        }
         let u = self.page_from_world() * p.extend(1.0);
         let units = u.truncate().truncate() / u.w;
         (u.w > 0.0 && units.is_finite()).then_some((units, u.w))
@@ -123,6 +178,7 @@ impl PageSpace {
         match self {
             PageSpace::Clipmap(c) => Some(c.page_at(level, c.across(p))),
             PageSpace::Frustum(f) => f.page_at(level, f.ndc(p)?),
+            PageSpace::Cube(c) => c.page_at(level, p),
         }
     }
 
@@ -161,6 +217,7 @@ impl PageSpace {
                 (0..c.levels).map(|level| c.pages_meeting(level, square)).collect()
             }
             PageSpace::Frustum(f) => f.crossing(b),
+            PageSpace::Cube(c) => c.crossing(b),
         }
     }
 }

@@ -160,7 +160,7 @@ pub fn update_light_matrices(
                         admit: admit_limit(&settings),
                         bias: settings.page_bias,
                     };
-                    refresh_paged(&mut map, fit, &how);
+                    refresh_paged(&mut map, &fit, &how);
                 }
                 None => {
                     let fits = source.kind.layers(&context, resolution);

@@ -61,7 +61,7 @@ pub(super) struct PagedUpdate<'a> {
 
 /// Updates `map`'s virtual map to `fit` (see the module's notes): a new clipmap (the light
 /// turned, or the scene's depth outgrew the range) or a forced redraw gives up every page.
-pub(super) fn refresh_paged(map: &mut ShadowMap, fit: PagedFit, how: &PagedUpdate) {
+pub(super) fn refresh_paged(map: &mut ShadowMap, fit: &PagedFit, how: &PagedUpdate) {
     let kept = map.pages.take().filter(|p| p.space == fit.space && p.pool.capacity() == how.capacity);
     let mut pages = kept.filter(|_| !how.forced).unwrap_or_else(|| VirtualPages {
         space: fit.space,
@@ -81,10 +81,10 @@ pub(super) fn refresh_paged(map: &mut ShadowMap, fit: PagedFit, how: &PagedUpdat
     if let Some(marks) = marks.filter(|m| m.seq != pages.marks_seen) {
         pages.marks_seen = marks.seq;
         if pages.space.same_pages(&marks.space) {
-            let windows = &pages.windows;
+            let (windows, space) = (&pages.windows, &pages.space);
             let needed: Vec<PageId> = marks
                 .pages()
-                .filter(|p| windows.get(p.level as usize).is_some_and(|w| w.index(*p).is_some()))
+                .filter(|p| windows.get(p.level as usize).is_some_and(|w| w.index(*p).is_some()) && space.holds(*p))
                 .collect();
             let residency = pages.pool.update(&needed, how.admit, next_version);
             pages.pressure = pages.pressure.next(needed.len(), residency.missing, how.capacity);
@@ -99,8 +99,8 @@ pub(super) fn refresh_paged(map: &mut ShadowMap, fit: PagedFit, how: &PagedUpdat
         pages.pool.invalidate(|p| moved.iter().any(|r| r.contains(p)), next_version);
     let settled = crossing(&pages.space, &how.changes.settled);
     pages.pool.resettle(|p| settled.iter().any(|r| r.contains(p)), next_version);
-    let old = &map.layers[..map.layers.len().min(1)];
-    let mut layers = fitted_layers(old, &[fit.coarse], fit.coarse_side, how.forced, how.changes);
+    let old = &map.layers[..map.layers.len().min(fit.coarse.len())];
+    let mut layers = fitted_layers(old, &fit.coarse, fit.coarse_side, how.forced, how.changes);
     layers.extend(page_layers(&pages));
     if map.layers != layers {
         map.layers = layers;
@@ -145,7 +145,7 @@ mod tests {
 
     fn fit() -> PagedFit {
         let coarse = clipmap().projection(PageId { level: 9, x: 0, y: 0 });
-        let coarse = LayerFit::everywhere(coarse);
+        let coarse = vec![LayerFit::everywhere(coarse)];
         PagedFit { space: PageSpace::Clipmap(clipmap()), camera: Vec3::ZERO, coarse, coarse_side: 1024 }
     }
 
@@ -167,24 +167,24 @@ mod tests {
     fn marked_pages_become_layers_after_the_coarse_map_and_keep_their_versions() {
         let (fit, light, still) = (fit(), Entity::from_bits(42), CasterChanges::default());
         let mut map = ShadowMap::default();
-        refresh_paged(&mut map, fit, &how(light, None, &still));
+        refresh_paged(&mut map, &fit, &how(light, None, &still));
         assert_eq!(map.layers.len(), 1, "the coarse map alone before any marking");
         assert!(map.layers[0].page.is_none() && map.layers[0].resolution == 1024);
         let marked = marks(&fit, 1, light, 2, &[5, 6, 7]);
-        refresh_paged(&mut map, fit, &how(light, Some(&marked), &still));
+        refresh_paged(&mut map, &fit, &how(light, Some(&marked), &still));
         assert_eq!(map.layers.len(), 4);
         let pages = map.pages.as_ref().unwrap();
         assert_eq!((pages.update.needed, pages.update.residency.placed), (3, 3));
         let first: Vec<ShadowLayer> = map.layers.clone();
         assert!(first[1..].iter().all(|l| l.dirty && l.resolution == PAGE_TILE && l.page.unwrap().id.level == 2));
         // The same marking again is not counted twice; nothing moved, nothing is dirty.
-        refresh_paged(&mut map, fit, &how(light, Some(&marked), &still));
+        refresh_paged(&mut map, &fit, &how(light, Some(&marked), &still));
         assert_eq!(map.pages.as_ref().unwrap().update.residency.placed, 0);
         assert!(map.layers.iter().all(|l| !l.dirty));
         assert!(map.layers.iter().zip(&first).all(|(a, b)| a.version == b.version));
         // Another light's marks are not this light's.
         let other = marks(&fit, 2, Entity::from_bits(7), 3, &[1]);
-        refresh_paged(&mut map, fit, &how(light, Some(&other), &still));
+        refresh_paged(&mut map, &fit, &how(light, Some(&other), &still));
         assert_eq!(map.layers.len(), 4);
     }
 
@@ -194,14 +194,14 @@ mod tests {
         let mut map = ShadowMap::default();
         let window = clipmap().window(0, Vec2::ZERO);
         let marked = marks(&fit, 1, light, 0, &[0, 2080]);
-        refresh_paged(&mut map, fit, &how(light, Some(&marked), &CasterChanges::default()));
-        refresh_paged(&mut map, fit, &how(light, Some(&marked), &CasterChanges::default()));
+        refresh_paged(&mut map, &fit, &how(light, Some(&marked), &CasterChanges::default()));
+        refresh_paged(&mut map, &fit, &how(light, Some(&marked), &CasterChanges::default()));
         // A small box inside the second page's square, seen along the light.
         let (min, max) = clipmap().footprint(window.page(2080));
         let centre = (min + max) * 0.5;
         let world = clipmap().light_from_world.inverse().transform_point3(centre.extend(0.0));
         let moved = CasterChanges { moved: vec![Aabb::new(world - 0.01, world + 0.01)], settled: Vec::new() };
-        refresh_paged(&mut map, fit, &how(light, None, &moved));
+        refresh_paged(&mut map, &fit, &how(light, None, &moved));
         let dirty: Vec<bool> = map.layers.iter().map(|l| l.dirty).collect();
         assert_eq!(dirty, vec![true, false, true], "the coarse map and the page it crossed");
         assert_eq!(map.pages.as_ref().unwrap().update.invalidated, 1);
@@ -212,15 +212,15 @@ mod tests {
         let (fit, light, still) = (fit(), Entity::from_bits(42), CasterChanges::default());
         let mut map = ShadowMap::default();
         let marked = marks(&fit, 1, light, 1, &[9]);
-        refresh_paged(&mut map, fit, &how(light, Some(&marked), &still));
+        refresh_paged(&mut map, &fit, &how(light, Some(&marked), &still));
         assert_eq!(map.layers.len(), 2);
         let turned = Clipmap::new(Vec3::new(-0.5, -1.0, 0.0), 60.0, (20.0, -20.0));
-        let turned = PagedFit { space: PageSpace::Clipmap(turned), ..fit };
-        refresh_paged(&mut map, turned, &how(light, Some(&marked), &still));
+        let turned = PagedFit { space: PageSpace::Clipmap(turned), ..fit.clone() };
+        refresh_paged(&mut map, &turned, &how(light, Some(&marked), &still));
         assert_eq!(map.layers.len(), 1, "the sun turned: no page is good, and old marks name other pages");
         let mut map = ShadowMap::default();
-        refresh_paged(&mut map, fit, &how(light, Some(&marked), &still));
-        refresh_paged(&mut map, fit, &PagedUpdate { forced: true, ..how(light, None, &still) });
+        refresh_paged(&mut map, &fit, &how(light, Some(&marked), &still));
+        refresh_paged(&mut map, &fit, &PagedUpdate { forced: true, ..how(light, None, &still) });
         assert_eq!(map.layers.len(), 1);
     }
 
