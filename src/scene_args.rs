@@ -87,10 +87,10 @@ pub struct SceneArgs {
     /// pixels need; depth methods only).
     #[arg(long, value_name = "KIND")]
     pub sun_maps: Option<SunMaps>,
-    /// How spot lights' shadows are laid out: atlas (the default: a tile sized by what the light
-    /// shows), or virtual (its map in 128² pages, every level over the whole map, each drawn once
-    /// and kept, at the resolution the visible pixels need; depth methods, and spots one map
-    /// holds, only).
+    /// How spot and point lights' shadows are laid out: atlas (the default: tiles sized by what
+    /// each light shows), or virtual (a spot's map or a point light's cube in 128² pages, every
+    /// level over the whole map, each drawn once and kept, at the resolution the visible pixels
+    /// need; depth methods only).
     #[arg(long, value_name = "KIND")]
     pub light_maps: Option<LightMaps>,
     /// Octaves (-4..4) coarser than each pixel's footprint its virtual page is chosen (negative:

@@ -24,7 +24,7 @@ use crate::components::{
     SpotLight, Transform, VirtualPages,
 };
 use crate::settings::{CascadeSettings, MapSettings, ShadowSettings};
-use crate::shadow::{Aabb, LightProjection, PageSpace, VisibleSamples, Window, cube_projections};
+use crate::shadow::{Aabb, CubePages, LightProjection, PageSpace, VisibleSamples, Window, cube_projections};
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
 use clusters::Reach;
@@ -145,6 +145,18 @@ impl LayerContext<'_> {
     pub fn cube(&self, at: Vec3, range: f32, resolution: u32) -> Vec<LayerFit> {
         let margin = if self.maps.cube_seams { crate::settings::CUBE_MARGIN } else { 0 };
         cube_projections(at, range, resolution, margin).map(LayerFit::everywhere).to_vec()
+    }
+
+    /// A shadow cube at `at` reaching `range` in pages ([`CubePages`], with the cube maps' margin
+    /// where seams are handled), its coarse map a cube of faces `coarse` texels a side and at
+    /// most [`POINT_COARSE`].
+    #[must_use]
+    pub fn cube_pages(&self, at: Vec3, range: f32, coarse: u32) -> PagedFit {
+        let margin = if self.maps.cube_seams { crate::settings::CUBE_MARGIN } else { 0 };
+        let coarse_side = coarse.min(POINT_COARSE);
+        let camera = self.view.map_or(Vec3::ZERO, |v| v.transform.translation);
+        let space = PageSpace::Cube(CubePages::new(at, range, margin));
+        PagedFit { space, camera, coarse: self.cube(at, range, coarse_side), coarse_side }
     }
 }
 

@@ -3,8 +3,8 @@
 use super::clusters::Reach;
 use super::{Emitter, Kind, KindGpu, LIGHT_POINT, LayerContext, LayerFit, PagedFit, ShadowShape, SizeControl, Source};
 use crate::components::{PointLight, ShadowMethod, Transform};
-use crate::settings::{CUBE_MARGIN, LightMaps, MapSettings};
-use crate::shadow::{CubePages, PageSpace, light_range};
+use crate::settings::{LightMaps, MapSettings};
+use crate::shadow::light_range;
 use bevy_ecs::prelude::*;
 use glam::{Vec3, Vec4};
 
@@ -43,16 +43,9 @@ impl Kind for Point {
         if paged { ShadowShape::Pages } else { ShadowShape::Cube }
     }
 
-    /// Its cube in pages ([`CubePages`]: each face 16 pages a side at the finest level, with the
-    /// cube maps' margin where seams are handled); the coarse map is a cube of faces `coarse`
-    /// texels a side and at most [`POINT_COARSE`].
+    /// Its cube in pages (see [`LayerContext::cube_pages`]).
     fn pages(&self, context: &LayerContext, coarse: u32, _: Option<(f32, f32)>) -> Option<PagedFit> {
-        let margin = if context.maps.cube_seams { CUBE_MARGIN } else { 0 };
-        let cube = CubePages::new(self.position, self.range, margin);
-        let coarse_side = coarse.min(POINT_COARSE);
-        let camera = context.view.map_or(Vec3::ZERO, |v| v.transform.translation);
-        let coarse = context.cube(self.position, self.range, coarse_side);
-        Some(PagedFit { space: PageSpace::Cube(cube), camera, coarse, coarse_side })
+        Some(context.cube_pages(self.position, self.range, coarse))
     }
 
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {

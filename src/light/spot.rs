@@ -52,21 +52,26 @@ impl Kind for Spot {
     }
 
     /// One map, unless its cone is wider than `spot_map_limit` (the widest half angle one map
-    /// shadows): then a cube, as a point light has. One map is paged where the settings ask for
+    /// shadows): then a cube, as a point light has. Either is paged where the settings ask for
     /// virtual light maps and the method reads depth.
     fn shape(&self, settings: &MapSettings, method: ShadowMethod) -> ShadowShape {
-        let paged = settings.light_maps == LightMaps::Virtual && method.pages();
-        match self.outer <= settings.spot_map_limit {
-            true if paged => ShadowShape::Pages,
-            true => ShadowShape::Single,
-            false => ShadowShape::Cube,
+        if settings.light_maps == LightMaps::Virtual && method.pages() {
+            ShadowShape::Pages
+        } else if self.outer <= settings.spot_map_limit {
+            ShadowShape::Single
+        } else {
+            ShadowShape::Cube
         }
     }
 
     /// Its one map in pages of [`MAX_FRUSTUM_PAGES`] a side at the finest level (a pixel far
     /// away or seen small reads a coarser level, so the finest costs only what is asked of it);
-    /// the coarse map is the whole map, `coarse` texels a side and at most [`SPOT_COARSE`].
+    /// the coarse map is the whole map, `coarse` texels a side and at most [`SPOT_COARSE`]. A
+    /// cone too wide for one map is paged as a point light's cube.
     fn pages(&self, context: &LayerContext, coarse: u32, _: Option<(f32, f32)>) -> Option<PagedFit> {
+        if self.outer > context.maps.spot_map_limit {
+            return Some(context.cube_pages(self.position, self.range, coarse));
+        }
         let map = |resolution| spot_projection(self.position, self.direction, self.outer, self.range, resolution);
         let mut pages = FrustumPages::new(map(1), MAX_FRUSTUM_PAGES);
         // Without the atlas guard, no border round the pages (as the sun's).

@@ -75,8 +75,7 @@ pub struct MapSettings {
     /// pixels need them (depth methods only; a moment or colour method stays on cascades).
     pub sun_maps: SunMaps,
     /// How spot and point lights' shadows are laid out: tiles of the atlas, or virtual maps in
-    /// pages where the visible pixels need them (depth methods only; a spot too wide for one map
-    /// keeps its atlas cube).
+    /// pages where the visible pixels need them (depth methods only).
     pub light_maps: LightMaps,
     /// Octaves coarser (negative: finer) than its footprint a pixel's virtual page is chosen.
     pub page_bias: f32,
@@ -263,15 +262,15 @@ pub enum SunMaps {
 
 named_choices!(SunMaps, "a kind of sun maps", Cascades = "cascades", Virtual = "virtual");
 
-/// How a spot light's shadow is laid out.
+/// How spot and point lights' shadows are laid out.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum LightMaps {
     /// A tile of the shadow atlas, sized by what the light shows.
     #[default]
     Atlas,
-    /// A virtual map: its perspective map in pages, every level over the whole map, each page
-    /// drawn once and kept, at the resolution the visible pixels need (see
-    /// [`crate::shadow::FrustumPages`]).
+    /// Virtual maps: a spot's perspective map or a point light's cube in pages, every level over
+    /// the whole map, each page drawn once and kept, at the resolution the visible pixels need
+    /// (see [`crate::shadow::FrustumPages`] and [`crate::shadow::CubePages`]).
     Virtual,
 }
 

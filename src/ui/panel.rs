@@ -272,11 +272,11 @@ fn bias_sliders(ui: &mut Ui, constant: &mut f32, slope: &mut f32, normal: &mut f
     ui.add(slide(scale, 0.0..=MAX_BIAS_SCALE).text("scale (share of distance)"));
 }
 
-/// Cascades or a virtual map for the sun, atlas tiles or virtual maps for the spots, and the
+/// Cascades or a virtual map for the sun, atlas tiles or virtual maps for the other lights, and the
 /// virtual maps' bias and pool.
 fn sun_maps(ui: &mut Ui, s: &mut MapSettings, shadow: &ShadowSettings) {
     choice(ui, "sun's maps", &mut s.sun_maps, SunMaps::ALL, SunMaps::name);
-    choice(ui, "spots' maps", &mut s.light_maps, LightMaps::ALL, LightMaps::name);
+    choice(ui, "spot and point lights' maps", &mut s.light_maps, LightMaps::ALL, LightMaps::name);
     if s.paged() {
         if !shadow.method.pages() {
             let line =
