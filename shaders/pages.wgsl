@@ -1,10 +1,11 @@
 // Virtual (paged) shadow maps: which layer a lookup of a paged light reads. A sun's clipmap is a
-// stack of levels round the camera, each a window of PAGE_GRID² pages; a spot's levels each cover
-// its whole map, from one window at the origin. A point's level-0 page units are its
-// page_from_world over w, and a texel of level 0 there is 2^page_finest_log2 · w (w is 1 for a
-// sun, the distance along a spot's axis). Its page table (src/render/page_table.rs) gives each
-// level's window origin and, for each page of the window, the layer its resident page is in. The
-// math mirrors src/shadow/pages.rs and src/shadow/page_space.rs.
+// stack of levels round the camera, each a window of PAGE_GRID² pages; a spot's levels, and a
+// point light's cube faces side by side, each cover the whole map from one window at the origin.
+// A point's level-0 page units are its page_from_world (its cube face's) over w, and a texel of
+// level 0 there is 2^page_finest_log2 · w (w is 1 for a sun, the distance along a spot's or a
+// face's axis). Its page table (src/render/page_table.rs) gives each level's window origin and,
+// for each page of the window, the layer its resident page is in. The math mirrors
+// src/shadow/pages.rs, src/shadow/page_space.rs and src/shadow/cube_pages.rs.
 
 // The face of `light` that holds `p`: a point light's cube face (as cube_face picks it), 0 for
 // a map with one.
@@ -81,8 +82,9 @@ fn page_origin(light: GpuLight, level: u32) -> vec2<i32> {
 const NO_PAGE: u32 = 0xffffffffu;
 
 // The layer `light`'s lookup at `p` reads: the page holding `p` of the finest level resident
-// from `level` on, or the coarse map (its layer, or the cube face holding `p`) where none is. Without the fallback
-// (frame.page_fallback 0) only level `level` is read, and NO_PAGE where its page is missing.
+// from `level` on, or the coarse map (its layer, or the cube face holding `p`) where none is.
+// Without the fallback (frame.page_fallback 0) only level `level` is read, and NO_PAGE where its
+// page is missing.
 fn page_layer(light: GpuLight, p: vec3<f32>, level: i32) -> u32 {
     let at_p = page_units(light, p);
     let units = at_p.xy;

@@ -123,9 +123,9 @@ pub const PRIME_ROUNDS: u32 = 6;
 /// With virtual shadow maps a frame reads the pages the camera's pixels asked for a frame or two
 /// before: a headless frame first draws its view (the clock held) until what it asks for has
 /// slots and is drawn, at most [`PRIME_ROUNDS`] times for each paged light (they take turns at
-/// the marking), so the frame it returns reads the pages
-/// its own view needs and is the same every time. A view whose pages do not all fit the pool
-/// stops at the limit, its pixels on coarser pages.
+/// the marking), so the frame it returns reads the pages its own view needs and is the same
+/// every time. A view whose pages do not all fit the pool stops at the limit, its pixels on
+/// coarser pages.
 fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u32)) -> Result<(), RenderError> {
     // Each paged light's last marking (its number, and what taking it in did) and its pool's
     // pressure since.
@@ -159,7 +159,7 @@ fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, 
         let marked = paged(app);
         for (e, (seen, _, pressure)) in &marked {
             match last.get(e) {
-                Some((then, _, was)) if then == seen => {}
+                Some((then, _, _)) if then == seen => {}
                 Some((_, _, was)) if was == pressure => _ = steady.insert(*e),
                 _ => _ = steady.remove(e),
             }
