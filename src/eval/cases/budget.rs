@@ -219,13 +219,17 @@ fn spot_at(k: usize) -> Vec3 {
 /// serves three spots whose posts all slide every frame; a spot left waiting longer than
 /// [`MAX_STALE`] frames and a turn of the budget is garbage (the promise broken).
 pub fn starved_budget(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score, MeasureError> {
-    // Everything drawn where the posts start, then the budget.
+    // The budget: one spot's tile of the atlas a frame, in texels, however the spots' shadows
+    // are laid out (a paged spot's pages are far smaller than its tile would be).
     let unlimited = settings.clone().with(|s| s.maps.shadow_updates = 0);
+    let tiles = unlimited.clone().with(|s| s.maps = s.maps.unpaged());
+    let app = &mut m.subject(STARVED, &tiles, starved_scene)?.app;
+    app.step_held();
+    let side = app.world.query::<&ShadowMap>().iter(&app.world).map(|s| s.resolution).max().unwrap_or(1);
+    // Everything drawn where the posts start, then the budget.
     let app = &mut m.subject(STARVED, &unlimited, starved_scene)?.app;
     slide_posts(app, 0);
     measure_at(m, STARVED, "start", |_| {})?;
-    let (app, _) = m.parts(STARVED)?;
-    let side = app.world.query::<&ShadowMap>().iter(&app.world).map(|s| s.resolution).max().unwrap_or(1);
     let starved =
         settings.clone().with(|s| s.maps.shadow_updates = (side * side).max(crate::settings::MIN_SHADOW_UPDATES));
     m.subject(STARVED, &starved, starved_scene)?;
