@@ -169,7 +169,7 @@ pub struct PagedFit {
     /// Where the camera is.
     pub camera: Vec3,
     /// The map every pixel whose page is not there reads: one layer, or a cube's six faces
-    /// ([`PageSpace::coarse_layers`]).
+    /// ([`PageSpace::faces`]).
     pub coarse: Vec<LayerFit>,
     /// Texels a side of the coarse map.
     pub coarse_side: u32,

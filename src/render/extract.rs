@@ -346,6 +346,24 @@ mod tests {
     }
 
     #[test]
+    fn a_light_at_a_point_sees_in_perspective_through_every_layer_paged_or_not() {
+        for light_maps in crate::settings::LightMaps::ALL {
+            let settings = Settings::default().with(|s| s.maps.light_maps = *light_maps);
+            let mut app = crate::App::new(settings).unwrap();
+            app.set_time(0.0);
+            let data = extract(&app.world);
+            for light in &data.lights {
+                let at_a_point = light.light.kind.homogeneous().w > 0.0;
+                let layers = light.first_layer as usize..(light.first_layer + light.layer_count) as usize;
+                assert!(!layers.is_empty(), "{} is shadowed", light.light.label);
+                for layer in &data.layers[layers] {
+                    assert_eq!(layer.perspective == 1, at_a_point, "{} with {light_maps:?}", light.light.label);
+                }
+            }
+        }
+    }
+
+    #[test]
     fn solid_objects_are_drawn_front_to_back_and_blended_ones_last_from_the_farthest() {
         let item = |alpha| DrawItem {
             mesh: Mesh(0),

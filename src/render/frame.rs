@@ -151,7 +151,7 @@ impl FrameLight {
             (g.page_levels, g.page_word) = (pages.space.levels(), self.page_word);
             (g.page_finest_log2, g.page_bias) = (pages.space.finest_log2(), pages.bias);
             g.page_fades = pages.space.fades() as u32;
-            g.page_faces = if pages.space.faces().is_some() { 6 } else { 1 };
+            g.page_faces = pages.space.faces() as u32;
         }
         g
     }

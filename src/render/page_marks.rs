@@ -79,7 +79,7 @@ impl PageMarking {
         };
         let marking = Marking {
             world_from_clip: data.clip_from_world.inverse(),
-            page_from_world: view.space.faces().unwrap_or([view.space.page_from_world(); 6]),
+            page_from_world: view.space.face_matrices(),
             origins,
             light: kind.homogeneous().to_array(),
             reach,
@@ -92,7 +92,7 @@ impl PageMarking {
             pixel_angle: frame.pixel_angle,
             bias: view.bias,
             extent: view.space.extent().unwrap_or(0.0),
-            faces: if view.space.faces().is_some() { 6 } else { 1 },
+            faces: view.space.faces() as u32,
             face_side: view.space.face_side().unwrap_or(0.0),
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&marking));

@@ -28,8 +28,8 @@ pub fn write_page_tables(data: &mut FrameData) {
                 words[entries + level * area + i] = slot as u32 + 1;
             }
         }
-        for face in view.space.faces().iter().flatten() {
-            words.extend(face.to_cols_array().map(f32::to_bits));
+        if view.space.faces() > 1 {
+            words.extend(view.space.face_matrices().iter().flat_map(|m| m.to_cols_array().map(f32::to_bits)));
         }
     }
     data.page_words = words;

@@ -83,7 +83,7 @@ impl Placement {
         for light in data.lights.iter_mut().filter(|l| l.layer_count > 0) {
             // The draws are in slot order, one per layer. A page that found no room is left out of
             // its light's page table (it reads a coarser page); only its coarse map must have one.
-            let coarse = light.light.pages.as_ref().map(|p| p.space.coarse_layers() as u32);
+            let coarse = light.light.pages.as_ref().map(|p| p.space.faces() as u32);
             let needed = coarse.unwrap_or(light.layer_count);
             let slots = light.first_layer as usize..(light.first_layer + light.layer_count) as usize;
             if data.draws[slots.clone()].iter().take(needed as usize).any(|d| d.tile.is_none()) {

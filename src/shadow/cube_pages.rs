@@ -7,20 +7,19 @@
 //! them as they read a spot's, given six matrices in place of one.
 
 use super::{
-    Aabb, FrustumPages, LightProjection, PAGE_GRID, PAGE_TEXELS, PageId, PageRange, cube_face, cube_projections,
+    Aabb, FrustumPages, LightProjection, PAGE_GRID, PAGE_TEXELS, PageId, PageRange, cube_face, cube_face_projection,
 };
 use glam::{IVec2, Mat4, Vec2, Vec3, Vec4};
 
 /// Faces along a row of the grid (two rows).
 pub const CUBE_ACROSS: u32 = 3;
-use CUBE_ACROSS as ACROSS;
 
 /// Pages a side of each face at the finest level: six faces of them fit a window of
 /// [`PAGE_GRID`] pages (three of 16 across, two down), 1,920 texels across a face, a texel about
 /// a millimetre a metre from the light.
 pub const CUBE_FACE_PAGES: u32 = 16;
 
-const _: () = assert!(ACROSS * CUBE_FACE_PAGES <= PAGE_GRID);
+const _: () = assert!(CUBE_ACROSS * CUBE_FACE_PAGES <= PAGE_GRID);
 
 /// A point light's cube of maps, paged.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,8 +45,13 @@ impl CubePages {
     #[must_use]
     pub fn face(&self, face: usize) -> FrustumPages {
         let side = CUBE_FACE_PAGES * PAGE_TEXELS;
-        let map = cube_projections(self.position, self.range, side, self.margin)[face.min(5)];
+        let map = cube_face_projection(self.position, self.range, side, self.margin, face);
         FrustumPages::new(map, CUBE_FACE_PAGES)
+    }
+
+    /// Pages a side of each face on `level` (every face's, as [`FrustumPages::pages_across`]).
+    fn side(level: u32) -> i32 {
+        CUBE_FACE_PAGES.checked_shr(level).unwrap_or(0).max(1) as i32
     }
 
     /// Levels, from level 0 down to faces of a single page.
@@ -59,9 +63,9 @@ impl CubePages {
     /// Where face `face`'s first page is on level `level`'s grid.
     #[must_use]
     pub fn face_origin(&self, face: usize, level: u32) -> IVec2 {
-        let side = self.face(0).pages_across(level) as i32;
+        let side = Self::side(level);
         let face = face as i32;
-        IVec2::new(face % ACROSS as i32, face / ACROSS as i32) * side
+        IVec2::new(face % CUBE_ACROSS as i32, face / CUBE_ACROSS as i32) * side
     }
 
     /// World to level-0 page units of face `face` on the grid, to be divided by w (the face's
@@ -95,7 +99,7 @@ impl CubePages {
     #[must_use]
     pub fn page_at(&self, level: u32, p: Vec3) -> Option<PageId> {
         let (face, units, _) = self.units(p)?;
-        let side = self.face(face).pages_across(level) as i32;
+        let side = Self::side(level);
         let origin = self.face_origin(face, level);
         let cell = (units / (level as f32).exp2()).floor();
         // Held on its own face (a point on a face's edge rounds onto the next one's first page).
@@ -107,12 +111,12 @@ impl CubePages {
     /// The face a page of the grid lies on, and the page on that face; none between the faces.
     #[must_use]
     pub fn face_of(&self, page: PageId) -> Option<(usize, PageId)> {
-        let side = self.face(0).pages_across(page.level) as i32;
+        let side = Self::side(page.level);
         let (column, row) = (page.x.div_euclid(side), page.y.div_euclid(side));
-        if !((0..ACROSS as i32).contains(&column) && (0..2).contains(&row)) {
+        if !((0..CUBE_ACROSS as i32).contains(&column) && (0..2).contains(&row)) {
             return None;
         }
-        let face = (row * ACROSS as i32 + column) as usize;
+        let face = (row * CUBE_ACROSS as i32 + column) as usize;
         Some((face, PageId { level: page.level, x: page.x - column * side, y: page.y - row * side }))
     }
 

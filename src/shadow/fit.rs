@@ -80,16 +80,21 @@ pub fn cube_face(d: Vec3) -> usize {
 /// 90° edge, so a filter sampling next to a seam still finds texels on the face it looks in.
 #[must_use]
 pub fn cube_projections(position: Vec3, range: f32, resolution: u32, margin: u32) -> [LightProjection; 6] {
+    std::array::from_fn(|face| cube_face_projection(position, range, resolution, margin, face))
+}
+
+/// Face `face` (an index into [`CUBE_FACES`]; past the last, the last) of
+/// [`cube_projections`].
+#[must_use]
+pub fn cube_face_projection(position: Vec3, range: f32, resolution: u32, margin: u32, face: usize) -> LightProjection {
     let res = resolution.max(1) as f32;
     let tan_half = 1.0 + 2.0 * margin as f32 / res;
     let far = light_range(range);
     let near = near_plane(far);
     let proj = directx::perspective(2.0 * tan_half.atan(), 1.0, near, far);
     let texel = glam::Vec2::new(0.0, 2.0 * tan_half / res);
-    CUBE_FACES.map(|d| {
-        let view = light_view(position, d);
-        LightProjection { view, proj, view_proj: proj * view, texel }
-    })
+    let view = light_view(position, CUBE_FACES[face.min(CUBE_FACES.len() - 1)]);
+    LightProjection { view, proj, view_proj: proj * view, texel }
 }
 
 /// A view matrix at `eye` looking along `dir`, valid for every direction.

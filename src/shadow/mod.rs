@@ -31,7 +31,8 @@ pub use cube_pages::{CUBE_ACROSS, CUBE_FACE_PAGES, CubePages};
 pub use cull::CasterIndex;
 pub use fit::{
     CUBE_FACES, LightProjection, MAX_MAP_HALF_ANGLE, MAX_SPOT_HALF_ANGLE, MIN_SPOT_HALF_ANGLE, cube_face,
-    cube_projections, depth_terms, light_range, light_view, near_plane, spot_cone, spot_projection, view_distance,
+    cube_face_projection, cube_projections, depth_terms, light_range, light_view, near_plane, spot_cone,
+    spot_projection, view_distance,
 };
 pub use frustum_pages::{FrustumPages, MAX_FRUSTUM_PAGES, pages_for};
 pub use page_pool::{LightPage, MAX_FINER, MAX_PRESSURE, PagePool, PoolKey, Pressure, Residency, Resident};

@@ -52,20 +52,21 @@ impl PageSpace {
         }
     }
 
-    /// A cube's six faces' `page_from_world`, in [`super::CUBE_FACES`] order (the face holding
-    /// a point has the largest w); none for a map with one.
+    /// Its faces: a cube's six, one for the others. Each face has a `page_from_world` of its
+    /// own ([`PageSpace::face_matrices`]) and a layer of the coarse map.
     #[must_use]
-    pub fn faces(&self) -> Option<[Mat4; 6]> {
-        match self {
-            PageSpace::Cube(c) => Some(std::array::from_fn(|face| c.page_from_world(face))),
-            _ => None,
-        }
+    pub fn faces(&self) -> usize {
+        if matches!(self, PageSpace::Cube(_)) { 6 } else { 1 }
     }
 
-    /// Layers of its coarse map: a cube's six faces, one for the others.
+    /// Each face's `page_from_world`, in [`super::CUBE_FACES`] order for a cube (the face holding
+    /// a point has the largest w); a map with one face has it six times over.
     #[must_use]
-    pub fn coarse_layers(&self) -> usize {
-        if matches!(self, PageSpace::Cube(_)) { 6 } else { 1 }
+    pub fn face_matrices(&self) -> [Mat4; 6] {
+        match self {
+            PageSpace::Cube(c) => std::array::from_fn(|face| c.page_from_world(face)),
+            _ => [self.page_from_world(); 6],
+        }
     }
 
     /// True when `page` is one of its pages: any of a clipmap's, one on a perspective map or on
