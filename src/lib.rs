@@ -188,6 +188,7 @@ impl App {
         world.insert_resource(assets::TextureLibrary::default());
         world.insert_resource(components::Notices::default());
         world.insert_resource(systems::CasterChanges::default());
+        world.insert_resource(components::SharedPool::default());
         world.insert_resource(systems::CastersAtRest::default());
         let mut update = Schedule::new(Update);
         update.configure_sets((Stage::Animate, Stage::Camera, Stage::Gameplay, Stage::Lights).chain());

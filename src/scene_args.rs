@@ -97,8 +97,9 @@ pub struct SceneArgs {
     /// finer, more pages; default -1, two texels across a pixel).
     #[arg(long, value_name = "OCTAVES", allow_negative_numbers = true)]
     pub page_bias: Option<f32>,
-    /// MiB of the shadow memory each paged light's pages may take (default 32; at most half of
-    /// --shadow-memory): when the view needs more, every level is chosen coarser.
+    /// MiB of the shadow memory every paged light's pages take together, one pool they share
+    /// (default 32; at most half of --shadow-memory): when the view needs more, the lights that
+    /// show least choose their levels coarser first.
     #[arg(long, value_name = "MIB")]
     pub page_memory: Option<u32>,
     /// Tint each cascade in its own colour.

@@ -86,29 +86,32 @@ fn paged_lights_put_their_shadows_where_the_truth_does_sharper_than_their_coarse
         let by_pages = tally(&mut virt, &frame, light);
         let pages = &light_pages(&virt, light);
         let percent = |t: &metrics::Tally| 100.0 * t.misclassified();
+        let pressures: Vec<i32> = (1..4).map(|l| light_pages(&virt, l).pressure.octaves).collect();
         eprintln!(
-            "light {light}: {} pixels; misclassified atlas {:.4} %, coarse map {:.4} %, pages {:.4} % ({} resident)",
+            "light {light}: {} pixels; misclassified atlas {:.4} %, coarse map {:.4} %, pages {:.4} % ({} resident; \
+             the paged lights' pressures {pressures:?})",
             by_pages.pixels,
             percent(&by_atlas),
             percent(&by_coarse),
             percent(&by_pages),
-            pages.pool.len()
+            pages.resident
         );
         assert!(by_pages.pixels > 20_000, "the view shows light {light}'s light");
-        assert!(pages.pool.len() > 4 && pages.marked.residency.missing == 0, "{:?}", pages.marked);
+        assert!(pages.resident > 4 && pages.marked.residency.missing == 0, "{:?}", pages.marked);
         assert!(by_pages.misclassified() * 2.0 < by_coarse.misclassified(), "the pages are read");
         // Only pages on its map, or on its cube's faces, are asked for: the spots' views show
         // ground past their maps' edges.
-        for (_, r) in pages.pool.resident() {
+        let map = virt.world.get::<ShadowMap>(umbra::light::light_list(&virt.world)[light].entity).unwrap();
+        for page in map.layers.iter().filter_map(|l| l.page.map(|p| p.id)) {
             let on = match pages.space {
                 PageSpace::Frustum(map) => {
-                    let side = map.pages_across(r.page.level) as i32;
-                    (0..side).contains(&r.page.x) && (0..side).contains(&r.page.y)
+                    let side = map.pages_across(page.level) as i32;
+                    (0..side).contains(&page.x) && (0..side).contains(&page.y)
                 }
-                PageSpace::Cube(cube) => cube.face_of(r.page).is_some(),
+                PageSpace::Cube(cube) => cube.face_of(page).is_some(),
                 PageSpace::Clipmap(_) => panic!("light {light} is a spot or a point light"),
             };
-            assert!(on, "{:?} is off the map", r.page);
+            assert!(on, "{page:?} is off the map");
         }
         // A still view draws no page.
         virt.step_held();

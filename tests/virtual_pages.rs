@@ -11,7 +11,7 @@ mod common;
 use bevy_ecs::prelude::*;
 use common::gpu;
 use glam::Vec3;
-use umbra::components::{DirectionalLight, ShadowMap, Spin, Transform, VirtualPages};
+use umbra::components::{DirectionalLight, ShadowMap, SharedPool, Spin, Transform, VirtualPages};
 use umbra::eval::{metrics, truth};
 use umbra::render::{
     DebugFrame, Gpu, HEADLESS_FORMAT, PRIME_ROUNDS, Renderer, ShadowStats, render_debug_frame, render_debug_frame_as_is,
@@ -120,14 +120,15 @@ fn virtual_maps_put_the_suns_shadows_where_the_truth_does_with_fewer_wrong_pixel
         percent(&by_cascades),
         percent(&by_coarse),
         percent(&by_pages),
-        p.pool.len(),
+        p.resident,
         p.pressure
     );
     assert!(by_pages.misclassified() < by_cascades.misclassified(), "pages beat four 2048² cascades");
     assert!(by_pages.misclassified() * 3.0 < by_coarse.misclassified(), "the pages are read, not the coarse map");
     assert!(deep_shadow_dark(&frame, &truth, 3) > 0.999);
-    assert!(p.pool.len() as u32 <= p.pool.capacity() && p.pool.capacity() == 512, "32 MiB of 128² depth pages");
-    assert!(p.pool.len() > 100 && p.marked.residency.missing == 0, "{:?}", p.marked);
+    let capacity = virt.world.resource::<SharedPool>().0.capacity();
+    assert!(p.resident <= capacity && capacity == 512, "32 MiB of 128² depth pages");
+    assert!(p.resident > 100 && p.marked.residency.missing == 0, "{:?}", p.marked);
 }
 
 #[test]
@@ -147,9 +148,9 @@ fn a_still_view_draws_no_page_and_a_moving_cube_redraws_only_the_pages_it_crosse
     let frame = render_debug_frame_as_is(&gpu, &mut renderer, &mut app, W, H).expect("no wgpu error");
     let moved = app.world.resource::<ShadowStats>().pages;
     let p = pages(&mut app);
-    eprintln!("one cube moved: {} of {} resident pages drawn again", moved.drawn, p.pool.len());
+    eprintln!("one cube moved: {} of {} resident pages drawn again", moved.drawn, p.resident);
     assert_eq!(moved.drawn, p.update.invalidated, "the pages it crossed, each once");
-    assert!(moved.drawn > 0 && moved.drawn * 20 <= p.pool.len() as u32, "{moved:?} of {}", p.pool.len());
+    assert!(moved.drawn > 0 && moved.drawn * 20 <= p.resident, "{moved:?} of {}", p.resident);
     // Its old shadow went with the pages drawn again: no more false shadow than before.
     let (after, _) = sun_tally(&mut app, &frame);
     assert!(after.false_shadow <= before.false_shadow + 20, "{} then {}", before.false_shadow, after.false_shadow);
@@ -160,8 +161,8 @@ fn a_pool_too_small_reads_coarser_levels_counts_what_it_lacks_and_leaves_no_deep
     let gpu = gpu();
     let Some((_, mut app, frame)) = primed(&gpu, |s| s.maps.page_memory = 1) else { return };
     let p = pages(&mut app);
-    assert_eq!(p.pool.capacity(), 16, "1 MiB of 128² depth pages");
-    assert!(p.pool.len() <= 16);
+    assert_eq!(app.world.resource::<SharedPool>().0.capacity(), 16, "1 MiB of 128² depth pages");
+    assert!(p.resident <= 16);
     assert!(p.pressure.octaves > 0 && p.pressure.overflowed.is_some(), "coarser, and counted: {:?}", p.pressure);
     let (tally, truth) = sun_tally(&mut app, &frame);
     assert!(deep_shadow_dark(&frame, &truth, 6) > 0.98);

@@ -1,7 +1,7 @@
 //! Lights: the three kinds (directional, spot, point), each with its colour, reach and size, and
 //! what a light's shadow is made of (its layers, bias and sampling method).
 
-use crate::shadow::{PageId, PagePool, PageSpace, Pressure, Residency, Window};
+use crate::shadow::{LightPage, PageId, PagePool, PageSpace, Pressure, Residency, Window};
 use bevy_ecs::prelude::*;
 use glam::{Mat4, Vec2, Vec3};
 
@@ -121,7 +121,7 @@ pub struct ShadowLayer {
     pub page: Option<PagePlace>,
 }
 
-/// Where a page of a virtual shadow map is: the page, and the slot of its light's pool it holds.
+/// Where a page of a virtual shadow map is: the page, and the slot of the pool it holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PagePlace {
     /// The page.
@@ -130,16 +130,24 @@ pub struct PagePlace {
     pub slot: u32,
 }
 
+/// The page pool every paged light shares ([`VirtualPages`]), its pages named by light; kept by
+/// the light systems, its size set by the memory budget.
+#[derive(Resource, Clone, Debug, Default, PartialEq)]
+pub struct SharedPool(pub PagePool<LightPage>);
+
 /// A light's virtual shadow map, kept by the light systems: its pages and the windows of them
-/// that may be asked for, the pages holding slots of its pool, and what its last update did.
+/// that may be asked for, what its last marking asked of the pool every paged light shares
+/// ([`SharedPool`]), and what its last update did.
 #[derive(Clone, Debug, PartialEq)]
 pub struct VirtualPages {
     /// Its levels, how they are cut into pages and their depth.
     pub space: PageSpace,
     /// Each level's window round the camera, this update.
     pub windows: Vec<Window>,
-    /// The pages holding slots.
-    pub pool: PagePool,
+    /// The pages its last marking asked for: the pool keeps them while it does not ask again.
+    pub needed: Vec<PageId>,
+    /// Its pages holding slots of the pool.
+    pub resident: u32,
     /// Octaves coarser (negative: finer) every level is chosen: as fine as the pool holds the
     /// view's pages (see [`crate::shadow::Pressure`]).
     pub pressure: Pressure,

@@ -127,7 +127,7 @@ pub const PRIME_ROUNDS: u32 = 6;
 /// every time. A view whose pages do not all fit the pool stops at the limit, its pixels on
 /// coarser pages.
 fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u32)) -> Result<(), RenderError> {
-    // Each paged light's last marking (its number, and what taking it in did) and its pool's
+    // Each paged light's last marking (its number, and what taking it in did) and its
     // pressure since.
     let paged = |app: &mut App| {
         let mut maps = app.world.query::<(bevy_ecs::entity::Entity, &crate::components::ShadowMap)>();

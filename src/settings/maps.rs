@@ -79,7 +79,8 @@ pub struct MapSettings {
     pub light_maps: LightMaps,
     /// Octaves coarser (negative: finer) than its footprint a pixel's virtual page is chosen.
     pub page_bias: f32,
-    /// MiB of the shadow memory each paged light's pages may take (its pool), at most half of it.
+    /// MiB of the shadow memory the pages of every paged light take together (the pool they share),
+    /// at most half of it.
     pub page_memory: u32,
     /// A pixel whose virtual page is not resident reads a coarser level's, or the coarse map
     /// (the guard of the camera-cut and pool-too-small cases); off only to show what a missing

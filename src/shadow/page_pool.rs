@@ -9,11 +9,13 @@
 //! spare it asks for finer ones ([`Pressure`]), so the view gets the sharpest shadow its memory
 //! holds.
 //!
-//! A pool names its pages by a [`PoolKey`]: a [`PageId`] where one light has a pool of its own
-//! (the sun's, today), a [`LightPage`] where lights share one.
+//! A pool names its pages by a [`PoolKey`]: a [`PageId`] where one map has a pool of its own, a
+//! [`LightPage`] where every paged light shares one. Among the pages of one level, the longest
+//! waiting comes in first, then those given first (a shared pool's owner gives the pages of the
+//! lights that show most first): a light that shows little is the first to find no slot.
 
 use super::pages::PageId;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::hash::Hash;
 
 /// What names a page in a pool.
@@ -21,25 +23,19 @@ pub trait PoolKey: Copy + Eq + Hash + std::fmt::Debug {
     /// Its level: the coarser come into the pool first (a coarse page serves every pixel under
     /// it).
     fn level(&self) -> u32;
-    /// The order the pages of one level come in.
-    fn order(&self) -> (u32, i32, i32);
 }
 
 impl PoolKey for PageId {
     fn level(&self) -> u32 {
         self.level
     }
-
-    fn order(&self) -> (u32, i32, i32) {
-        (0, self.y, self.x)
-    }
 }
 
 /// A page of light `light`'s virtual map, as a pool that every light shares names it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct LightPage {
-    /// The light, by a number its owner gives it.
-    pub light: u32,
+    /// The light, by a number its owner gives it (the entity's bits).
+    pub light: u64,
     /// The page of its map.
     pub page: PageId,
 }
@@ -47,10 +43,6 @@ pub struct LightPage {
 impl PoolKey for LightPage {
     fn level(&self) -> u32 {
         self.page.level
-    }
-
-    fn order(&self) -> (u32, i32, i32) {
-        (self.light, self.page.y, self.page.x)
     }
 }
 
@@ -87,12 +79,42 @@ pub struct Residency {
     pub evicted: u32,
 }
 
+impl Residency {
+    /// Counts one page's `change` in.
+    pub fn count(&mut self, change: Change) {
+        let n = match change {
+            Change::Placed => &mut self.placed,
+            Change::Missing => &mut self.missing,
+            Change::Waiting => &mut self.waiting,
+            Change::Evicted => &mut self.evicted,
+        };
+        *n += 1;
+    }
+}
+
+/// What the last update did to one page.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Change {
+    /// It was given a slot.
+    Placed,
+    /// It is needed and found no slot.
+    Missing,
+    /// It is needed and waits its turn to come in.
+    Waiting,
+    /// It gave up its slot to a new page.
+    Evicted,
+}
+
 /// Slots and the pages in them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PagePool<K: PoolKey = PageId> {
     slots: Vec<Option<Resident<K>>>,
     by_page: HashMap<K, u32>,
     frame: u64,
+    /// The frame each needed page without a slot first asked for one.
+    since: HashMap<K, u64>,
+    /// What the last update did, page by page.
+    changes: Vec<(K, Change)>,
 }
 
 impl<K: PoolKey> Default for PagePool<K> {
@@ -105,7 +127,13 @@ impl<K: PoolKey> PagePool<K> {
     /// A pool of `capacity` empty slots.
     #[must_use]
     pub fn new(capacity: u32) -> PagePool<K> {
-        PagePool { slots: vec![None; capacity as usize], by_page: HashMap::new(), frame: 0 }
+        PagePool {
+            slots: vec![None; capacity as usize],
+            by_page: HashMap::new(),
+            frame: 0,
+            since: HashMap::new(),
+            changes: Vec::new(),
+        }
     }
 
     /// Slots in all.
@@ -126,10 +154,29 @@ impl<K: PoolKey> PagePool<K> {
         self.by_page.is_empty()
     }
 
-    /// Gives up every page (the light moved, or what every page holds changed).
+    /// Gives up every page (what every page holds changed).
     pub fn clear(&mut self) {
-        self.slots.iter_mut().for_each(|s| *s = None);
-        self.by_page.clear();
+        self.release(|_| true);
+    }
+
+    /// Gives up every page for which `hit` is true (its light moved, or is gone); returns how many.
+    pub fn release(&mut self, hit: impl Fn(K) -> bool) -> u32 {
+        let mut released = 0;
+        for slot in &mut self.slots {
+            if let Some(r) = slot.take_if(|r| hit(r.page)) {
+                self.by_page.remove(&r.page);
+                released += 1;
+            }
+        }
+        self.since.retain(|k, _| !hit(*k));
+        released
+    }
+
+    /// What the last [`PagePool::update`] did, page by page: the pages it placed, gave up, left
+    /// missing or waiting.
+    #[must_use]
+    pub fn changes(&self) -> &[(K, Change)] {
+        &self.changes
     }
 
     /// The pages holding slots, with their slots, in slot order.
@@ -150,13 +197,15 @@ impl<K: PoolKey> PagePool<K> {
 
     /// One frame's needs: every page of `needed` (each once) is kept or given a slot, at most
     /// `admit` of them new, the coarsest levels first (a coarse page serves every pixel under
-    /// it); a new page takes a free slot, else that of the page needed least recently of those
-    /// not needed now. Pages not needed keep their slots until one is wanted. `next_version`
-    /// numbers new contents.
+    /// it), then those that have waited longest, then in the order given; a new page takes a
+    /// free slot, else that of the page needed least recently of those not needed now. Pages
+    /// not needed keep their slots until one is wanted. `next_version` numbers new contents.
     pub fn update(&mut self, needed: &[K], admit: usize, mut next_version: impl FnMut() -> u64) -> Residency {
         self.frame += 1;
         let frame = self.frame;
+        self.changes.clear();
         let mut wanted: Vec<K> = Vec::new();
+        let mut seen = HashSet::new();
         for page in needed {
             match self.by_page.get(page) {
                 Some(&slot) => {
@@ -164,11 +213,14 @@ impl<K: PoolKey> PagePool<K> {
                         r.needed = frame;
                     }
                 }
-                None => wanted.push(*page),
+                None if seen.insert(*page) => wanted.push(*page),
+                None => {}
             }
         }
-        wanted.sort_unstable_by(|a, b| b.level().cmp(&a.level()).then(a.order().cmp(&b.order())));
-        wanted.dedup();
+        // Only the pages still wanted keep their place in the queue.
+        self.since.retain(|k, _| seen.contains(k));
+        let since = |k: &K| self.since.get(k).copied().unwrap_or(frame);
+        wanted.sort_by_key(|k| (std::cmp::Reverse(k.level()), since(k)));
         let mut out = Residency::default();
         // Free slots first, then the least recently needed of those not needed now, oldest first.
         let mut free: Vec<u32> = (0..self.capacity()).filter(|&i| self.slots[i as usize].is_none()).rev().collect();
@@ -176,55 +228,48 @@ impl<K: PoolKey> PagePool<K> {
             self.resident().filter(|(_, r)| r.needed < frame).map(|(i, r)| (r.needed, i)).collect();
         old.sort_unstable_by(|a, b| b.cmp(a));
         for (n, page) in wanted.iter().enumerate() {
-            if n >= admit {
-                out.waiting = (wanted.len() - n) as u32;
-                break;
-            }
-            let slot = match free.pop() {
-                Some(slot) => slot,
-                None => match old.pop() {
-                    Some((_, slot)) => {
-                        if let Some(gone) = self.slots[slot as usize].take() {
-                            self.by_page.remove(&gone.page);
-                        }
-                        out.evicted += 1;
-                        slot
-                    }
-                    None => {
-                        out.missing = (wanted.len() - n) as u32;
-                        break;
-                    }
-                },
+            let slot = if n >= admit { None } else { free.pop().or_else(|| old.pop().map(|(_, slot)| slot)) };
+            let Some(slot) = slot else {
+                let change = if n >= admit { Change::Waiting } else { Change::Missing };
+                self.changes.push((*page, change));
+                self.since.entry(*page).or_insert(frame);
+                continue;
             };
+            if let Some(gone) = self.slots[slot as usize].take() {
+                self.by_page.remove(&gone.page);
+                self.changes.push((gone.page, Change::Evicted));
+            }
             let version = next_version();
             let static_version = next_version();
             self.slots[slot as usize] =
                 Some(Resident { page: *page, version, static_version, needed: frame, dirty: true });
             self.by_page.insert(*page, slot);
-            out.placed += 1;
+            self.since.remove(page);
+            self.changes.push((*page, Change::Placed));
         }
+        self.changes.iter().for_each(|(_, c)| out.count(*c));
         out.resident = self.by_page.len() as u32;
         out
     }
 
     /// Gives every resident page for which `hit` is true new contents (something it holds
-    /// moved), if the last marking needed it; one it did not need gives up its slot instead, so
+    /// moved), if the last update needed it; one it did not need gives up its slot instead, so
     /// that no page out of view is drawn again (it is drawn anew if it is needed again). Returns
-    /// how many were given new contents, and how many gave up their slots.
-    pub fn invalidate(&mut self, hit: impl Fn(K) -> bool, mut next_version: impl FnMut() -> u64) -> (u32, u32) {
-        let (mut redrawn, mut dropped) = (0, 0);
+    /// the pages hit, each with whether it was given new contents (else it gave up its slot).
+    pub fn invalidate(&mut self, hit: impl Fn(K) -> bool, mut next_version: impl FnMut() -> u64) -> Vec<(K, bool)> {
+        let mut hits = Vec::new();
         for slot in &mut self.slots {
             let Some(r) = slot.as_mut().filter(|r| hit(r.page)) else { continue };
-            if r.needed == self.frame {
+            let kept = r.needed == self.frame;
+            hits.push((r.page, kept));
+            if kept {
                 (r.version, r.dirty) = (next_version(), true);
-                redrawn += 1;
             } else {
                 self.by_page.remove(&r.page);
                 *slot = None;
-                dropped += 1;
             }
         }
-        (redrawn, dropped)
+        hits
     }
 
     /// Gives every resident page for which `hit` is true a new static version (a caster at rest
@@ -252,27 +297,33 @@ pub struct Pressure {
 }
 
 impl Pressure {
-    /// The pressure after a marking that needed `needed` pages, `missing` of them finding no
-    /// slot, of a pool of `capacity`: an octave coarser while pages go missing; an octave finer
+    /// True when it is not at the finest and the octave finer has not overflowed since the view
+    /// last needed few pages.
+    #[must_use]
+    pub fn may_go_finer(&self) -> bool {
+        self.octaves > -MAX_FINER && self.overflowed.is_none_or(|o| self.octaves - 1 > o)
+    }
+
+    /// The pressure after a marking that needed `needed` pages of a pool with `capacity` slots
+    /// for them: an octave coarser where the pool is `short` of slots (pages went missing); an octave finer
     /// while what it needs would still fit at the finer level with room to spare (each octave
     /// finer needs about twice the pages on the sample views, 2.0 to 2.15 measured: counted
     /// as 2.25, into 95 % of the slots), but never as fine as an octave that overflowed; that
     /// one is tried again once the view needs under a fifth of the slots.
     #[must_use]
-    pub fn next(self, needed: usize, missing: u32, capacity: u32) -> Pressure {
+    pub fn next(self, needed: usize, short: bool, capacity: u32) -> Pressure {
         let capacity = capacity as usize;
         let mut next = self;
         if needed.saturating_mul(5) <= capacity {
             next.overflowed = None;
         }
-        if missing > 0 {
+        if short {
             next.overflowed = Some(next.overflowed.map_or(self.octaves, |o| o.max(self.octaves)));
             next.octaves = (self.octaves + 1).min(MAX_PRESSURE as i32);
         } else {
             // A view that needs nothing (the sky) says nothing of what finer levels would take.
             let fits_finer = needed > 0 && needed.saturating_mul(9) / 4 <= capacity * 19 / 20;
-            let allowed = next.overflowed.is_none_or(|o| self.octaves - 1 > o);
-            if fits_finer && allowed && self.octaves > -MAX_FINER {
+            if fits_finer && next.may_go_finer() {
                 next.octaves = self.octaves - 1;
             }
         }
@@ -360,7 +411,7 @@ mod tests {
         pool.update(&[page(0, 1), page(0, 2)], usize::MAX, &mut v);
         pool.clean();
         let before: Vec<u64> = pool.resident().map(|(_, r)| r.version).collect();
-        assert_eq!(pool.invalidate(|p| p.x == 2, &mut v), (1, 0));
+        assert_eq!(pool.invalidate(|p| p.x == 2, &mut v), [(page(0, 2), true)]);
         let after: Vec<(u64, bool)> = pool.resident().map(|(_, r)| (r.version, r.dirty)).collect();
         assert_eq!(after[0], (before[0], false));
         assert!(after[1].0 != before[1] && after[1].1);
@@ -369,7 +420,7 @@ mod tests {
         assert_ne!(pool.resident().next().unwrap().1.static_version, statics[0]);
         // A page the last marking did not need gives up its slot rather than be drawn again.
         pool.update(&[page(0, 1)], usize::MAX, &mut v);
-        assert_eq!(pool.invalidate(|_| true, &mut v), (1, 1));
+        assert_eq!(pool.invalidate(|_| true, &mut v), [(page(0, 1), true), (page(0, 2), false)]);
         assert_eq!((pool.len(), pool.slot_of(page(0, 2))), (1, None));
         pool.clear();
         assert!(pool.is_empty() && pool.resident().next().is_none());
@@ -384,36 +435,63 @@ mod tests {
         let r = pool.update(&[spot, sun, lantern], 2, &mut v);
         assert_eq!((r.placed, r.waiting), (2, 1));
         assert!(pool.slot_of(lantern).is_some(), "the coarsest first, whichever light it is");
-        assert!(pool.slot_of(sun).is_some() && pool.slot_of(spot).is_none(), "then by light");
+        assert!(pool.slot_of(spot).is_some() && pool.slot_of(sun).is_none(), "then in the order given");
+        assert_eq!(pool.changes().iter().filter(|(_, c)| *c == Change::Waiting).count(), 1);
+        assert!(pool.changes().contains(&(sun, Change::Waiting)));
         pool.update(&[spot, sun, lantern], usize::MAX, &mut v);
         pool.clean();
-        assert_eq!(pool.invalidate(|k| k.light == 7, &mut v), (1, 0), "the spot's page, not the sun's");
-        let dirty: Vec<u32> = pool.resident().filter(|(_, r)| r.dirty).map(|(_, r)| r.page.light).collect();
+        assert_eq!(pool.invalidate(|k| k.light == 7, &mut v), [(spot, true)], "the spot's page, not the sun's");
+        let dirty: Vec<u64> = pool.resident().filter(|(_, r)| r.dirty).map(|(_, r)| r.page.light).collect();
         assert_eq!(dirty, [7]);
+        // A light that moved gives up its pages, and only its.
+        assert_eq!(pool.release(|k| k.light == 3), 1);
+        assert_eq!((pool.len(), pool.slot_of(lantern)), (2, None));
+    }
+
+    #[test]
+    fn the_longest_waiting_page_of_a_level_comes_in_first_and_each_change_is_told() {
+        let mut pool = PagePool::new(8);
+        let mut v = counter();
+        let r = pool.update(&[page(0, 1), page(0, 2)], 1, &mut v);
+        assert_eq!(pool.changes(), [(page(0, 1), Change::Placed), (page(0, 2), Change::Waiting)]);
+        assert_eq!((r.placed, r.waiting), (1, 1));
+        // Given first now, page 3 still comes after page 2, which has waited a frame.
+        pool.update(&[page(0, 3), page(0, 2)], 1, &mut v);
+        assert!(pool.slot_of(page(0, 2)).is_some() && pool.slot_of(page(0, 3)).is_none());
+        // A page no longer needed leaves the queue: asked for again, it starts at the back.
+        pool.update(&[page(0, 4)], 1, &mut v);
+        pool.update(&[page(0, 5), page(0, 3)], 1, &mut v);
+        assert!(pool.slot_of(page(0, 5)).is_some(), "page 3 left the queue when page 4 came in");
+        // Full, a new page takes the slot of the one needed longest ago, and says so.
+        let mut full = PagePool::new(1);
+        full.update(&[page(0, 1)], usize::MAX, &mut v);
+        let r = full.update(&[page(0, 2)], usize::MAX, &mut v);
+        assert_eq!(r.evicted, 1);
+        assert_eq!(full.changes(), [(page(0, 1), Change::Evicted), (page(0, 2), Change::Placed)]);
     }
 
     #[test]
     fn pressure_rises_while_pages_go_missing_and_falls_while_the_finer_level_would_fit() {
         let p = Pressure::default();
-        assert_eq!(p.next(600, 100, 512).octaves, 1);
+        assert_eq!(p.next(600, true, 512).octaves, 1);
         let most = Pressure { octaves: MAX_PRESSURE as i32, overflowed: None };
-        assert_eq!(most.next(600, 100, 512).octaves, MAX_PRESSURE as i32);
-        assert_eq!(p.next(100, 0, 512).octaves, -1, "225 pages fit in 486 slots");
-        assert_eq!(p.next(300, 0, 512).octaves, 0, "675 would not");
+        assert_eq!(most.next(600, true, 512).octaves, MAX_PRESSURE as i32);
+        assert_eq!(p.next(100, false, 512).octaves, -1, "225 pages fit in 486 slots");
+        assert_eq!(p.next(300, false, 512).octaves, 0, "675 would not");
         let finest = Pressure { octaves: -MAX_FINER, overflowed: None };
-        assert_eq!(finest.next(1, 0, 512).octaves, -MAX_FINER);
-        assert_eq!(p.next(0, 0, 0), p);
-        assert_eq!(p.next(0, 0, 512), p, "the sky asks for nothing finer");
-        assert_eq!(p.next(usize::MAX, 0, u32::MAX).octaves, 0, "no overflow in the sums");
+        assert_eq!(finest.next(1, false, 512).octaves, -MAX_FINER);
+        assert_eq!(p.next(0, false, 0), p);
+        assert_eq!(p.next(0, false, 512), p, "the sky asks for nothing finer");
+        assert_eq!(p.next(usize::MAX, false, u32::MAX).octaves, 0, "no overflow in the sums");
     }
 
     #[test]
     fn an_octave_that_overflowed_is_not_tried_again_until_the_view_needs_few() {
         // Finer at -1 overflowed: back to 0, and not down again while the view is as busy.
-        let p = Pressure { octaves: -1, overflowed: None }.next(600, 88, 512);
+        let p = Pressure { octaves: -1, overflowed: None }.next(600, true, 512);
         assert_eq!(p, Pressure { octaves: 0, overflowed: Some(-1) });
-        assert_eq!(p.next(200, 0, 512), p, "200 pages would fit finer, but -1 overflowed");
-        let calm = p.next(100, 0, 512);
+        assert_eq!(p.next(200, false, 512), p, "200 pages would fit finer, but -1 overflowed");
+        let calm = p.next(100, false, 512);
         assert_eq!(calm, Pressure { octaves: -1, overflowed: None }, "under a fifth of the slots: tried again");
     }
 }

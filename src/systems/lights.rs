@@ -6,16 +6,16 @@
 use super::ShadowAtlas;
 use super::casters::CasterChanges;
 use super::layers::fitted_layers;
-use super::pages::{PagedUpdate, admit_limit, coarse_side, pool_capacity, refresh_paged};
+use super::pages::{PagedLight, PagedUpdate, admit_limit, coarse_side, pool_capacity, refresh_paged};
 use crate::components::{
-    Camera, MarkedPages, Mesh, Notices, SeenByCamera, ShadowCaster, ShadowMap, ShadowMethod, Transform, Viewport,
-    WorldBounds,
+    Camera, MarkedPages, Mesh, Notices, SeenByCamera, ShadowCaster, ShadowMap, ShadowMethod, SharedPool, Transform,
+    Viewport, WorldBounds,
 };
 use crate::light::{CameraView, Kind, LayerContext, LayerFit, LightSources, ShadowShape};
 use crate::settings::{CascadeSettings, CasterCulling, MapSettings, ShadowSettings};
-use crate::shadow::{Aabb, intersects_clip_volume};
+use crate::shadow::{Aabb, PAGE_TILE, intersects_clip_volume};
 use bevy_ecs::prelude::*;
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 /// The boxes light fitting can use, each with whether it casts a shadow, from each entity's
 /// bounds, whether it is a caster and whether it has a mesh (is seen). `casts` says whether a
@@ -98,10 +98,11 @@ pub fn update_light_matrices(
     mut notices: Option<ResMut<Notices>>,
     seen: Option<Res<SeenByCamera>>,
     (shadow, atlas, marked): (Res<ShadowSettings>, Option<Res<ShadowAtlas>>, Option<Res<MarkedPages>>),
+    mut pool: ResMut<SharedPool>,
     cameras: Query<(&Camera, Ref<Transform>)>,
     boxes: BoundedObjects,
     lights: LightSources,
-    mut maps: Query<(&mut ShadowMap, Option<&ShadowMethod>)>,
+    mut maps: Query<(Entity, &mut ShadowMap, Option<&ShadowMethod>)>,
 ) {
     let options = MapOptions::of(&settings);
     // Culled to the camera's view, what a map holds changes whenever the camera moves.
@@ -125,8 +126,11 @@ pub fn update_light_matrices(
         seen: seen.as_deref().map(|s| &s.0),
     };
     let texel_bytes = atlas.map_or(4, |a| a.texel_bytes);
+    // The paged lights' fits, and the side their pages' tiles were given.
+    let mut paged_fits = HashMap::new();
+    let mut page_side = PAGE_TILE;
     for source in lights.all() {
-        if let Ok((mut map, method)) = maps.get_mut(source.entity) {
+        if let Ok((_, mut map, method)) = maps.get_mut(source.entity) {
             let resolution = if map.resolution > 0 { map.resolution } else { settings.shadow_map_size };
             let method = method.copied().unwrap_or(shadow.method);
             let shape = source.kind.shape(&settings, method);
@@ -151,16 +155,8 @@ pub fn update_light_matrices(
                 .flatten();
             match paged {
                 Some(fit) => {
-                    let how = PagedUpdate {
-                        light: source.entity,
-                        marked: marked.as_deref(),
-                        changes: &changes,
-                        forced: all_dirty,
-                        capacity: pool_capacity(&settings, texel_bytes, resolution),
-                        admit: admit_limit(&settings),
-                        bias: settings.page_bias,
-                    };
-                    refresh_paged(&mut map, &fit, &how);
+                    page_side = page_side.min(resolution);
+                    paged_fits.insert(source.entity, fit);
                 }
                 None => {
                     let fits = source.kind.layers(&context, resolution);
@@ -169,6 +165,21 @@ pub fn update_light_matrices(
             }
         }
     }
+    let mut paged: Vec<PagedLight> = maps
+        .iter_mut()
+        .filter_map(|(light, map, _)| {
+            paged_fits.remove(&light).map(|fit| PagedLight { light, map: map.into_inner(), fit })
+        })
+        .collect();
+    let how = PagedUpdate {
+        marked: marked.as_deref(),
+        changes: &changes,
+        forced: all_dirty,
+        capacity: if paged.is_empty() { 0 } else { pool_capacity(&settings, texel_bytes, page_side) },
+        admit: admit_limit(&settings),
+        bias: settings.page_bias,
+    };
+    refresh_paged(&mut pool.0, &mut paged, &how);
 }
 
 /// Replaces a light's layers with `fits` (see [`fitted_layers`]); it is no longer paged.
@@ -198,6 +209,7 @@ mod tests {
         world.insert_resource(Viewport { width: 320, height: 240 });
         world.insert_resource(MeshLibrary::default());
         world.insert_resource(CasterChanges::default());
+        world.insert_resource(SharedPool::default());
         world
     }
 

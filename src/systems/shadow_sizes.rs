@@ -140,22 +140,24 @@ pub fn size_shadow_maps(
     let mut classes = Vec::with_capacity(sources.len());
     let mut shows = Vec::with_capacity(sources.len());
     let mut coarse = 0;
-    let needs: Vec<TileNeed> = sources
+    let mut paged = Vec::with_capacity(sources.len());
+    let mut needs: Vec<TileNeed> = sources
         .iter()
         .map(|s| {
             let shape = s.kind.shape(&settings, method(s.entity));
+            paged.push(shape == ShadowShape::Pages);
             let layers = match shape {
                 ShadowShape::Cascades => cascade.cascades,
                 ShadowShape::Single => 1,
                 ShadowShape::Cube => 6,
                 ShadowShape::Pages => {
-                    // Its pool and its coarse map, counted in pages; never smaller than a page.
+                    // Its coarse map, counted in pages; never smaller than a page. The pool that
+                    // every paged light shares is counted once, below.
                     coarse = coarse_side(&settings);
                     let tiles = (coarse / PAGE_TILE).max(1).pow(2);
-                    shows.push(f32::INFINITY);
+                    shows.push(view.map_or(0.0, |(at, tan)| coverage(s.kind.reach(), at, tan)));
                     classes.push(0);
-                    let pool = pool_capacity(&settings, shape_bytes, PAGE_TILE);
-                    return TileNeed { layers: pool + tiles, side: PAGE_TILE, priority: f32::INFINITY };
+                    return TileNeed { layers: tiles, side: PAGE_TILE, priority: f32::INFINITY };
                 }
             };
             let covered = view.map_or(0.0, |(at, tan)| coverage(s.kind.reach(), at, tan));
@@ -179,9 +181,17 @@ pub fn size_shadow_maps(
             TileNeed { layers, side, priority: covered * covered * s.color.max_element().max(1e-3) }
         })
         .collect();
+    if coarse > 0 {
+        let pool = pool_capacity(&settings, shape_bytes, PAGE_TILE);
+        needs.push(TileNeed { layers: pool, side: PAGE_TILE, priority: f32::INFINITY });
+    }
     let sides = fit_budget(&needs, shape.shape.texels());
     let fitted = fitted(atlas.as_deref(), shape, (&needs, &sides), coarse);
-    for (((source, side), class), shows) in sources.iter().zip(sides).zip(classes).zip(shows) {
+    // A paged light's pages are the pool's, at the pool's side.
+    let pool_side = if coarse > 0 { sides.last().copied().unwrap_or(PAGE_TILE) } else { PAGE_TILE };
+    let lights = sources.iter().zip(sides).zip(classes).zip(shows).zip(paged);
+    for ((((source, side), class), shows), paged) in lights {
+        let side = if paged { side.min(pool_side) } else { side };
         if let Ok((mut map, _)) = maps.get_mut(source.entity)
             && (map.resolution, map.wanted, map.shows) != (side, class, shows)
         {

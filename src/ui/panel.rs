@@ -411,7 +411,7 @@ fn light_size(ui: &mut Ui, world: &mut World, light: &Light) {
 }
 
 /// What the virtual maps hold and did this frame, every paged light's together: pages resident in
-/// their pools (and the share of the pools), drawn and left stale this frame, and those the last
+/// the pool they share (and the share of the pool), drawn and left stale this frame, and those the last
 /// marking asked for that have no slot (missing) or wait their turn to come in; none where no
 /// light is paged.
 pub fn page_line(world: &World, stats: &ShadowStats) -> Option<String> {
@@ -421,18 +421,24 @@ pub fn page_line(world: &World, stats: &ShadowStats) -> Option<String> {
         return None;
     }
     let sum = |f: &dyn Fn(&crate::components::VirtualPages) -> u32| pools.iter().map(|p| f(p)).sum::<u32>();
-    let (resident, capacity) = (sum(&|p| p.pool.len() as u32), sum(&|p| p.pool.capacity()).max(1));
+    let pool = &world.get_resource::<crate::components::SharedPool>()?.0;
+    let (resident, capacity) = (pool.len(), pool.capacity().max(1));
     let missing = sum(&|p| p.marked.residency.missing);
     let waiting = sum(&|p| p.marked.residency.waiting);
     let octaves = pools.iter().map(|p| p.pressure.octaves).max().unwrap_or(0);
+    let lights = |f: fn(i32) -> bool| pools.iter().filter(|p| f(p.pressure.octaves)).count();
+    let of = |n: usize| if pools.len() > 1 { format!(" for {n} of {} lights", pools.len()) } else { String::new() };
     let pressure = match octaves {
         0 => String::new(),
-        o if o > 0 => format!(", every level {o} octaves coarser (the pool is full)"),
-        o => format!(", every level {} octaves finer (the pool has room)", -o),
+        o if o > 0 => format!(", every level up to {o} octaves coarser{} (the pool is full)", of(lights(|o| o > 0))),
+        _ => {
+            let finest = pools.iter().map(|p| p.pressure.octaves).min().unwrap_or(0);
+            format!(", every level up to {} octaves finer{} (the pool has room)", -finest, of(lights(|o| o < 0)))
+        }
     };
     Some(format!(
         "pages: {resident} resident ({:.0} % of the pool), {} drawn, {missing} missing, {waiting} waiting, {} stale{pressure}",
-        100.0 * f64::from(resident) / f64::from(capacity),
+        100.0 * resident as f64 / f64::from(capacity),
         stats.pages.drawn,
         stats.pages.stale
     ))
