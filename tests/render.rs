@@ -133,6 +133,22 @@ fn the_sample_scene_is_deterministic_in_time() {
 }
 
 #[test]
+fn a_main_pass_drawn_in_parts_is_the_main_pass_drawn_whole() {
+    let gpu = gpu();
+    let frame = |most| {
+        let mut app = App::new(Settings::default()).unwrap();
+        app.resize(SIZE, SIZE);
+        app.set_time(1.5);
+        let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).expect("renderer");
+        renderer.draw_in_parts(most);
+        render_headless(&gpu, &mut renderer, &mut app, SIZE, SIZE).expect("frame renders without wgpu errors")
+    };
+    let whole = frame(0);
+    // Parts of three draws: each draws onto what the ones before drew, clearing none of it.
+    assert!(frame(3) == whole, "the frame drawn in parts of three draws differs from the frame drawn whole");
+}
+
+#[test]
 fn the_sample_scene_has_pillar_shadows_where_the_sun_puts_them() {
     let mut on = App::new(Settings::default()).unwrap();
     let mut off = App::new(Settings::default().with(|s| s.shadow.enabled = false)).unwrap();

@@ -6,6 +6,7 @@ use super::frame::{DrawItem, FrameData};
 use super::gpu_types::{Frame, LIST_WIDTH};
 use super::growing::{GrowingBuffer, GrowingRows};
 use super::mesh::{AlphaClass, Drawables, JointPalette, Pipelines, Recipe, Variant};
+use super::parts::Part;
 use super::planar::{PlanarPass, PlanarTargets};
 use super::shaders::{Composed, MAIN_MODULE, PLANAR_MODULE};
 use super::shadow_atlas::ShadowMaps;
@@ -56,6 +57,7 @@ struct Pass<'a> {
     pipelines: &'a Pipelines,
     measuring: bool,
     timer: Option<&'a PassTimer>,
+    part: &'a Part,
 }
 
 /// How an object is drawn in the main pass: with the sampling code of the shadow methods in
@@ -485,10 +487,9 @@ impl MainPass {
         encoder: &mut wgpu::CommandEncoder,
         (color, depth): (&wgpu::TextureView, &wgpu::TextureView),
         data: &FrameData,
-        with: Drawables<'_>,
-        timer: Option<&PassTimer>,
+        (with, timer, part): (Drawables<'_>, Option<&PassTimer>, &Part),
     ) {
-        let pass = Pass { colors: &[(color, SKY)], depth, pipelines: &self.pipelines, measuring: false, timer };
+        let pass = Pass { colors: &[(color, SKY)], depth, pipelines: &self.pipelines, measuring: false, timer, part };
         self.encode_into(queue, encoder, pass, data, with);
     }
 
@@ -501,12 +502,11 @@ impl MainPass {
         encoder: &mut wgpu::CommandEncoder,
         (targets, depth): (&[wgpu::TextureView; 3], &wgpu::TextureView),
         data: &FrameData,
-        with: Drawables<'_>,
-        timer: Option<&PassTimer>,
+        (with, timer, part): (Drawables<'_>, Option<&PassTimer>, &Part),
     ) {
         let Some(debug) = &self.debug else { return };
         let clear = targets.each_ref().map(|t| (t, wgpu::Color::TRANSPARENT));
-        let pass = Pass { colors: &clear, depth, pipelines: debug, measuring: true, timer };
+        let pass = Pass { colors: &clear, depth, pipelines: debug, measuring: true, timer, part };
         self.encode_into(queue, encoder, pass, data, with);
     }
 
@@ -514,7 +514,7 @@ impl MainPass {
         &self,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        Pass { colors, depth, pipelines, measuring, timer }: Pass<'_>,
+        Pass { colors, depth, pipelines, measuring, timer, part }: Pass<'_>,
         data: &FrameData,
         with: Drawables<'_>,
     ) {
@@ -526,7 +526,7 @@ impl MainPass {
                     view,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(*clear), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations { load: part.load(*clear), store: wgpu::StoreOp::Store },
                 })
             })
             .collect();
@@ -535,21 +535,21 @@ impl MainPass {
             color_attachments: &attachments,
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: if self.keep_depth { wgpu::StoreOp::Store } else { wgpu::StoreOp::Discard },
-                }),
-                stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Discard }),
+                depth_ops: Some(wgpu::Operations { load: part.load(1.0), store: part.store(self.keep_depth) }),
+                stencil_ops: Some(wgpu::Operations { load: part.load(0), store: part.store(false) }),
             }),
-            timestamp_writes: timer.map(PassTimer::main_writes),
+            timestamp_writes: timer.and_then(|t| t.main_writes(part.first, part.last)),
             occlusion_query_set: None,
             multiview_mask: None,
         });
         pass.set_bind_group(0, &self.bind_group, &[]);
-        let order = data.draw_order.iter().map(|&i| (i, main_variant(&data.items[i], data.methods, measuring)));
+        let order = data.draw_order.get(part.draws.clone()).unwrap_or_default();
+        let order = order.iter().map(|&i| (i, main_variant(&data.items[i], data.methods, measuring)));
         pipelines.draw(&mut pass, with, &data.items, order);
-        let measured = measuring.then_some(data.frame.first_measured as usize);
-        self.planar.draw(&mut pass, with, data, measured);
+        if part.last {
+            let measured = measuring.then_some(data.frame.first_measured as usize);
+            self.planar.draw(&mut pass, with, data, measured);
+        }
     }
 }
 

@@ -28,6 +28,7 @@ mod moments;
 mod news;
 mod page_marks;
 pub mod page_table;
+mod parts;
 mod planar;
 mod readback;
 mod renderer;

@@ -14,6 +14,7 @@ use super::moment_compute::ComputeStores;
 use super::moments;
 use super::news::RenderNews;
 use super::page_marks::PageMarking;
+use super::parts::{PART_DRAWS, Part};
 use super::shadow_pass::{DrawOptions, ShadowPass};
 use super::shadow_stats::ShadowStats;
 use super::texture::MaterialTextures;
@@ -116,6 +117,8 @@ pub struct Renderer {
     /// The adapter is a software rasterizer (where moments are resolved by full-screen passes
     /// unless the settings ask for compute; see [`crate::settings::MomentResolve`]).
     software: bool,
+    /// Most draws a part of the main pass holds (0: it is drawn whole; see [`super::parts`]).
+    part_draws: usize,
     last_layers: Vec<(GpuLayer, LightLabel, Option<u32>)>,
     /// A map was drawn or the layers changed since the viewer's atlas was last drawn.
     atlas_stale: bool,
@@ -185,6 +188,7 @@ impl Renderer {
             computes,
             compute_stores,
             software: gpu.software(),
+            part_draws: if gpu.software() { PART_DRAWS } else { 0 },
             last_layers: Vec::new(),
             atlas_stale: true,
             shadowless: Vec::new(),
@@ -283,6 +287,13 @@ impl Renderer {
         });
         let pages = map_view::pages_of(&self.last_layers.iter().map(|(g, ..)| *g).collect::<Vec<_>>());
         MapAtlas { view: atlas, generation, tiles: tiles.collect(), pages }
+    }
+
+    /// Draws the main pass in parts of at most `most` draws, each waited for (0: whole); a
+    /// software adapter draws parts of [`PART_DRAWS`] by default, a GPU whole (see
+    /// [`super::parts`]).
+    pub fn draw_in_parts(&mut self, most: usize) {
+        self.part_draws = most;
     }
 
     /// Stamps every later frame's shadow and main passes with GPU timestamps, where the device
@@ -416,6 +427,7 @@ impl Renderer {
         let reduces = sdsm && sees;
         let marks = shadows && sees && data.lights.iter().any(|l| l.layer_count > 0 && l.light.pages.is_some());
         self.main.keep_depth = reduces || marks;
+        let parts = Part::split(data.draw_order.len(), self.part_draws);
         match output {
             Output::Picture(target) => {
                 let whose = data.draws.iter().map(|d| (d.light, d.page.map(|p| p.level)));
@@ -423,7 +435,10 @@ impl Renderer {
                 if layers != self.last_layers {
                     (self.last_layers, self.atlas_stale) = (layers, true);
                 }
-                self.main.encode(queue, &mut encoder, (target, &depth), &data, drawables, timer);
+                for part in &parts {
+                    next_part(gpu, &mut encoder, part)?;
+                    self.main.encode(queue, &mut encoder, (target, &depth), &data, (drawables, timer, part));
+                }
                 if light_volumes {
                     let lines = self.lines.get_or_insert_with(|| LinePass::new(device, self.format));
                     let vertices = volume_lines(&data);
@@ -432,7 +447,10 @@ impl Renderer {
             }
             Output::Measure(targets, first) => {
                 data.measure_from(first);
-                self.main.encode_debug(queue, &mut encoder, (targets, &depth), &data, drawables, timer)
+                for part in &parts {
+                    next_part(gpu, &mut encoder, part)?;
+                    self.main.encode_debug(queue, &mut encoder, (targets, &depth), &data, (drawables, timer, part));
+                }
             }
             Output::Probes(target, (w, h), points, count, first) => {
                 self.main.ensure_probe(device, data.methods);
@@ -583,4 +601,15 @@ impl Renderer {
         let reduction = self.reduction.get_or_insert_with(|| DepthReduction::new(&gpu.device));
         reduction.encode((&gpu.device, &gpu.queue), encoder, &depth.depth_only, depth.made, reduce, binning);
     }
+}
+
+/// Before a part of a pass other than the first, submits what `encoder` holds and waits for it
+/// (see [`super::parts`]), and starts a new encoder.
+fn next_part(gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, part: &Part) -> Result<(), RenderError> {
+    if part.first {
+        return Ok(());
+    }
+    let fresh = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame, part") });
+    gpu.queue.submit([std::mem::replace(encoder, fresh).finish()]);
+    gpu.wait()
 }

@@ -99,13 +99,16 @@ impl PassTimer {
         }
     }
 
-    /// Writes for the main pass (its start, unless the camera's depth started it).
-    pub fn main_writes(&self) -> wgpu::RenderPassTimestampWrites<'_> {
-        wgpu::RenderPassTimestampWrites {
+    /// Writes for a part of the main pass (see [`super::parts`]): the first its start, unless
+    /// the camera's depth started it, the last its end; none for a part between.
+    pub fn main_writes(&self, first: bool, last: bool) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let start = (first && !self.main_started).then_some(MAIN_START);
+        let end = last.then_some(MAIN_END);
+        (start.is_some() || end.is_some()).then_some(wgpu::RenderPassTimestampWrites {
             query_set: &self.queries,
-            beginning_of_pass_write_index: (!self.main_started).then_some(MAIN_START),
-            end_of_pass_write_index: Some(MAIN_END),
-        }
+            beginning_of_pass_write_index: start,
+            end_of_pass_write_index: end,
+        })
     }
 
     /// Starts a frame: no shadow layer written yet, no camera depth drawn.
