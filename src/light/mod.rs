@@ -229,6 +229,9 @@ pub trait Kind {
     /// kept from `depth` (last update's) while it holds the scene; none for a kind that is not
     /// paged, or without a camera.
     fn pages(&self, context: &LayerContext, coarse: u32, depth: Option<(f32, f32)>) -> Option<PagedFit>;
+    /// Its coarse map where it is paged, at most `coarse` texels a side: its layers and their
+    /// side, what the atlas keeps for it besides the pages (as [`Kind::pages`] fits it).
+    fn coarse_map(&self, settings: &MapSettings, coarse: u32) -> (u32, u32);
     /// Its size as soft shadows take it: tan of a distant light's angular radius (a blocker's
     /// distance times it is the penumbra's half width), or a local light's radius in metres.
     fn penumbra_size(&self) -> f32;
@@ -286,6 +289,9 @@ impl Kind for LightKind {
     }
     fn pages(&self, context: &LayerContext, coarse: u32, depth: Option<(f32, f32)>) -> Option<PagedFit> {
         each_kind!(self, k => k.pages(context, coarse, depth))
+    }
+    fn coarse_map(&self, settings: &MapSettings, coarse: u32) -> (u32, u32) {
+        each_kind!(self, k => k.coarse_map(settings, coarse))
     }
     fn penumbra_size(&self) -> f32 {
         each_kind!(self, k => k.penumbra_size())

@@ -48,6 +48,11 @@ impl Kind for Point {
         Some(context.cube_pages(self.position, self.range, coarse))
     }
 
+    /// Six faces of at most [`POINT_COARSE`].
+    fn coarse_map(&self, _: &MapSettings, coarse: u32) -> (u32, u32) {
+        (6, coarse.min(POINT_COARSE))
+    }
+
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {
         context.cube(self.position, self.range, resolution)
     }

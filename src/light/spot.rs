@@ -82,6 +82,16 @@ impl Kind for Spot {
         Some(PagedFit { space: PageSpace::Frustum(pages), camera, coarse, coarse_side })
     }
 
+    /// One map of at most [`SPOT_COARSE`], or a cube's six faces of at most
+    /// [`super::POINT_COARSE`] for a cone too wide for one map.
+    fn coarse_map(&self, settings: &MapSettings, coarse: u32) -> (u32, u32) {
+        if self.outer > settings.spot_map_limit {
+            (6, coarse.min(super::POINT_COARSE))
+        } else {
+            (1, coarse.min(SPOT_COARSE))
+        }
+    }
+
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {
         match self.shape(&context.maps.unpaged(), ShadowMethod::default()) {
             ShadowShape::Single => {

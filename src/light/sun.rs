@@ -50,6 +50,11 @@ impl Kind for Sun {
         if settings.sun_maps == SunMaps::Virtual && method.pages() { ShadowShape::Pages } else { ShadowShape::Cascades }
     }
 
+    /// One stable cascade over the whole shadow distance, `coarse` texels a side.
+    fn coarse_map(&self, _: &MapSettings, coarse: u32) -> (u32, u32) {
+        (1, coarse)
+    }
+
     /// One layer per cascade, fitted to its slice of the camera's view; none without a camera.
     fn layers(&self, context: &LayerContext, resolution: u32) -> Vec<LayerFit> {
         context.view.map_or_else(Vec::new, |view| cascades(self.direction, view, context, resolution))

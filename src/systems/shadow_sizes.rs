@@ -151,13 +151,13 @@ pub fn size_shadow_maps(
                 ShadowShape::Single => 1,
                 ShadowShape::Cube => 6,
                 ShadowShape::Pages => {
-                    // Its coarse map, counted in pages; never smaller than a page. The pool that
-                    // every paged light shares is counted once, below.
-                    coarse = coarse_side(&settings);
-                    let tiles = (coarse / PAGE_TILE).max(1).pow(2);
+                    // Its coarse map, never smaller than a tile; the pool that every paged light
+                    // shares is counted once, below.
+                    let (layers, side) = s.kind.coarse_map(&settings, coarse_side(&settings));
+                    coarse = coarse.max(side);
                     shows.push(view.map_or(0.0, |(at, tan)| coverage(s.kind.reach(), at, tan)));
                     classes.push(0);
-                    return TileNeed { layers: tiles, side: PAGE_TILE, priority: f32::INFINITY };
+                    return TileNeed { layers, side: side.max(MIN_TILE), priority: f32::INFINITY };
                 }
             };
             let covered = view.map_or(0.0, |(at, tan)| coverage(s.kind.reach(), at, tan));
@@ -191,7 +191,7 @@ pub fn size_shadow_maps(
     let pool_side = if coarse > 0 { sides.last().copied().unwrap_or(PAGE_TILE) } else { PAGE_TILE };
     let lights = sources.iter().zip(sides).zip(classes).zip(shows).zip(paged);
     for ((((source, side), class), shows), paged) in lights {
-        let side = if paged { side.min(pool_side) } else { side };
+        let side = if paged { pool_side } else { side };
         if let Ok((mut map, _)) = maps.get_mut(source.entity)
             && (map.resolution, map.wanted, map.shows) != (side, class, shows)
         {
@@ -314,6 +314,34 @@ mod tests {
             .map(|&(e, n)| n * u64::from(side(e).next_power_of_two()).pow(2))
             .sum();
         assert!(used <= atlas.shape.texels(), "{used} texels in {:?}", atlas.shape);
+    }
+
+    #[test]
+    fn paged_lights_keep_their_coarse_maps_and_share_one_pool() {
+        let mut world = World::new();
+        let settings = Settings::default().with(|s| {
+            s.maps.light_maps = crate::settings::LightMaps::Virtual;
+            s.maps.sun_maps = crate::settings::SunMaps::Virtual;
+        });
+        settings.put(&mut world).unwrap();
+        // An atlas too small to keep: the one made holds what the lights need.
+        world.insert_resource(ShadowAtlas { shape: AtlasShape { page: 128, pages: 1 }, texel_bytes: 4 });
+        world.spawn((Camera::default(), Transform::from_xyz(0.0, 2.0, 0.0).looking_to(Vec3::NEG_Z)));
+        world.spawn((DirectionalLight::default(), ShadowMap::default()));
+        world.spawn((SpotLight::default(), Transform::from_xyz(0.0, 2.0, -5.0), ShadowMap::default()));
+        let lamp = PointLight { range: 3.0, ..Default::default() };
+        for k in 0..100 {
+            world.spawn((lamp, Transform::from_xyz(k as f32, 2.0, -10.0), ShadowMap::default()));
+        }
+        world.run_system_once(size_shadow_maps).unwrap();
+        let atlas = *world.resource::<ShadowAtlas>();
+        // The pool once (32 MiB of 128² depth pages), the sun's 1024² coarse map, the spot's 256²
+        // and each lamp's six 128² faces: 512 + 64 + 4 + 600 tiles of 128².
+        let tiles = 512 + 64 + 4 + 100 * 6;
+        assert!(atlas.shape.texels() >= tiles * 128 * 128, "{atlas:?}");
+        assert!(atlas.bytes() < 2 * tiles * 128 * 128 * 4, "about what they need, not a pool each: {atlas:?}");
+        let mut maps = world.query::<&ShadowMap>();
+        assert!(maps.iter(&world).all(|m| m.resolution == PAGE_TILE), "a paged light's pages are the pool's");
     }
 
     #[test]
