@@ -48,6 +48,7 @@ pub use frame::{DrawItem, FrameData, FrameLight, LayerDraw, SHADOW_FADE, Shadowl
 pub use gpu::{Gpu, colour_pass, instance};
 pub use moment_samples::sample_counts;
 pub use news::RenderNews;
+pub use parts::PART_DRAWS;
 pub use readback::{
     DebugFrame, HEADLESS_FORMAT, Image, PRIME_ROUNDS, probe_visibility, read_picture, render_debug_frame,
     render_debug_frame_as_is, render_headless, render_png,

@@ -8,7 +8,9 @@
 
 use std::ops::Range;
 
-/// Most draws a part of a pass holds on a software rasterizer.
+/// Most draws a part of the main pass holds on a software rasterizer: one that bins a pass's
+/// draws ahead of drawing them holds what it binned until it is drawn, so a pass of many draws is
+/// drawn in parts, each submitted and waited for (see `src/render/parts.rs`).
 pub const PART_DRAWS: usize = 4_096;
 
 /// One part of a pass: the draws `draws` of its list.

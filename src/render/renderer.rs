@@ -289,9 +289,9 @@ impl Renderer {
         MapAtlas { view: atlas, generation, tiles: tiles.collect(), pages }
     }
 
-    /// Draws the main pass in parts of at most `most` draws, each waited for (0: whole); a
-    /// software adapter draws parts of [`PART_DRAWS`] by default, a GPU whole (see
-    /// [`super::parts`]).
+    /// Draws the main pass in parts of at most `most` draws, each submitted and waited for
+    /// before the next (0: whole). A software adapter draws parts of [`crate::render::PART_DRAWS`]
+    /// by default, so that what it bins ahead of drawing stays bounded; a GPU draws it whole.
     pub fn draw_in_parts(&mut self, most: usize) {
         self.part_draws = most;
     }
