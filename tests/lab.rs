@@ -241,7 +241,7 @@ fn a_window_state_renders_the_same_headless_from_its_command_line() {
     app.set_time(3.5);
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
     let window = render_headless(&gpu, &mut renderer, &mut app, 256, 256).unwrap();
-    drop(gpu);
+    drop((renderer, gpu));
 
     let args = command_line(&mut app.world);
     let out = common::scratch("reproduce").join("view.png");

@@ -50,7 +50,7 @@ fn a_thousand_lights_each_reach_just_where_the_truth_says() {
     let gpu = gpu();
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
     let frame = render_debug_frame(&gpu, &mut renderer, &mut app, SIDE, SIDE).unwrap();
-    drop(gpu);
+    drop((renderer, gpu));
     let truth = truth::truth_of(&mut app.world, &frame, truth::SizeOverride::default(), 0);
     assert_eq!(frame.visibility.len(), 1024);
     let (mut reached, mut disagree, mut lights_seen) = (0, 0, 0);

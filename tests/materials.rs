@@ -116,7 +116,7 @@ fn a_cut_out_caster_casts_a_cut_out_shadow_where_the_truth_says() {
     let gpu = gpu();
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
     let frame = render_debug_frame(&gpu, &mut renderer, &mut app, SIZE, SIZE).unwrap();
-    drop(gpu);
+    drop((renderer, gpu));
     let truth = truth::truth_of(&mut app.world, &frame, truth::SizeOverride::default(), 0);
     let on_ground = |i: usize| frame.covered(i) && frame.position[i].y.abs() < 1e-3;
     let tally = metrics::tally(&frame, &truth[0], 0, on_ground);

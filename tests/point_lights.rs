@@ -40,7 +40,7 @@ fn ground_errors(app: &mut App, light: usize) -> (usize, u64) {
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
     app.set_time(0.0);
     let frame = render_debug_frame(&gpu, &mut renderer, app, SIZE, SIZE).unwrap();
-    drop(gpu);
+    drop((renderer, gpu));
     let truth = truth::truth_of(&mut app.world, &frame, truth::SizeOverride::default(), 0);
     let on_ground = |i: usize| frame.covered(i) && frame.position[i].y.abs() < 1e-3;
     let tally = metrics::tally(&frame, &truth[light], light, on_ground);
@@ -108,7 +108,7 @@ fn a_sun_four_spots_and_two_point_lights_are_each_measured_against_the_truth() {
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
     app.set_time(0.0);
     let frame = render_debug_frame(&gpu, &mut renderer, &mut app, SIZE, SIZE).unwrap();
-    drop(gpu);
+    drop((renderer, gpu));
     let names: Vec<String> = light_list(&app.world).iter().map(|l| l.label.to_string()).collect();
     assert_eq!(names, ["sun", "spot 1", "spot 2", "spot 3", "spot 4", "point 1", "point 2"]);
     assert_eq!(frame.visibility.len(), 7, "a column per light");

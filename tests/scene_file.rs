@@ -69,7 +69,7 @@ fn a_files_lights_shadow_the_scene_where_the_truth_says() {
     let gpu = gpu();
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
     let frame = render_debug_frame(&gpu, &mut renderer, &mut app, SIZE, SIZE).unwrap();
-    drop(gpu);
+    drop((renderer, gpu));
     let truth = truth::truth_of(&mut app.world, &frame, truth::SizeOverride::default(), 0);
     for (light, column) in truth.iter().enumerate() {
         let dark = column.iter().filter(|t| t.is_some_and(|t| !t.lit)).count();

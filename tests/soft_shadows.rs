@@ -69,7 +69,7 @@ fn measure_app(mut app: App, name: &str) -> Seen {
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
     app.set_time(0.0);
     let frame = render_debug_frame(&gpu, &mut renderer, &mut app, SIZE, SIZE).unwrap();
-    drop(gpu);
+    drop((renderer, gpu));
     let truth = truth::truth_of(&mut app.world, &frame, truth::SizeOverride::default(), 32);
     let on_ground = |i: usize| frame.covered(i) && frame.position[i].y.abs() < 1e-3;
     let tally = metrics::tally(&frame, &truth[0], 0, on_ground);

@@ -133,7 +133,14 @@ pub struct PagePlace {
 /// The page pool every paged light shares ([`VirtualPages`]), its pages named by light; kept by
 /// the light systems, its size set by the memory budget.
 #[derive(Resource, Clone, Debug, Default, PartialEq)]
-pub struct SharedPool(pub PagePool<LightPage>);
+pub struct SharedPool {
+    /// The slots and the pages in them.
+    pub pages: PagePool<LightPage>,
+    /// While pages go missing, the lights (by their entity's bits) marked since they began to: a
+    /// light goes coarser for want of slots only once every paged light has been marked since, so
+    /// that what a light asked for before a camera cut does not count against the others.
+    pub short: Option<std::collections::HashSet<u64>>,
+}
 
 /// A light's virtual shadow map, kept by the light systems: its pages and the windows of them
 /// that may be asked for, what its last marking asked of the pool every paged light shares

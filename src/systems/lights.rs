@@ -179,7 +179,7 @@ pub fn update_light_matrices(
         admit: admit_limit(&settings),
         bias: settings.page_bias,
     };
-    refresh_paged(&mut pool.0, &mut paged, &how);
+    refresh_paged(&mut pool, &mut paged, &how);
 }
 
 /// Replaces a light's layers with `fits` (see [`fitted_layers`]); it is no longer paged.

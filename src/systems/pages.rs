@@ -12,7 +12,7 @@
 
 use super::casters::CasterChanges;
 use super::layers::{fitted_layers, next_version};
-use crate::components::{MarkedPages, PagePlace, PageUpdate, ShadowLayer, ShadowMap, VirtualPages};
+use crate::components::{MarkedPages, PagePlace, PageUpdate, ShadowLayer, ShadowMap, SharedPool, VirtualPages};
 use crate::light::PagedFit;
 use crate::settings::MapSettings;
 use crate::shadow::{
@@ -123,7 +123,8 @@ pub(super) struct PagedLight<'a> {
 /// for (see the module's notes); a light with a new page space (it moved or turned, or the
 /// scene's depth outgrew its range) gives up its pages, a light no longer paged (or gone) too,
 /// and a forced redraw or a new pool size every page.
-pub(super) fn refresh_paged(pool: &mut PagePool<LightPage>, lights: &mut [PagedLight], how: &PagedUpdate) {
+pub(super) fn refresh_paged(shared: &mut SharedPool, lights: &mut [PagedLight], how: &PagedUpdate) {
+    let pool = &mut shared.pages;
     if how.forced || pool.capacity() != how.capacity {
         *pool = PagePool::new(how.capacity);
     }
@@ -144,7 +145,16 @@ pub(super) fn refresh_paged(pool: &mut PagePool<LightPage>, lights: &mut [PagedL
     let can_coarsen = |l: &PagedLight| l.map.pages.as_ref().is_some_and(|p| p.pressure.octaves < MAX_PRESSURE as i32);
     let counts: Vec<(f32, usize, bool)> =
         lights.iter().map(|l| (shows(l), needed_by(l).len(), can_coarsen(l))).collect();
-    let coarser = coarser_first(&counts, missing);
+    // Pages go missing for want of slots once every light has been marked since they began to.
+    let short = (missing > 0).then(|| {
+        let marked = shared.short.get_or_insert_with(HashSet::new);
+        marked.extend(lights.iter().zip(&fresh).filter(|(_, f)| **f).map(|(l, _)| l.light.to_bits()));
+        ids.iter().all(|id| marked.contains(id))
+    });
+    if short.is_none() {
+        shared.short = None;
+    }
+    let coarser = if short == Some(true) { coarser_first(&counts, missing) } else { vec![false; lights.len()] };
     let hits = redraw_crossed(pool, lights, how.changes);
     let mut by_light = account(pool, &hits);
     let finer = |l: &PagedLight| l.map.pages.as_ref().is_some_and(|p| p.pressure.may_go_finer());
@@ -302,7 +312,7 @@ fn page_layer(space: &PageSpace, slot: u32, r: &Resident<LightPage>) -> ShadowLa
 mod tests {
     use super::*;
     use crate::light::LayerFit;
-    use crate::shadow::{Clipmap, MARK_WORDS, PageMarks};
+    use crate::shadow::{Change, Clipmap, MARK_WORDS, PageMarks};
     use glam::{Vec2, Vec3};
 
     fn clipmap() -> Clipmap {
@@ -334,14 +344,14 @@ mod tests {
     }
 
     /// One light's update, alone in `pool`.
-    fn refresh(pool: &mut PagePool<LightPage>, map: &mut ShadowMap, light: Entity, fit: &PagedFit, how: &PagedUpdate) {
+    fn refresh(pool: &mut SharedPool, map: &mut ShadowMap, light: Entity, fit: &PagedFit, how: &PagedUpdate) {
         refresh_paged(pool, &mut [PagedLight { light, map, fit: fit.clone() }], how);
     }
 
     #[test]
     fn marked_pages_become_layers_after_the_coarse_map_and_keep_their_versions() {
         let (fit, light, still) = (fit(), Entity::from_bits(42), CasterChanges::default());
-        let (mut map, mut pool) = (ShadowMap::default(), PagePool::default());
+        let (mut map, mut pool) = (ShadowMap::default(), SharedPool::default());
         refresh(&mut pool, &mut map, light, &fit, &how(None, &still));
         assert_eq!(map.layers.len(), 1, "the coarse map alone before any marking");
         assert!(map.layers[0].page.is_none() && map.layers[0].resolution == 1024);
@@ -366,7 +376,7 @@ mod tests {
     #[test]
     fn a_caster_moving_through_a_page_dirties_it_and_no_other() {
         let (fit, light) = (fit(), Entity::from_bits(42));
-        let (mut map, mut pool) = (ShadowMap::default(), PagePool::default());
+        let (mut map, mut pool) = (ShadowMap::default(), SharedPool::default());
         let window = clipmap().window(0, Vec2::ZERO);
         let marked = marks(&fit, 1, light, 0, &[0, 2080]);
         refresh(&mut pool, &mut map, light, &fit, &how(Some(&marked), &CasterChanges::default()));
@@ -385,7 +395,7 @@ mod tests {
     #[test]
     fn a_new_clipmap_or_a_forced_redraw_gives_up_every_page() {
         let (fit, light, still) = (fit(), Entity::from_bits(42), CasterChanges::default());
-        let (mut map, mut pool) = (ShadowMap::default(), PagePool::default());
+        let (mut map, mut pool) = (ShadowMap::default(), SharedPool::default());
         let marked = marks(&fit, 1, light, 1, &[9]);
         refresh(&mut pool, &mut map, light, &fit, &how(Some(&marked), &still));
         assert_eq!(map.layers.len(), 2);
@@ -393,7 +403,7 @@ mod tests {
         let turned = PagedFit { space: PageSpace::Clipmap(turned), ..fit.clone() };
         refresh(&mut pool, &mut map, light, &turned, &how(Some(&marked), &still));
         assert_eq!(map.layers.len(), 1, "the sun turned: no page is good, and old marks name other pages");
-        assert!(pool.is_empty());
+        assert!(pool.pages.is_empty());
         let mut map = ShadowMap::default();
         refresh(&mut pool, &mut map, light, &fit, &how(Some(&marked), &still));
         refresh(&mut pool, &mut map, light, &fit, &PagedUpdate { forced: true, ..how(None, &still) });
@@ -404,8 +414,8 @@ mod tests {
     fn lights_share_one_pool_and_the_one_that_shows_least_goes_coarser_first() {
         let (fit, still) = (fit(), CasterChanges::default());
         let (near, far) = (Entity::from_bits(42), Entity::from_bits(7));
-        let (mut maps, mut pool) = ([ShadowMap::default(), ShadowMap::default()], PagePool::default());
-        let update = |pool: &mut PagePool<LightPage>, maps: &mut [ShadowMap; 2], marked: &MarkedPages| {
+        let (mut maps, mut pool) = ([ShadowMap::default(), ShadowMap::default()], SharedPool::default());
+        let update = |pool: &mut SharedPool, maps: &mut [ShadowMap; 2], marked: &MarkedPages| {
             let [a, b] = maps;
             let mut lights = [
                 PagedLight { light: far, map: b, fit: fit.clone() },
@@ -423,7 +433,7 @@ mod tests {
         assert_eq!((pages(&maps[0]).resident, pages(&maps[1]).resident), (4, 1));
         assert_eq!(pages(&maps[1]).marked.residency.missing, 2);
         assert_eq!((pages(&maps[0]).pressure.octaves, pages(&maps[1]).pressure.octaves), (0, 1));
-        assert_eq!(pool.len(), 5);
+        assert_eq!(pool.pages.len(), 5);
         assert!(
             maps[1].layers[1..].iter().all(|l| l.page.is_some_and(|p| p.slot == 4)),
             "the slot the near light left"
@@ -431,8 +441,41 @@ mod tests {
         // A light no longer paged gives its pages up.
         let [a, _] = &mut maps;
         refresh(&mut pool, a, near, &fit, &PagedUpdate { capacity: 5, ..how(None, &still) });
-        assert!(pool.len() == 4 && pool.resident().all(|(_, r)| r.page.light == near.to_bits()));
-        assert!(pool.resident().all(|(_, r)| !r.dirty), "kept as they were");
+        assert!(pool.pages.len() == 4 && pool.pages.resident().all(|(_, r)| r.page.light == near.to_bits()));
+        assert!(pool.pages.resident().all(|(_, r)| !r.dirty), "kept as they were");
+    }
+
+    #[test]
+    fn no_light_goes_coarser_for_pages_another_asked_for_before_it_was_marked_again() {
+        let (fit, still) = (fit(), CasterChanges::default());
+        let (near, far) = (Entity::from_bits(42), Entity::from_bits(7));
+        let (mut maps, mut pool) = ([ShadowMap::default(), ShadowMap::default()], SharedPool::default());
+        let update = |pool: &mut SharedPool, maps: &mut [ShadowMap; 2], marked: &MarkedPages| {
+            let [a, b] = maps;
+            let mut lights = [
+                PagedLight { light: far, map: b, fit: fit.clone() },
+                PagedLight { light: near, map: a, fit: fit.clone() },
+            ];
+            refresh_paged(pool, &mut lights, &PagedUpdate { capacity: 5, ..how(Some(marked), &still) });
+        };
+        let octaves = |maps: &[ShadowMap; 2]| maps.each_ref().map(|m| m.pages.as_ref().unwrap().pressure.octaves);
+        let first = MarkedPages(vec![marks_of(&fit, 1, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 1, far, 0, &[9])]);
+        update(&mut pool, &mut maps, &first);
+        let [near_was, far_was] = octaves(&maps);
+        // A cut: the far light asks for two new pages while the near one's last marking still
+        // holds four slots; the pool is short, but the near light's need is older than that.
+        let cut = MarkedPages(vec![marks_of(&fit, 1, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 2, far, 0, &[20, 21])]);
+        update(&mut pool, &mut maps, &cut);
+        assert_eq!(pool.pages.changes().iter().filter(|(_, c)| *c == Change::Missing).count(), 1);
+        assert_eq!(octaves(&maps), [near_was, far_was], "no light is yet known to want for slots");
+        // Once the near light has been marked again and still needs its four, the far light,
+        // which shows least, gives way at its next marking.
+        let again = MarkedPages(vec![marks_of(&fit, 2, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 2, far, 0, &[20, 21])]);
+        update(&mut pool, &mut maps, &again);
+        assert_eq!(octaves(&maps)[1], far_was, "not marked since");
+        let later = MarkedPages(vec![marks_of(&fit, 2, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 3, far, 0, &[20, 21])]);
+        update(&mut pool, &mut maps, &later);
+        assert_eq!(octaves(&maps), [near_was, far_was + 1]);
     }
 
     #[test]

@@ -421,7 +421,7 @@ pub fn page_line(world: &World, stats: &ShadowStats) -> Option<String> {
         return None;
     }
     let sum = |f: &dyn Fn(&crate::components::VirtualPages) -> u32| pools.iter().map(|p| f(p)).sum::<u32>();
-    let pool = &world.get_resource::<crate::components::SharedPool>()?.0;
+    let pool = &world.get_resource::<crate::components::SharedPool>()?.pages;
     let (resident, capacity) = (pool.len(), pool.capacity().max(1));
     let missing = sum(&|p| p.marked.residency.missing);
     let waiting = sum(&|p| p.marked.residency.waiting);

@@ -33,6 +33,10 @@ pub fn read_png(path: &std::path::Path) -> Option<Image> {
 pub const SIZE: u32 = 256;
 
 /// The software (or whatever) adapter, opened once; the lock keeps each test's wgpu errors its own.
+///
+/// A renderer goes before the guard (`drop((renderer, gpu))`): on GL, freeing its GPU objects
+/// takes the adapter's context, which another test's frame may hold for longer than wgpu waits for
+/// it (6 s) while this one is not holding the GPU.
 pub fn gpu() -> MutexGuard<'static, Gpu> {
     static GPU: OnceLock<Mutex<Gpu>> = OnceLock::new();
     let gpu = GPU.get_or_init(|| {
