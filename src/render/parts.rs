@@ -6,6 +6,7 @@
 //! [`PART_DRAWS`] draws, each submitted and waited for before the next is recorded; the first
 //! clears the targets, the others draw onto what the earlier ones left. A GPU draws a pass whole.
 
+use super::{Gpu, RenderError};
 use std::ops::Range;
 
 /// Most draws a part of the main pass holds on a software rasterizer: one that bins a pass's
@@ -37,6 +38,17 @@ impl Part {
                 Part { draws: start..start.saturating_add(most).min(draws), first: i == 0, last: i + 1 == count }
             })
             .collect()
+    }
+
+    /// Starts the part: one other than the first submits what `encoder` holds, waits for it
+    /// and starts a new encoder.
+    pub fn begin(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder) -> Result<(), RenderError> {
+        if self.first {
+            return Ok(());
+        }
+        let fresh = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame, part") });
+        gpu.queue.submit([std::mem::replace(encoder, fresh).finish()]);
+        gpu.wait()
     }
 
     /// How the part loads an attachment cleared to `clear`: cleared by the first, kept after.

@@ -436,7 +436,7 @@ impl Renderer {
                     (self.last_layers, self.atlas_stale) = (layers, true);
                 }
                 for part in &parts {
-                    next_part(gpu, &mut encoder, part)?;
+                    part.begin(gpu, &mut encoder)?;
                     self.main.encode(queue, &mut encoder, (target, &depth), &data, (drawables, timer, part));
                 }
                 if light_volumes {
@@ -448,7 +448,7 @@ impl Renderer {
             Output::Measure(targets, first) => {
                 data.measure_from(first);
                 for part in &parts {
-                    next_part(gpu, &mut encoder, part)?;
+                    part.begin(gpu, &mut encoder)?;
                     self.main.encode_debug(queue, &mut encoder, (targets, &depth), &data, (drawables, timer, part));
                 }
             }
@@ -601,15 +601,4 @@ impl Renderer {
         let reduction = self.reduction.get_or_insert_with(|| DepthReduction::new(&gpu.device));
         reduction.encode((&gpu.device, &gpu.queue), encoder, &depth.depth_only, depth.made, reduce, binning);
     }
-}
-
-/// Before a part of a pass other than the first, submits what `encoder` holds and waits for it
-/// (see [`super::parts`]), and starts a new encoder.
-fn next_part(gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, part: &Part) -> Result<(), RenderError> {
-    if part.first {
-        return Ok(());
-    }
-    let fresh = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame, part") });
-    gpu.queue.submit([std::mem::replace(encoder, fresh).finish()]);
-    gpu.wait()
 }

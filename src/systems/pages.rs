@@ -410,18 +410,27 @@ mod tests {
         assert_eq!(map.layers.len(), 1);
     }
 
+    /// Lights `near` and `far`, `maps` theirs in that order, updated together in a pool of five
+    /// slots (the far light given first).
+    fn update_two(
+        pool: &mut SharedPool,
+        maps: &mut [ShadowMap; 2],
+        (near, far): (Entity, Entity),
+        marked: &MarkedPages,
+    ) {
+        let (fit, still) = (fit(), CasterChanges::default());
+        let [a, b] = maps;
+        let mut lights = [PagedLight { light: far, map: b, fit: fit.clone() }, PagedLight { light: near, map: a, fit }];
+        refresh_paged(pool, &mut lights, &PagedUpdate { capacity: 5, ..how(Some(marked), &still) });
+    }
+
     #[test]
     fn lights_share_one_pool_and_the_one_that_shows_least_goes_coarser_first() {
         let (fit, still) = (fit(), CasterChanges::default());
         let (near, far) = (Entity::from_bits(42), Entity::from_bits(7));
         let (mut maps, mut pool) = ([ShadowMap::default(), ShadowMap::default()], SharedPool::default());
         let update = |pool: &mut SharedPool, maps: &mut [ShadowMap; 2], marked: &MarkedPages| {
-            let [a, b] = maps;
-            let mut lights = [
-                PagedLight { light: far, map: b, fit: fit.clone() },
-                PagedLight { light: near, map: a, fit: fit.clone() },
-            ];
-            refresh_paged(pool, &mut lights, &PagedUpdate { capacity: 5, ..how(Some(marked), &still) });
+            update_two(pool, maps, (near, far), marked);
         };
         update(&mut pool, &mut maps, &MarkedPages(vec![marks_of(&fit, 1, near, 0, &[0, 1, 2, 3])]));
         // Seven pages of one level asked for in five slots: the light that shows more keeps its
@@ -447,16 +456,11 @@ mod tests {
 
     #[test]
     fn no_light_goes_coarser_for_pages_another_asked_for_before_it_was_marked_again() {
-        let (fit, still) = (fit(), CasterChanges::default());
+        let fit = fit();
         let (near, far) = (Entity::from_bits(42), Entity::from_bits(7));
         let (mut maps, mut pool) = ([ShadowMap::default(), ShadowMap::default()], SharedPool::default());
         let update = |pool: &mut SharedPool, maps: &mut [ShadowMap; 2], marked: &MarkedPages| {
-            let [a, b] = maps;
-            let mut lights = [
-                PagedLight { light: far, map: b, fit: fit.clone() },
-                PagedLight { light: near, map: a, fit: fit.clone() },
-            ];
-            refresh_paged(pool, &mut lights, &PagedUpdate { capacity: 5, ..how(Some(marked), &still) });
+            update_two(pool, maps, (near, far), marked);
         };
         let octaves = |maps: &[ShadowMap; 2]| maps.each_ref().map(|m| m.pages.as_ref().unwrap().pressure.octaves);
         let first = MarkedPages(vec![marks_of(&fit, 1, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 1, far, 0, &[9])]);
