@@ -152,8 +152,9 @@ struct BenchArgs {
     #[arg(long, conflicts_with = "cache")]
     shadow_pass: bool,
     /// Instead of the sweep: 4 to 1,024 lights (the sample's and lanterns), without shadows, in
-    /// umbra's atlas, Bevy-like and at fixed sizes: cost, memory, tiles drawn and stale, and each
-    /// light's error; writes lights.md and the lights charts (4 to 64 lights with --quick).
+    /// umbra's atlas, every light paged (one 128 MiB pool), Bevy-like and at fixed sizes: cost,
+    /// memory, tiles drawn and stale, pages, texels per pixel and each light's error; writes
+    /// lights.md and the lights charts (4 to 64 lights with --quick).
     #[arg(long, conflicts_with_all = ["cache", "lab", "shadow_pass"])]
     lights: bool,
     /// Sweep only the configurations of this family (and the default, for the ratios); give it

@@ -86,7 +86,7 @@ fn paged_lights_put_their_shadows_where_the_truth_does_sharper_than_their_coarse
         let by_pages = tally(&mut virt, &frame, light);
         let pages = &light_pages(&virt, light);
         let percent = |t: &metrics::Tally| 100.0 * t.misclassified();
-        let pressures: Vec<i32> = (1..4).map(|l| light_pages(&virt, l).pressure.octaves).collect();
+        let pressures: Vec<f32> = (1..4).map(|l| light_pages(&virt, l).pressure.octaves).collect();
         eprintln!(
             "light {light}: {} pixels; misclassified atlas {:.4} %, coarse map {:.4} %, pages {:.4} % ({} resident; \
              the paged lights' pressures {pressures:?})",

@@ -136,10 +136,17 @@ pub struct PagePlace {
 pub struct SharedPool {
     /// The slots and the pages in them.
     pub pages: PagePool<LightPage>,
-    /// While pages go missing, the lights (by their entity's bits) marked since they began to: a
-    /// light goes coarser for want of slots only once every paged light has been marked since, so
-    /// that what a light asked for before a camera cut does not count against the others.
-    pub short: Option<std::collections::HashSet<u64>>,
+    /// Octaves coarser (negative: finer) than the settings every paged light's levels are
+    /// chosen: one for the pool, so that every light's pixels get about as many texels as the
+    /// pool holds for all (see [`Pressure`]).
+    pub pressure: Pressure,
+    /// The lights (by their entity's bits) marked at this pressure since it last changed, or
+    /// since pages began to go missing: it moves again only once every paged light has been, so
+    /// that neither a marking made before the last move nor what a light asked for before a
+    /// camera cut counts.
+    pub heard: std::collections::HashSet<u64>,
+    /// Pages went missing at the last update.
+    pub short: bool,
 }
 
 /// A light's virtual shadow map, kept by the light systems: its pages and the windows of them
@@ -172,7 +179,7 @@ impl VirtualPages {
     /// Octaves coarser than its footprint a pixel's page is chosen, marking and lookup alike.
     #[must_use]
     pub fn lookup_bias(&self) -> f32 {
-        self.bias + self.pressure.octaves as f32
+        self.bias + self.pressure.octaves
     }
 }
 

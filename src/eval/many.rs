@@ -1,11 +1,13 @@
 //! `umbra bench --lights`: the sample scene with 4 to 1,024 lights (its own four, then lanterns:
-//! [`crate::lanterns`]), everything moving, under four policies: no shadows, umbra's atlas
+//! [`crate::lanterns`]), everything moving, under five policies: no shadows, umbra's atlas
 //! (tiles sized by what each light shows, in the default 256 MiB, kept while clean), every
-//! layer at the map size as umbra had it before its atlas, and a Bevy-like policy (spots at
-//! 2048², point lights 1024² a face, every map drawn every frame, no cache). For each: the
-//! frame's cost (wall time, and the shadow and main passes' GPU time where there are
-//! timestamps), the shadow memory, the tiles drawn and left stale a frame, and each light's
-//! error against the ray-traced truth over the pixels it reaches.
+//! light paged (virtual maps sharing one pool of [`PAGES_MIB`], each light's coarse map in the
+//! atlas), every layer at the map size as umbra had it before its atlas, and a Bevy-like policy
+//! (spots at 2048², point lights 1024² a face, every map drawn every frame, no cache). For each:
+//! the frame's cost (wall time, and the shadow and main passes' GPU time where there are
+//! timestamps), the shadow memory, the tiles drawn and left stale a frame, the pages resident,
+//! drawn and missing, the texels per pixel where shadows are looked up, and each light's error
+//! against the ray-traced truth over the pixels it reaches.
 //!
 //! A policy that needs more shadow memory than [`MAX_RUN_MIB`] is reported with what it needs,
 //! not run.
@@ -13,12 +15,13 @@
 use super::cases::budget::{ShrinkPoint, threshold_sides};
 use super::chart::{ChartError, line_chart};
 use super::metrics::{Tally, tally};
+use super::texels::{Density, Eye, density};
 use super::truth::{SizeOverride, truth_of};
 use super::{BenchError, median};
 use crate::components::ShadowMap;
 use crate::light::light_list;
 use crate::render::{Gpu, HEADLESS_FORMAT, Renderer, ShadowStats, render_debug_frame};
-use crate::settings::{MAX_SHADOW_MEMORY, TileSizes};
+use crate::settings::{LightMaps, MAX_SHADOW_MEMORY, SunMaps, TileSizes};
 use crate::systems::ShadowAtlas;
 use crate::{App, Settings};
 use std::path::Path;
@@ -33,6 +36,10 @@ pub const SAMPLE_LIGHTS: u32 = 4;
 
 /// The most shadow memory a policy is run with, in MiB.
 pub const MAX_RUN_MIB: u32 = 4096;
+
+/// The pool every paged light's pages share under the pages policy, in MiB: the issue's bound,
+/// half the atlas's default, which holds it and every paged light's coarse map.
+pub const PAGES_MIB: u32 = 128;
 
 /// A light must reach this many pixels of the measured frame for its error to count: one wrong
 /// pixel is then at most 0.25 %, half the issue's 0.5 % bound (at 50 pixels one pixel was 2 %,
@@ -56,18 +63,20 @@ pub fn columns_note() -> String {
 pub enum Policy {
     Unshadowed,
     Atlas,
+    Pages,
     Fixed,
     Bevy,
 }
 
 impl Policy {
-    pub const ALL: [Policy; 4] = [Policy::Unshadowed, Policy::Atlas, Policy::Bevy, Policy::Fixed];
+    pub const ALL: [Policy; 5] = [Policy::Unshadowed, Policy::Atlas, Policy::Pages, Policy::Bevy, Policy::Fixed];
 
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Policy::Unshadowed => "no shadows",
             Policy::Atlas => "umbra's atlas",
+            Policy::Pages => "virtual pages",
             Policy::Fixed => "fixed layers",
             Policy::Bevy => "Bevy-like",
         }
@@ -80,6 +89,11 @@ impl Policy {
         match self {
             Policy::Unshadowed => s.with(|s| s.shadow.enabled = false),
             Policy::Atlas => s,
+            Policy::Pages => s.with(|s| {
+                s.maps.sun_maps = SunMaps::Virtual;
+                s.maps.light_maps = LightMaps::Virtual;
+                s.maps.page_memory = PAGES_MIB;
+            }),
             Policy::Fixed => s.with(|s| s.maps.tile_sizes = TileSizes::Fixed),
             Policy::Bevy => s.with(|s| {
                 s.maps.tile_sizes = TileSizes::Bevy;
@@ -107,6 +121,15 @@ pub struct LightsRow {
     /// Shadow layers drawn, and left stale, a frame (means).
     pub drawn: f64,
     pub stale: f64,
+    /// Where lights are paged: pages holding slots after the timed frames, and pages drawn and
+    /// pages missing (asked for, with no slot) a frame, means (NaN where none is paged).
+    pub pages_resident: f64,
+    pub pages_drawn: f64,
+    pub pages_missing: f64,
+    /// Texels across a pixel where the measured lights' lookups are made, all together: the
+    /// median pixel's and the 99th percentile's.
+    pub texels_median: f64,
+    pub texels_p99: f64,
     /// Lights reaching enough of the measured frame to count.
     pub measured: usize,
     /// Their misclassified shares of the pixels each reaches: the median light's and the worst's.
@@ -168,6 +191,11 @@ pub fn run_one(
         main_ms: f64::NAN,
         drawn: 0.0,
         stale: 0.0,
+        pages_resident: f64::NAN,
+        pages_drawn: f64::NAN,
+        pages_missing: f64::NAN,
+        texels_median: f64::NAN,
+        texels_p99: f64::NAN,
         measured: 0,
         median_wrong: f64::NAN,
         worst_wrong: f64::NAN,
@@ -203,8 +231,15 @@ pub fn run_one(
             main.push(times.main_ms);
         }
         let stats = app.world.resource::<ShadowStats>();
-        row.drawn += f64::from(stats.drawn()) / f64::from(o.frames);
-        row.stale += f64::from(stats.stale()) / f64::from(o.frames);
+        let share = |n: u32| f64::from(n) / f64::from(o.frames);
+        row.drawn += share(stats.drawn());
+        row.stale += share(stats.stale());
+        let page_drawn = share(stats.pages.drawn);
+        if let Some((resident, missing)) = page_counts(&mut app.world) {
+            row.pages_resident = f64::from(resident);
+            row.pages_drawn = row.pages_drawn.max(0.0) + page_drawn;
+            row.pages_missing = row.pages_missing.max(0.0) + share(missing);
+        }
     }
     (row.frame_ms, row.shadow_ms, row.main_ms) = (median(&mut frames), median(&mut shadow), median(&mut main));
     row.memory_mib = (app.world.resource::<ShadowAtlas>().bytes() >> 20) as u32;
@@ -212,6 +247,15 @@ pub fn run_one(
         measure(gpu, &mut app, &mut renderer, o, &mut row)?;
     }
     Ok(row)
+}
+
+/// Pages holding slots, and pages asked for with no slot at the last update, over every paged
+/// light of `world`; none where no light is paged.
+fn page_counts(world: &mut bevy_ecs::world::World) -> Option<(u32, u32)> {
+    let mut maps = world.query::<&ShadowMap>();
+    let paged: Vec<_> = maps.iter(world).filter_map(|m| m.pages.as_ref()).collect();
+    let counts = paged.iter().map(|p| (p.resident, p.update.residency.missing));
+    (!paged.is_empty()).then(|| counts.fold((0, 0), |(r, m), (a, b)| (r + a, m + b)))
 }
 
 /// Measures the frame the app is at against the truth, light by light, into `row`.
@@ -227,8 +271,10 @@ fn measure(
     app.step_held();
     let frame = render_debug_frame(gpu, renderer, app, w, h)?;
     let truth = truth_of(&mut app.world, &frame, SizeOverride::default(), o.soft_rays);
+    let eye = Eye::of(&mut app.world, h);
     let lights = light_list(&app.world);
     let mut all = Tally::default();
+    let mut texels = Density::default();
     let mut wrong: Vec<f64> = Vec::new();
     for (l, light) in lights.iter().enumerate().take(truth.len()) {
         let t = tally(&frame, &truth[l], l, |_| true);
@@ -236,6 +282,9 @@ fn measure(
             continue;
         }
         all.merge(&t);
+        if let Some(eye) = eye {
+            texels.merge(&density(&frame, l, light, eye));
+        }
         // A NaN share counts as the worst.
         if t.misclassified().partial_cmp(&row.worst_wrong).is_none_or(|o| o.is_gt()) {
             row.worst_wrong = t.misclassified();
@@ -248,6 +297,8 @@ fn measure(
     row.median_wrong = median(&mut wrong);
     row.pooled_wrong = all.misclassified();
     row.soft_error = all.mae_soft();
+    let quantile = |q| texels.quantile(q).map_or(f64::NAN, f64::from);
+    (row.texels_median, row.texels_p99) = (quantile(0.5), quantile(0.99));
     Ok(())
 }
 
@@ -282,18 +333,19 @@ pub fn table(rows: &[LightsRow]) -> String {
     let base = rows.iter().find(|r| r.policy == Policy::Atlas && r.ran).map_or(f64::NAN, |r| r.frame_ms);
     let mut out = String::from(
         "| lights | policy | shadow MiB | frame ms | x atlas at the fewest | shadow pass ms | main pass ms | \
-         layers drawn / frame | stale / frame | lights measured | all lights wrong % | median light wrong % | worst light wrong % | \
-         worst light | soft error |\n\
-         | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
+         layers drawn / frame | stale / frame | pages resident, drawn / frame, missing / frame | \
+         texels per pixel, median and 99 % | lights measured | all lights wrong % | median light wrong % | \
+         worst light wrong % | worst light | soft error |\n\
+         | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
     );
     for r in rows {
         if !r.ran {
             let needs = format!("needs {} MiB: not run", r.memory_mib);
-            out += &format!("| {} | {} | {needs} | | | | | | | | | | | | |\n", r.lights, r.policy.name());
+            out += &format!("| {} | {} | {needs} | | | | | | | | | | | | | | |\n", r.lights, r.policy.name());
             continue;
         }
         out += &format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
             r.lights,
             r.policy.name(),
             r.memory_mib,
@@ -303,6 +355,12 @@ pub fn table(rows: &[LightsRow]) -> String {
             cell(r.main_ms, 1),
             cell(r.drawn, 1),
             cell(r.stale, 1),
+            pages_cell(r),
+            if r.texels_median.is_finite() {
+                format!("{}, {}", cell(r.texels_median, 2), cell(r.texels_p99, 2))
+            } else {
+                "–".into()
+            },
             r.measured,
             cell(r.pooled_wrong * 100.0, 3),
             cell(r.median_wrong * 100.0, 3),
@@ -312,6 +370,14 @@ pub fn table(rows: &[LightsRow]) -> String {
         );
     }
     out
+}
+
+/// A row's pages: resident, drawn a frame and missing a frame; a dash where none is paged.
+fn pages_cell(r: &LightsRow) -> String {
+    if !r.pages_resident.is_finite() {
+        return "–".into();
+    }
+    format!("{}, {}, {}", cell(r.pages_resident, 0), cell(r.pages_drawn, 1), cell(r.pages_missing, 1))
 }
 
 /// The tile-shrink sweep as a Markdown table, with the side where it crosses `threshold`,
@@ -361,6 +427,12 @@ mod tests {
         );
         assert_eq!(Policy::Atlas.settings(&base, 4), base.clone().with(|s| s.scene.lanterns = 0));
         assert!(!Policy::Unshadowed.settings(&base, 16).shadow.enabled);
+        let pages = Policy::Pages.settings(&base, 64).maps;
+        assert_eq!(
+            (pages.sun_maps, pages.light_maps, pages.page_memory),
+            (SunMaps::Virtual, LightMaps::Virtual, PAGES_MIB)
+        );
+        assert!(PAGES_MIB <= base.maps.shadow_memory / 2, "the pool fits the default atlas");
         // Every lamp at 2048² a face: far more than the atlas's default.
         let fixed = memory_needed(&Policy::Fixed.settings(&base, 16)).unwrap();
         let bevy = memory_needed(&bevy).unwrap();
@@ -379,6 +451,11 @@ mod tests {
             main_ms: 1.0,
             drawn: 2.0,
             stale: 0.0,
+            pages_resident: f64::NAN,
+            pages_drawn: f64::NAN,
+            pages_missing: f64::NAN,
+            texels_median: 1.5,
+            texels_p99: 6.0,
             measured: 3,
             median_wrong: 0.001,
             worst_wrong: 0.004,
@@ -386,12 +463,23 @@ mod tests {
             pooled_wrong: 0.002,
             soft_error: 0.01,
         };
+        let paged = LightsRow {
+            pages_resident: 812.0,
+            pages_drawn: 3.5,
+            pages_missing: 0.0,
+            ..row(Policy::Pages, 64, 20.0, true)
+        };
         let t = table(&[
             row(Policy::Atlas, 4, 10.0, true),
             row(Policy::Atlas, 64, 25.0, true),
+            paged,
             row(Policy::Fixed, 64, 0.0, false),
         ]);
-        assert!(t.contains("| 64 | umbra's atlas | 256 | 25.0 | 2.50 | – | 1.0 | 2.0 | 0.0 | 3 | 0.200 | 0.100 | 0.400 | spot (512², 900 px) | 0.0100 |"), "{t}");
+        assert!(t.contains("| 64 | umbra's atlas | 256 | 25.0 | 2.50 | – | 1.0 | 2.0 | 0.0 | – | 1.50, 6.00 | 3 | 0.200 | 0.100 | 0.400 | spot (512², 900 px) | 0.0100 |"), "{t}");
+        assert!(
+            t.contains("| 64 | virtual pages | 256 | 20.0 | 2.00 | – | 1.0 | 2.0 | 0.0 | 812, 3.5, 0.0 | 1.50, 6.00 |"),
+            "{t}"
+        );
         assert!(t.contains("| 64 | fixed layers | needs 256 MiB: not run |"), "{t}");
     }
 

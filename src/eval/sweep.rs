@@ -67,11 +67,7 @@ pub fn scene_accuracy(
 /// Counts each light's texels per pixel of `frame` (the measuring view of `app` as it is now)
 /// into its report.
 fn add_density(reports: &mut [LightReport], frame: &crate::render::DebugFrame, app: &mut App) {
-    let height = frame.height;
-    let camera =
-        app.world.query::<(&crate::components::Camera, &crate::components::Transform)>().iter(&app.world).next();
-    let Some((camera, transform)) = camera else { return };
-    let eye = super::texels::Eye { position: transform.translation, pixel_angle: camera.pixel_angle(height) };
+    let Some(eye) = super::texels::Eye::of(&mut app.world, frame.height) else { return };
     for (column, (light, r)) in crate::light::light_list(&app.world).iter().zip(reports.iter_mut()).enumerate() {
         r.texels.merge(&super::texels::density(frame, column, light, eye));
     }

@@ -83,6 +83,16 @@ pub struct Eye {
     pub pixel_angle: f32,
 }
 
+impl Eye {
+    /// The camera of `world` for a measured frame `height` pixels high; none without a camera.
+    #[must_use]
+    pub fn of(world: &mut bevy_ecs::world::World, height: u32) -> Option<Eye> {
+        let mut cameras = world.query::<(&crate::components::Camera, &crate::components::Transform)>();
+        let (camera, transform) = cameras.iter(world).next()?;
+        Some(Eye { position: transform.translation, pixel_angle: camera.pixel_angle(height) })
+    }
+}
+
 /// The texels per pixel at every pixel of `frame` where `light` (its column `column` of the
 /// frame) made a lookup, counted.
 #[must_use]

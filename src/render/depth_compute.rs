@@ -1,6 +1,6 @@
 //! A compute pass over the camera's depth buffer: a uniform, the depth (its depth aspect, read as
-//! unfilterable floats) and a storage buffer of words it writes. The SDSM reduction and the
-//! marking of virtual pages are both one.
+//! unfilterable floats), a storage buffer of words it writes and any storage buffers it only
+//! reads. The SDSM reduction and the marking of virtual pages are both one.
 
 use super::shaders::{Composed, ShaderFile};
 
@@ -14,8 +14,8 @@ pub struct DepthCompute {
 }
 
 impl DepthCompute {
-    /// Builds entry point `entry` of `files`.
-    pub fn new(device: &wgpu::Device, label: &'static str, files: &[ShaderFile], entry: &str) -> Self {
+    /// Builds entry point `entry` of `files`, reading `inputs` storage buffers (bindings 3 on).
+    pub fn new(device: &wgpu::Device, label: &'static str, files: &[ShaderFile], entry: &str, inputs: u32) -> Self {
         let entry_of = |binding, ty| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -23,21 +23,20 @@ impl DepthCompute {
             count: None,
         };
         let buffer = |ty| wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some(label),
-            entries: &[
-                entry_of(0, buffer(wgpu::BufferBindingType::Uniform)),
-                entry_of(
-                    1,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                ),
-                entry_of(2, buffer(wgpu::BufferBindingType::Storage { read_only: false })),
-            ],
-        });
+        let depth = wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        };
+        let mut entries = vec![
+            entry_of(0, buffer(wgpu::BufferBindingType::Uniform)),
+            entry_of(1, depth),
+            entry_of(2, buffer(wgpu::BufferBindingType::Storage { read_only: false })),
+        ];
+        entries
+            .extend((3..3 + inputs).map(|b| entry_of(b, buffer(wgpu::BufferBindingType::Storage { read_only: true }))));
+        let layout =
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries: &entries });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(label),
             bind_group_layouts: &[Some(&layout)],
@@ -56,24 +55,30 @@ impl DepthCompute {
     }
 
     /// Records `groups` workgroups reading `depth` (with a number that changes whenever the
-    /// buffer is made anew), `uniform`, and writing `words`.
+    /// buffer is made anew), `uniform` and `inputs` (the same buffers every call), and writing
+    /// `words`.
     pub fn dispatch(
         &mut self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
-        (uniform, words): (&wgpu::Buffer, &wgpu::Buffer),
+        (uniform, words, inputs): (&wgpu::Buffer, &wgpu::Buffer, &[&wgpu::Buffer]),
         (depth, made): (&wgpu::TextureView, u64),
         groups: (u32, u32),
     ) {
         if self.bound.as_ref().is_none_or(|(m, _)| *m != made) {
+            let mut entries = vec![
+                wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(depth) },
+                wgpu::BindGroupEntry { binding: 2, resource: words.as_entire_binding() },
+            ];
+            let inputs = inputs.iter().enumerate();
+            entries.extend(
+                inputs.map(|(i, b)| wgpu::BindGroupEntry { binding: 3 + i as u32, resource: b.as_entire_binding() }),
+            );
             let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some(self.label),
                 layout: &self.layout,
-                entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(depth) },
-                    wgpu::BindGroupEntry { binding: 2, resource: words.as_entire_binding() },
-                ],
+                entries: &entries,
             });
             self.bound = Some((made, bind_group));
         }

@@ -36,7 +36,7 @@ impl DepthReduction {
         let bytes = (SDSM_WORDS * 4) as u64;
         use wgpu::BufferUsages as U;
         DepthReduction {
-            pass: DepthCompute::new(device, "depth reduction", &[SDSM], "reduce_depth"),
+            pass: DepthCompute::new(device, "depth reduction", &[SDSM], "reduce_depth", 0),
             uniform: buffer("reduce", size_of::<Reduce>() as u64, U::UNIFORM | U::COPY_DST),
             words: buffer("reduction words", bytes, U::STORAGE | U::COPY_DST | U::COPY_SRC),
             read: AsyncRead::new(device, "reduction read", bytes),
@@ -61,7 +61,7 @@ impl DepthReduction {
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&reduce));
         queue.write_buffer(&self.words, 0, bytemuck::cast_slice(&initial_words()));
         let groups = (reduce.size[0].div_ceil(8), reduce.size[1].div_ceil(8));
-        self.pass.dispatch(device, encoder, (&self.uniform, &self.words), (depth, made), groups);
+        self.pass.dispatch(device, encoder, (&self.uniform, &self.words, &[]), (depth, made), groups);
         self.read.copy(encoder, &self.words, binning);
     }
 

@@ -266,10 +266,30 @@ gpu_struct! {
 }
 
 gpu_struct! {
-    /// What the marking of a paged light's pages reads (`Marking` in page_marks.wgsl).
-    pub struct Marking {
+    /// The camera a marking of virtual pages reads its pixels with (`MarkView` in
+    /// page_marks.wgsl).
+    pub struct MarkView {
         /// The camera's clip space back to the world.
         pub world_from_clip: Mat4,
+        /// The camera's position.
+        pub eye: [f32; 3],
+        /// The lights of this marking: the first entries of the `MarkLight` array.
+        pub count: u32,
+        /// The camera's forward direction.
+        pub forward: [f32; 3],
+        /// Radians a pixel of the picture spans (at its middle).
+        pub pixel_angle: f32,
+        /// The depth buffer's width and height.
+        pub size: [u32; 2],
+        pub _pad0: u32,
+        pub _pad1: u32,
+    }
+}
+
+gpu_struct! {
+    /// One paged light of a marking: its pages and where it reaches (`MarkLight` in
+    /// page_marks.wgsl; an array of them, each marking its own slice of the marks).
+    pub struct MarkLight {
         /// The light's world to level-0 page units (see [`GpuLight::page_from_world`]): a cube's
         /// six faces', or one map's first.
         pub page_from_world: [Mat4; 6],
@@ -280,20 +300,12 @@ gpu_struct! {
         pub light: [f32; 4],
         /// The sphere its light reaches (centre, radius; a negative radius: everywhere).
         pub reach: [f32; 4],
-        /// The camera's position.
-        pub eye: [f32; 3],
         /// View depth past which nothing takes the light's shadow.
         pub shadow_distance: f32,
-        /// The camera's forward direction.
-        pub forward: [f32; 3],
         /// log2 of level 0's texel where w is 1, in metres.
         pub finest_log2: f32,
-        /// The depth buffer's width and height.
-        pub size: [u32; 2],
         /// The light's levels.
         pub levels: u32,
-        /// Radians a pixel of the picture spans (at its middle).
-        pub pixel_angle: f32,
         /// Octaves coarser than its footprint a pixel's page is chosen.
         pub bias: f32,
         /// Level-0 page units a side of the map, past which a point is off it (0: no edge).
@@ -302,6 +314,7 @@ gpu_struct! {
         pub faces: u32,
         /// Level-0 page units a side of a cube's face, on whose square a point is held.
         pub face_side: f32,
+        pub _pad0: u32,
     }
 }
 

@@ -1,37 +1,44 @@
 //! The marking of virtual pages (see `shaders/page_marks.wgsl`): after the main pass, a compute
 //! pass over the camera's depth buffer sets a bit for each page a visible pixel of a paged light
 //! needs; the bits are read back without waiting and reach the app a frame or two later, which
-//! gives the pages slots ([`crate::components::MarkedPages`]). With several paged lights they take
-//! turns, a light a marking.
+//! gives the pages slots ([`crate::components::MarkedPages`]). A marking takes up to
+//! [`MARK_BATCH`] paged lights, each in its own slice of the marks: with more, the batches take
+//! turns, a batch a marking.
 
 use super::async_read::AsyncRead;
 use super::depth_compute::DepthCompute;
-use super::frame::FrameData;
-use super::gpu_types::Marking;
+use super::frame::{FrameData, FrameLight};
+use super::gpu_types::{MarkLight, MarkView};
 use super::shaders::PAGE_MARKS;
 use crate::light::Kind;
 use crate::light::clusters::Reach;
 use crate::shadow::{MARK_WORDS, MAX_PAGE_LEVELS, PageMarks, PageSpace, Window};
 
-/// What a marking was made against: the light, its pages and their windows.
+/// Most paged lights one marking takes. The pass costs each pixel a box test for each light of
+/// the batch, and the marks read back are 8 KiB a light.
+pub const MARK_BATCH: usize = 64;
+
+/// What a light's marking was made against: the light, its pages, their windows and the bias.
 struct MarkTag {
     light: u64,
     space: PageSpace,
     windows: Vec<Window>,
+    bias: f32,
 }
 
 /// The pipeline, its buffers and the reading in flight.
 pub struct PageMarking {
     pass: DepthCompute,
-    uniform: wgpu::Buffer,
+    view: wgpu::Buffer,
+    lights: wgpu::Buffer,
     marks: wgpu::Buffer,
-    read: AsyncRead<MarkTag>,
-    /// Markings started so far: which paged light is next, and each reading's number.
+    read: AsyncRead<Vec<MarkTag>>,
+    /// Markings started so far: which batch of paged lights is next, and each reading's number.
     started: u64,
 }
 
-/// Bytes of marks: every level's words.
-const MARK_BYTES: u64 = (MAX_PAGE_LEVELS as usize * MARK_WORDS * 4) as u64;
+/// Words of marks a light: every level's.
+const LIGHT_WORDS: usize = MAX_PAGE_LEVELS as usize * MARK_WORDS;
 
 impl PageMarking {
     /// Builds the pipeline.
@@ -40,19 +47,21 @@ impl PageMarking {
             device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage, mapped_at_creation: false })
         };
         use wgpu::BufferUsages as U;
+        let mark_bytes = (MARK_BATCH * LIGHT_WORDS * 4) as u64;
         PageMarking {
-            pass: DepthCompute::new(device, "page marking", &[PAGE_MARKS], "mark_pages"),
-            uniform: buffer("marking", size_of::<Marking>() as u64, U::UNIFORM | U::COPY_DST),
-            marks: buffer("page marks", MARK_BYTES, U::STORAGE | U::COPY_DST | U::COPY_SRC),
-            read: AsyncRead::new(device, "page marks read", MARK_BYTES),
+            pass: DepthCompute::new(device, "page marking", &[PAGE_MARKS], "mark_pages", 1),
+            view: buffer("marking view", size_of::<MarkView>() as u64, U::UNIFORM | U::COPY_DST),
+            lights: buffer("marking lights", (MARK_BATCH * size_of::<MarkLight>()) as u64, U::STORAGE | U::COPY_DST),
+            marks: buffer("page marks", mark_bytes, U::STORAGE | U::COPY_DST | U::COPY_SRC),
+            read: AsyncRead::new(device, "page marks read", mark_bytes),
             started: 0,
         }
     }
 
     /// Marks the pages the pixels of `depth` (the camera's depth buffer of `data`'s frame, its
     /// depth aspect, with a number that changes whenever it is made anew, and its size) need of
-    /// the next paged light, and copies the marks out to be read, unless a reading is still
-    /// under way or no light is paged.
+    /// the next batch of paged lights, and copies the marks out to be read, unless a reading is
+    /// still under way or no light is paged.
     pub fn encode(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
@@ -64,51 +73,82 @@ impl PageMarking {
         if self.read.busy() || paged.is_empty() {
             return;
         }
-        let light = paged[(self.started % paged.len() as u64) as usize];
+        let batches = paged.chunks(MARK_BATCH).count() as u64;
+        let batch = paged.chunks(MARK_BATCH).nth((self.started % batches) as usize).unwrap_or_default();
         self.started += 1;
-        let Some(view) = light.light.pages.as_ref() else { return };
-        let mut origins = [[0i32; 4]; (MAX_PAGE_LEVELS / 2) as usize];
-        for (l, w) in view.windows.iter().enumerate().take(MAX_PAGE_LEVELS as usize) {
-            origins[l / 2][2 * (l % 2)..2 * (l % 2) + 2].copy_from_slice(&[w.origin.x, w.origin.y]);
-        }
+        let (lights, tags): (Vec<MarkLight>, Vec<MarkTag>) = batch.iter().filter_map(|l| mark_light(l, data)).unzip();
         let frame = &data.frame;
-        let kind = &light.light.kind;
-        let reach = match kind.reach() {
-            Reach::Everywhere => [0.0, 0.0, 0.0, -1.0],
-            Reach::Sphere { centre, radius } => centre.extend(radius).to_array(),
-        };
-        let marking = Marking {
+        let view = MarkView {
             world_from_clip: data.clip_from_world.inverse(),
-            page_from_world: view.space.face_matrices(),
-            origins,
-            light: kind.homogeneous().to_array(),
-            reach,
             eye: frame.camera_position,
-            shadow_distance: if view.space.fades() { frame.shadow_distance } else { f32::MAX },
+            count: lights.len() as u32,
             forward: frame.camera_forward,
-            finest_log2: view.space.finest_log2(),
-            size: [size.0, size.1],
-            levels: view.space.levels(),
             pixel_angle: frame.pixel_angle,
-            bias: view.bias,
-            extent: view.space.extent().unwrap_or(0.0),
-            faces: view.space.faces() as u32,
-            face_side: view.space.face_side().unwrap_or(0.0),
+            size: [size.0, size.1],
+            _pad0: 0,
+            _pad1: 0,
         };
-        queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&marking));
-        encoder.clear_buffer(&self.marks, 0, None);
+        queue.write_buffer(&self.view, 0, bytemuck::bytes_of(&view));
+        queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&lights));
+        encoder.clear_buffer(&self.marks, 0, Some((lights.len() * LIGHT_WORDS * 4) as u64));
         // Each invocation marks 4x4 pixels, a workgroup 8x8 invocations.
         let groups = (size.0.div_ceil(32), size.1.div_ceil(32));
-        self.pass.dispatch(device, encoder, (&self.uniform, &self.marks), (depth, made), groups);
-        let tag = MarkTag { light: light.light.entity.to_bits(), space: view.space, windows: view.windows.clone() };
-        self.read.copy(encoder, &self.marks, tag);
+        self.pass.dispatch(device, encoder, (&self.view, &self.marks, &[&self.lights]), (depth, made), groups);
+        self.read.copy(encoder, &self.marks, tags);
     }
 
-    /// What the last marking read back, once the GPU has it; never waits (with `wait`, waits for
-    /// the one submitted last).
-    pub fn poll(&mut self, device: &wgpu::Device, wait: bool) -> Option<PageMarks> {
-        let (bits, tag) = self.read.poll(device, wait)?;
+    /// What the last marking read back for each light of its batch, once the GPU has it; never
+    /// waits (with `wait`, waits for the one submitted last).
+    pub fn poll(&mut self, device: &wgpu::Device, wait: bool) -> Vec<PageMarks> {
+        let Some((bits, tags)) = self.read.poll(device, wait) else { return Vec::new() };
         let seq = self.started;
-        Some(PageMarks { light: tag.light, seq, space: tag.space, windows: tag.windows, bits })
+        let slices = bits.chunks(LIGHT_WORDS);
+        let each = tags.into_iter().zip(slices);
+        let marks = |(tag, bits): (MarkTag, &[u32])| PageMarks {
+            light: tag.light,
+            seq,
+            space: tag.space,
+            windows: tag.windows,
+            bias: tag.bias,
+            bits: bits.to_vec(),
+        };
+        each.map(marks).collect()
     }
+}
+
+/// What the marking reads of paged light `light` of frame `data`, and what its marks will be
+/// taken against; none for a light that is not paged.
+fn mark_light(light: &FrameLight, data: &FrameData) -> Option<(MarkLight, MarkTag)> {
+    let pages = light.light.pages.as_ref()?;
+    let mut origins = [[0i32; 4]; (MAX_PAGE_LEVELS / 2) as usize];
+    for (l, w) in pages.windows.iter().enumerate().take(MAX_PAGE_LEVELS as usize) {
+        origins[l / 2][2 * (l % 2)..2 * (l % 2) + 2].copy_from_slice(&[w.origin.x, w.origin.y]);
+    }
+    let kind = &light.light.kind;
+    let reach = match kind.reach() {
+        Reach::Everywhere => [0.0, 0.0, 0.0, -1.0],
+        Reach::Sphere { centre, radius } => centre.extend(radius).to_array(),
+    };
+    let space = &pages.space;
+    let marking = MarkLight {
+        page_from_world: space.face_matrices(),
+        origins,
+        light: kind.homogeneous().to_array(),
+        reach,
+        shadow_distance: if space.fades() { data.frame.shadow_distance } else { f32::MAX },
+        finest_log2: space.finest_log2(),
+        levels: space.levels(),
+        bias: pages.bias,
+        extent: space.extent().unwrap_or(0.0),
+        faces: space.faces() as u32,
+        face_side: space.face_side().unwrap_or(0.0),
+        _pad0: 0,
+    };
+    let tag = MarkTag {
+        light: light.light.entity.to_bits(),
+        space: *space,
+        windows: pages.windows.clone(),
+        bias: pages.bias,
+    };
+    Some((marking, tag))
 }

@@ -54,8 +54,14 @@ mod tests {
         for i in pages {
             bits[level * MARK_WORDS + i / 32] |= 1 << (i % 32);
         }
-        let marks =
-            PageMarks { light: sun.to_bits(), seq: 1, space: pages_now.space, windows: pages_now.windows, bits };
+        let marks = PageMarks {
+            light: sun.to_bits(),
+            seq: 1,
+            space: pages_now.space,
+            windows: pages_now.windows,
+            bias: 0.0,
+            bits,
+        };
         app.world.insert_resource(crate::components::MarkedPages(vec![marks]));
         app.step_held();
         crate::render::extract(&app.world)

@@ -2,6 +2,7 @@
 
 use super::gpu_types::MEASURED_PER_PASS;
 use super::main_pass::DEBUG_FORMAT;
+use super::page_marks::MARK_BATCH;
 use super::{Gpu, RenderError, Renderer};
 use crate::App;
 use glam::Vec4;
@@ -117,13 +118,13 @@ fn prime_sdsm(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u
     Ok(())
 }
 
-/// Most frames a headless frame draws first for each paged light's virtual pages.
+/// Most frames a headless frame draws first for each batch of paged lights' virtual pages.
 pub const PRIME_ROUNDS: u32 = 6;
 
 /// With virtual shadow maps a frame reads the pages the camera's pixels asked for a frame or two
 /// before: a headless frame first draws its view (the clock held) until what it asks for has
-/// slots and is drawn, at most [`PRIME_ROUNDS`] times for each paged light (they take turns at
-/// the marking), so the frame it returns reads the pages its own view needs and is the same
+/// slots and is drawn, at most [`PRIME_ROUNDS`] times for each batch of [`MARK_BATCH`] paged
+/// lights (the batches take turns at the marking), so the frame it returns reads the pages its own view needs and is the same
 /// every time. A view whose pages do not all fit the pool stops at the limit, its pixels on
 /// coarser pages.
 fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u32)) -> Result<(), RenderError> {
@@ -148,8 +149,8 @@ fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, 
     app.hear(renderer.news());
     let texture = gpu.target("page priming", (w, h), HEADLESS_FORMAT)?;
     let view = texture.create_view(&Default::default());
-    // The paged lights take turns at the marking: each has its rounds.
-    for _ in 0..PRIME_ROUNDS as usize * paged(app).len().max(1) {
+    // The batches of paged lights take turns at the marking: each has its rounds.
+    for _ in 0..PRIME_ROUNDS as usize * paged(app).len().div_ceil(MARK_BATCH).max(1) {
         renderer.render(gpu, &app.world, &view, w, h)?;
         renderer.wait_for_samples(gpu);
         app.hear(renderer.news());

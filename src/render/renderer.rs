@@ -546,8 +546,8 @@ impl Renderer {
         if let Some(samples) = self.reduction.as_mut().and_then(|r| r.poll(&gpu.device, wait)) {
             self.news.seen = Some(samples);
         }
-        if let Some(marks) = self.marking.as_mut().and_then(|m| m.poll(&gpu.device, wait)) {
-            self.news.marks.push(marks);
+        if let Some(marking) = self.marking.as_mut() {
+            self.news.marks.extend(marking.poll(&gpu.device, wait));
         }
     }
 

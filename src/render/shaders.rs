@@ -237,11 +237,13 @@ mod tests {
         let (tile, _) = check(&Composed::new(&[TILE])).unwrap();
         let fill_struct = ("Fill", gpu_types::Fill::FIELDS, size_of::<gpu_types::Fill>());
         let (marks, _) = check(&Composed::new(&[PAGE_MARKS])).unwrap();
-        let marking_struct = ("Marking", gpu_types::Marking::FIELDS, size_of::<gpu_types::Marking>());
+        let mark_view = ("MarkView", gpu_types::MarkView::FIELDS, size_of::<gpu_types::MarkView>());
+        let mark_light = ("MarkLight", gpu_types::MarkLight::FIELDS, size_of::<gpu_types::MarkLight>());
         let each = shared.iter().map(|s| (&module, *s)).chain([
             (&sdsm, reduce_struct),
             (&tile, fill_struct),
-            (&marks, marking_struct),
+            (&marks, mark_view),
+            (&marks, mark_light),
             (&blur, blur_struct),
             (&shadow, shadow_layer),
             (&planar, planar_struct),

@@ -4,10 +4,10 @@
 //! changes whenever what it must hold changes: it is new, or a caster moved through it).
 //!
 //! A needed page that finds no slot (every slot holds a page needed as much) is counted missing:
-//! its pixels read a coarser level. While pages go missing the pool asks for coarser levels
-//! everywhere, as a renderer lowers its resolution when memory runs short; while it has room to
-//! spare it asks for finer ones ([`Pressure`]), so the view gets the sharpest shadow its memory
-//! holds.
+//! its pixels read a coarser level. While the view needs more than the pool holds it asks for
+//! coarser levels everywhere, as a renderer lowers its resolution when memory runs short; while
+//! it has room to spare it asks for finer ones ([`Pressure`]), so the view gets the sharpest
+//! shadow its memory holds.
 //!
 //! A pool names its pages by a [`PoolKey`]: a [`PageId`] where one map has a pool of its own, a
 //! [`LightPage`] where every paged light shares one. Among the pages of one level, the longest
@@ -282,52 +282,44 @@ impl<K: PoolKey> PagePool<K> {
 }
 
 /// Most octaves finer than the settings ask a pool with room to spare chooses every level.
-pub const MAX_FINER: i32 = 4;
+pub const MAX_FINER: f32 = 4.0;
+
+/// The share of the pool's slots the pressure aims the view's pages at: the rest is room for what
+/// a turn of the camera brings in before the next marking.
+pub const POOL_FILL: f32 = 0.75;
+
+/// How far (in octaves of pressure) what the view needs may stray from [`POOL_FILL`] before the
+/// pressure moves: a smaller move would redraw pages for little (and two markings of one view
+/// differ by a few pages).
+pub const PRESSURE_SLACK: f32 = 0.15;
 
 /// How much finer or coarser than the settings ask a pool chooses every level: as fine as its
-/// slots hold the view's pages, and coarser while they do not.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// slots hold the view's pages, with room to spare.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Pressure {
     /// Octaves coarser every level is chosen (negative: finer), -[`MAX_FINER`] to
-    /// [`MAX_PRESSURE`].
-    pub octaves: i32,
-    /// The finest octaves whose pages did not fit since the view last needed few: the pool does
-    /// not try it again until then (else it would go to and fro between two levels).
-    pub overflowed: Option<i32>,
+    /// [`MAX_PRESSURE`], in eighths of an octave.
+    pub octaves: f32,
 }
 
 impl Pressure {
-    /// True when it is not at the finest and the octave finer has not overflowed since the view
-    /// last needed few pages.
+    /// The pressure after markings at this one needed `needed` pages of a pool with `capacity`
+    /// slots: moved by as many octaves as bring `needed` to [`POOL_FILL`] of the slots, counting
+    /// each octave finer as 2.25 times the pages (2.0 to 2.15 measured on the sample views), at
+    /// most one octave a move, none while it is within [`PRESSURE_SLACK`] of it. A view that
+    /// needs nothing (the sky) says nothing of what finer levels would take.
     #[must_use]
-    pub fn may_go_finer(&self) -> bool {
-        self.octaves > -MAX_FINER && self.overflowed.is_none_or(|o| self.octaves - 1 > o)
-    }
-
-    /// The pressure after a marking that needed `needed` pages of a pool with `capacity` slots
-    /// for them: an octave coarser where the pool is `short` of slots (pages went missing); an octave finer
-    /// while what it needs would still fit at the finer level with room to spare (each octave
-    /// finer needs about twice the pages on the sample views, 2.0 to 2.15 measured: counted
-    /// as 2.25, into 95 % of the slots), but never as fine as an octave that overflowed; that
-    /// one is tried again once the view needs under a fifth of the slots.
-    #[must_use]
-    pub fn next(self, needed: usize, short: bool, capacity: u32) -> Pressure {
-        let capacity = capacity as usize;
-        let mut next = self;
-        if needed.saturating_mul(5) <= capacity {
-            next.overflowed = None;
+    pub fn next(self, needed: usize, capacity: u32) -> Pressure {
+        if needed == 0 {
+            return self;
         }
-        if short {
-            next.overflowed = Some(next.overflowed.map_or(self.octaves, |o| o.max(self.octaves)));
-            next.octaves = (self.octaves + 1).min(MAX_PRESSURE as i32);
-        } else {
-            // A view that needs nothing (the sky) says nothing of what finer levels would take.
-            let fits_finer = needed > 0 && needed.saturating_mul(9) / 4 <= capacity * 19 / 20;
-            if fits_finer && next.may_go_finer() {
-                next.octaves = self.octaves - 1;
-            }
+        let aim = POOL_FILL * capacity as f32;
+        let step = ((needed as f32).ln() - aim.ln()) / 2.25f32.ln();
+        if !(step.abs() >= PRESSURE_SLACK) {
+            return self;
         }
-        next
+        let octaves = (self.octaves + step.clamp(-1.0, 1.0)).clamp(-MAX_FINER, MAX_PRESSURE as f32);
+        Pressure { octaves: (octaves * 8.0).round() / 8.0 }
     }
 }
 
@@ -471,27 +463,24 @@ mod tests {
     }
 
     #[test]
-    fn pressure_rises_while_pages_go_missing_and_falls_while_the_finer_level_would_fit() {
+    fn pressure_moves_the_pages_towards_three_quarters_of_the_pool_an_octave_at_most() {
         let p = Pressure::default();
-        assert_eq!(p.next(600, true, 512).octaves, 1);
-        let most = Pressure { octaves: MAX_PRESSURE as i32, overflowed: None };
-        assert_eq!(most.next(600, true, 512).octaves, MAX_PRESSURE as i32);
-        assert_eq!(p.next(100, false, 512).octaves, -1, "225 pages fit in 486 slots");
-        assert_eq!(p.next(300, false, 512).octaves, 0, "675 would not");
-        let finest = Pressure { octaves: -MAX_FINER, overflowed: None };
-        assert_eq!(finest.next(1, false, 512).octaves, -MAX_FINER);
-        assert_eq!(p.next(0, false, 0), p);
-        assert_eq!(p.next(0, false, 512), p, "the sky asks for nothing finer");
-        assert_eq!(p.next(usize::MAX, false, u32::MAX).octaves, 0, "no overflow in the sums");
-    }
-
-    #[test]
-    fn an_octave_that_overflowed_is_not_tried_again_until_the_view_needs_few() {
-        // Finer at -1 overflowed: back to 0, and not down again while the view is as busy.
-        let p = Pressure { octaves: -1, overflowed: None }.next(600, true, 512);
-        assert_eq!(p, Pressure { octaves: 0, overflowed: Some(-1) });
-        assert_eq!(p.next(200, false, 512), p, "200 pages would fit finer, but -1 overflowed");
-        let calm = p.next(100, false, 512);
-        assert_eq!(calm, Pressure { octaves: -1, overflowed: None }, "under a fifth of the slots: tried again");
+        // 384 slots are three quarters of 512: 600 pages want half an octave coarser (600 / 384
+        // is 2.25^0.55), 100 pages an octave finer at most (1.66 octaves would bring them there).
+        assert_eq!(p.next(600, 512).octaves, 0.5);
+        assert_eq!(p.next(100, 512).octaves, -1.0);
+        assert_eq!(p.next(400, 512), p, "within the slack");
+        assert_eq!(p.next(5000, 512).octaves, 1.0, "an octave a move");
+        let most = Pressure { octaves: MAX_PRESSURE as f32 };
+        assert_eq!(most.next(600, 512), most);
+        let finest = Pressure { octaves: -MAX_FINER };
+        assert_eq!(finest.next(1, 512), finest);
+        assert_eq!(p.next(0, 512), p, "the sky asks for nothing finer");
+        assert_eq!(p.next(0, 0), p);
+        assert_eq!(p.next(3, 0).octaves, 1.0, "no slots: coarser");
+        assert_eq!(p.next(usize::MAX, u32::MAX).octaves, 1.0, "huge counts are no trouble");
+        // Moved by a marking at the pressure it set, it settles: 600 pages become about 384.
+        let settled = p.next(600, 512);
+        assert_eq!(settled.next((600.0 / 2.25f32.powf(0.5)) as usize, 512), settled);
     }
 }

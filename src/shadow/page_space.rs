@@ -162,6 +162,20 @@ impl PageSpace {
         }
     }
 
+    /// True when `self` is `other` cut the same way, though the light may have moved or turned:
+    /// a clipmap naming the same pages ([`Self::same_pages`]), a spot's map of the same pages
+    /// and levels, a cube of the same margin. A page of one then lies about where the same page
+    /// of the other does, a frame's movement away: what the pixels asked of one, they ask of the
+    /// other, and its pages are drawn again where they are.
+    #[must_use]
+    pub fn same_layout(&self, other: &PageSpace) -> bool {
+        match (self, other) {
+            (PageSpace::Frustum(a), PageSpace::Frustum(b)) => (a.pages, a.levels) == (b.pages, b.levels),
+            (PageSpace::Cube(a), PageSpace::Cube(b)) => a.margin == b.margin,
+            _ => self.same_pages(other),
+        }
+    }
+
     /// `p`'s level-0 page units (divided by w) and its w; none behind the light.
     #[must_use]
     pub fn units(&self, p: Vec3) -> Option<(Vec2, f32)> {
@@ -320,7 +334,14 @@ mod tests {
         assert!(!sun().same_pages(&spot()) && !spot().same_pages(&sun()));
         assert!(spot().same_pages(&spot()));
         let moved = spot_projection(Vec3::new(1.0, 4.1, -2.0), Vec3::new(0.2, -1.0, 0.0), 30f32.to_radians(), 20.0, 1);
-        assert!(!spot().same_pages(&PageSpace::Frustum(FrustumPages::new(moved, 16))));
+        let map = moved;
+        let moved = PageSpace::Frustum(FrustumPages::new(moved, 16));
+        assert!(!spot().same_pages(&moved));
+        assert!(spot().same_layout(&moved) && !spot().same_layout(&PageSpace::Frustum(FrustumPages::new(map, 8))));
+        assert!(sun().same_layout(&deeper) && !sun().same_layout(&spot()) && !spot().same_layout(&sun()));
+        let lamp = |x: f32, margin| PageSpace::Cube(CubePages::new(Vec3::new(x, 2.0, 0.0), 8.0, margin));
+        assert!(lamp(0.0, 4).same_layout(&lamp(0.1, 4)) && !lamp(0.0, 4).same_pages(&lamp(0.1, 4)));
+        assert!(!lamp(0.0, 4).same_layout(&lamp(0.0, 2)) && !lamp(0.0, 4).same_layout(&spot()));
         assert_eq!((spot().depth(), sun().depth()), (None, Some((20.0, -20.0))));
     }
 }

@@ -326,6 +326,9 @@ pub struct PageMarks {
     pub space: super::PageSpace,
     /// Its windows then, one a level.
     pub windows: Vec<Window>,
+    /// Octaves coarser than its footprint each pixel's page was chosen (the settings' bias and
+    /// the pool's pressure then).
+    pub bias: f32,
     /// [`MARK_WORDS`] words a level.
     pub bits: Vec<u32>,
 }
@@ -554,8 +557,14 @@ mod tests {
         let mut bits = vec![0u32; 2 * MARK_WORDS];
         bits[0] = 1 << 3;
         bits[MARK_WORDS + 2] = 1 << 31;
-        let marks =
-            PageMarks { light: 7, seq: 1, space: crate::shadow::PageSpace::Clipmap(c), windows: windows.clone(), bits };
+        let marks = PageMarks {
+            light: 7,
+            seq: 1,
+            space: crate::shadow::PageSpace::Clipmap(c),
+            windows: windows.clone(),
+            bias: 0.0,
+            bits,
+        };
         let pages: Vec<PageId> = marks.pages().collect();
         assert_eq!(pages, vec![windows[0].page(3), windows[1].page(2 * 32 + 31)]);
         // Too few words (a broken readback) read as no marks, not a panic.

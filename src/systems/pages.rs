@@ -6,9 +6,12 @@
 //!
 //! The pool takes in a frame at most the pages the update budget draws, every light's together:
 //! the coarsest level first (a coarse page serves every pixel under it), then the pages that have
-//! waited longest, then those of the lights that show most. While pages go missing the lights that
-//! show least go an octave coarser first ([`coarser_first`]), each as its next marking comes in;
-//! while the pool has room the lights that show most go finer first ([`finer_room`]).
+//! waited longest, then those of the lights that show most, so where slots run short the pages of
+//! the lights that show least go missing first and their pixels read coarser levels. The pool's
+//! one pressure then moves every light's levels an octave coarser, or finer while the pool has
+//! room, to keep what the view needs at three quarters of the pool ([`Pressure`]), once every paged
+//! light has been marked at the pressure as it is: a light marked before the last move asks for
+//! the pages of the levels before.
 
 use super::casters::CasterChanges;
 use super::layers::{fitted_layers, next_version};
@@ -16,7 +19,7 @@ use crate::components::{MarkedPages, PagePlace, PageUpdate, ShadowLayer, ShadowM
 use crate::light::PagedFit;
 use crate::settings::MapSettings;
 use crate::shadow::{
-    Aabb, LightPage, MAX_PRESSURE, PAGE_TILE, PageId, PagePool, PageRange, PageSpace, Pressure, Resident, depth_terms,
+    Aabb, LightPage, PAGE_TILE, PageId, PagePool, PageRange, PageSpace, Pressure, Resident, depth_terms,
 };
 use bevy_ecs::prelude::Entity;
 use std::collections::{HashMap, HashSet};
@@ -53,46 +56,6 @@ pub fn admit_limit(settings: &MapSettings) -> usize {
     }
 }
 
-/// Which of the lights go an octave coarser to free `missing` slots, each given as what it
-/// shows, the pages its last marking needed and whether it can go coarser still: those that show
-/// least first, each counted as freeing 5/9 of its pages (an octave coarser needs about 1/2.25
-/// of them, see [`Pressure`]), until what they free covers what is missing.
-#[must_use]
-pub fn coarser_first(lights: &[(f32, usize, bool)], missing: u32) -> Vec<bool> {
-    let shows = |i: usize| if lights[i].0.is_nan() { 0.0 } else { lights[i].0 };
-    let mut order: Vec<usize> = (0..lights.len()).filter(|&i| lights[i].2).collect();
-    order.sort_by(|&a, &b| shows(a).total_cmp(&shows(b)));
-    let mut chosen = vec![false; lights.len()];
-    let mut freed = 0usize;
-    for i in order {
-        if freed >= missing as usize {
-            break;
-        }
-        chosen[i] = true;
-        freed = freed.saturating_add(lights[i].1.saturating_mul(5).div_ceil(9));
-    }
-    chosen
-}
-
-/// The slots each of the lights (in the order of what they show, most first, each given as the
-/// pages its last marking needed and whether it may go finer) may count on to go an octave finer:
-/// what the lights that show more leave, each counted at its finer level's pages where it may go
-/// finer (about 2.25 times, see [`Pressure`]). The lights that show less are not counted: where
-/// they hold the slots, pages go missing and they go coarser first ([`coarser_first`]).
-#[must_use]
-pub fn finer_room(capacity: u32, lights: &[(usize, bool)]) -> Vec<u32> {
-    let mut taken = 0u64;
-    lights
-        .iter()
-        .map(|&(needed, finer)| {
-            let room = u64::from(capacity).saturating_sub(taken) as u32;
-            let needed = needed as u64;
-            taken = taken.saturating_add(if finer { needed.saturating_mul(9).div_ceil(4) } else { needed });
-            room
-        })
-        .collect()
-}
-
 /// What every paged light's update reads besides its fit.
 pub(super) struct PagedUpdate<'a> {
     /// What the last marking asked for, every paged light's.
@@ -124,16 +87,16 @@ pub(super) struct PagedLight<'a> {
 /// scene's depth outgrew its range) gives up its pages, a light no longer paged (or gone) too,
 /// and a forced redraw or a new pool size every page.
 pub(super) fn refresh_paged(shared: &mut SharedPool, lights: &mut [PagedLight], how: &PagedUpdate) {
-    let pool = &mut shared.pages;
-    if how.forced || pool.capacity() != how.capacity {
-        *pool = PagePool::new(how.capacity);
+    if how.forced || shared.pages.capacity() != how.capacity {
+        *shared = SharedPool { pages: PagePool::new(how.capacity), ..SharedPool::default() };
     }
+    let pool = &mut shared.pages;
     pool.clean();
     let ids: HashSet<u64> = lights.iter().map(|l| l.light.to_bits()).collect();
     pool.release(|k| !ids.contains(&k.light));
     // The lights that show most give their pages first.
     lights.sort_by(|a, b| shows(b).total_cmp(&shows(a)).then(a.light.cmp(&b.light)));
-    let fresh: Vec<bool> = lights.iter_mut().map(|l| take_marks(pool, l, how)).collect();
+    let taken: Vec<Taken> = lights.iter_mut().map(|l| take_marks(pool, l, how, shared.pressure)).collect();
     let needed: Vec<LightPage> = lights
         .iter()
         .flat_map(|l| {
@@ -142,27 +105,25 @@ pub(super) fn refresh_paged(shared: &mut SharedPool, lights: &mut [PagedLight], 
         })
         .collect();
     let missing = pool.update(&needed, how.admit, next_version).missing;
-    let can_coarsen = |l: &PagedLight| l.map.pages.as_ref().is_some_and(|p| p.pressure.octaves < MAX_PRESSURE as i32);
-    let counts: Vec<(f32, usize, bool)> =
-        lights.iter().map(|l| (shows(l), needed_by(l).len(), can_coarsen(l))).collect();
-    // Pages go missing for want of slots once every light has been marked since they began to.
-    let short = (missing > 0).then(|| {
-        let marked = shared.short.get_or_insert_with(HashSet::new);
-        marked.extend(lights.iter().zip(&fresh).filter(|(_, f)| **f).map(|(l, _)| l.light.to_bits()));
-        ids.iter().all(|id| marked.contains(id))
-    });
-    if short.is_none() {
-        shared.short = None;
+    if missing > 0 && !shared.short {
+        shared.heard.clear();
     }
-    let coarser = if short == Some(true) { coarser_first(&counts, missing) } else { vec![false; lights.len()] };
-    let hits = redraw_crossed(pool, lights, how.changes);
+    shared.short = missing > 0;
+    shared.heard.extend(lights.iter().zip(&taken).filter(|(_, t)| t.current).map(|(l, _)| l.light.to_bits()));
+    if !ids.is_empty() && ids.iter().all(|id| shared.heard.contains(id)) {
+        let next = shared.pressure.next(needed.len(), how.capacity);
+        if next != shared.pressure {
+            shared.heard.clear();
+        }
+        shared.pressure = next;
+    }
+    let moved: HashSet<u64> =
+        lights.iter().zip(&taken).filter(|(_, t)| t.moved).map(|(l, _)| l.light.to_bits()).collect();
+    let hits = redraw_crossed(pool, lights, how.changes, &moved);
     let mut by_light = account(pool, &hits);
-    let finer = |l: &PagedLight| l.map.pages.as_ref().is_some_and(|p| p.pressure.may_go_finer());
-    let wants: Vec<(usize, bool)> = lights.iter().map(|l| (needed_by(l).len(), finer(l))).collect();
-    let rooms = finer_room(how.capacity, &wants);
     for (i, l) in lights.iter_mut().enumerate() {
         let (update, own) = by_light.remove(&l.light.to_bits()).unwrap_or_default();
-        finish(l, update, &own, fresh[i].then_some((coarser[i], rooms[i])), how);
+        finish(l, update, &own, taken[i].fresh, shared.pressure, how);
     }
 }
 
@@ -173,7 +134,7 @@ type OwnPage = (u32, Resident<LightPage>);
 /// counted at the settings' level (each octave coarser needs about 1/2.25 of them). Its reach's
 /// share of the screen says less: the camera is inside most lights' reach.
 fn shows(l: &PagedLight) -> f32 {
-    l.map.pages.as_ref().map_or(0.0, |p| p.needed.len() as f32 * 2.25f32.powi(p.pressure.octaves))
+    l.map.pages.as_ref().map_or(0.0, |p| p.needed.len() as f32 * 2.25f32.powf(p.pressure.octaves))
 }
 
 /// The pages `l`'s last marking asked for.
@@ -181,21 +142,22 @@ fn needed_by<'a>(l: &'a PagedLight) -> &'a [PageId] {
     l.map.pages.as_ref().map_or(&[], |p| &p.needed)
 }
 
-/// Gives the resident pages a caster moved through new contents, and the pages under a caster at
-/// rest that changed a new static version, each light's seen from it; returns the pages hit (see
-/// [`PagePool::invalidate`]).
+/// Gives the resident pages a caster moved through new contents, and every page of the lights
+/// that `moved`, and the pages under a caster at rest that changed a new static version, each
+/// light's seen from it; returns the pages hit (see [`PagePool::invalidate`]).
 fn redraw_crossed(
     pool: &mut PagePool<LightPage>,
     lights: &[PagedLight],
     changes: &CasterChanges,
+    moved_lights: &HashSet<u64>,
 ) -> Vec<(LightPage, bool)> {
     let hit = |ranges: &HashMap<u64, Vec<PageRange>>, k: LightPage| {
         ranges.get(&k.light).is_some_and(|r| r.iter().any(|r| r.contains(k.page)))
     };
     let moved = crossings(lights, &changes.moved);
-    let hits = pool.invalidate(|k| hit(&moved, k), next_version);
+    let hits = pool.invalidate(|k| moved_lights.contains(&k.light) || hit(&moved, k), next_version);
     let settled = crossings(lights, &changes.settled);
-    pool.resettle(|k| hit(&settled, k), next_version);
+    pool.resettle(|k| moved_lights.contains(&k.light) || hit(&settled, k), next_version);
     hits
 }
 
@@ -218,15 +180,21 @@ fn account(pool: &PagePool<LightPage>, hits: &[(LightPage, bool)]) -> HashMap<u6
     by_light
 }
 
-/// Gives `l` its account of the update and its layers: its coarse map, then its resident pages
-/// (`own`). `marked` (where its marking came in this update) says whether the pool is short of
-/// slots for it and how many the other lights leave it: its pressure follows.
-fn finish(l: &mut PagedLight, update: PageUpdate, own: &[OwnPage], marked: Option<(bool, u32)>, how: &PagedUpdate) {
+/// Gives `l` its account of the update (kept as its marking's too where one came in, `marked`),
+/// the pool's `pressure` and its layers: its coarse map, then its resident pages (`own`).
+fn finish(
+    l: &mut PagedLight,
+    update: PageUpdate,
+    own: &[OwnPage],
+    marked: bool,
+    pressure: Pressure,
+    how: &PagedUpdate,
+) {
     let Some(pages) = l.map.pages.as_mut() else { return };
     pages.update = PageUpdate { needed: pages.update.needed, ..update };
     pages.resident = own.len() as u32;
-    if let Some((short, room)) = marked {
-        pages.pressure = pages.pressure.next(pages.needed.len(), short, room);
+    pages.pressure = pressure;
+    if marked {
         pages.marked = pages.update;
     }
     let old = &l.map.layers[..l.map.layers.len().min(l.fit.coarse.len())];
@@ -237,44 +205,67 @@ fn finish(l: &mut PagedLight, update: PageUpdate, own: &[OwnPage], marked: Optio
     }
 }
 
-/// Takes `l`'s fit in, and what its last marking asked for if it is new (returns true then):
-/// a new page space gives up the light's pages in `pool`.
-fn take_marks(pool: &mut PagePool<LightPage>, l: &mut PagedLight, how: &PagedUpdate) -> bool {
+/// What taking a light's fit and marking in found.
+#[derive(Clone, Copy, Debug, Default)]
+struct Taken {
+    /// A marking of it came back (made against its pages as they are, or as they were before it
+    /// moved): the pool has heard what it needs.
+    heard: bool,
+    /// The marking was taken in: its pages are the ones it names.
+    fresh: bool,
+    /// And it was made at the pool's pressure as it is.
+    current: bool,
+    /// It moved or turned, its pages cut as before: each is drawn again where it is.
+    moved: bool,
+}
+
+/// Takes `l`'s fit in, and what its last marking asked for if it is new: a light that moved or
+/// turned with its pages cut as before keeps them (and what it asked), to be drawn again; one cut
+/// anew gives up its pages in `pool`. `pressure` is the pool's.
+fn take_marks(pool: &mut PagePool<LightPage>, l: &mut PagedLight, how: &PagedUpdate, pressure: Pressure) -> Taken {
     let (fit, light) = (&l.fit, l.light.to_bits());
-    let kept = l.map.pages.take().filter(|p| p.space == fit.space && !how.forced);
-    let mut pages = kept.unwrap_or_else(|| {
-        pool.release(|k| k.light == light);
-        VirtualPages {
-            space: fit.space,
-            windows: Vec::new(),
-            needed: Vec::new(),
-            resident: 0,
-            pressure: Pressure::default(),
-            bias: how.bias,
-            marks_seen: 0,
-            update: PageUpdate::default(),
-            marked: PageUpdate::default(),
+    let mut taken = Taken::default();
+    let kept = l.map.pages.take().filter(|p| p.space.same_layout(&fit.space) && !how.forced);
+    let mut pages = match kept {
+        Some(p) => {
+            taken.moved = p.space != fit.space;
+            VirtualPages { space: fit.space, ..p }
         }
-    });
+        None => {
+            pool.release(|k| k.light == light);
+            VirtualPages {
+                space: fit.space,
+                windows: Vec::new(),
+                needed: Vec::new(),
+                resident: 0,
+                pressure,
+                bias: how.bias,
+                marks_seen: 0,
+                update: PageUpdate::default(),
+                marked: PageUpdate::default(),
+            }
+        }
+    };
     pages.windows = fit.space.windows(fit.camera);
     pages.bias = how.bias;
     pages.update = PageUpdate::default();
     let marks = how.marked.and_then(|m| m.0.iter().find(|m| m.light == light));
-    let mut fresh = false;
     if let Some(marks) = marks.filter(|m| m.seq != pages.marks_seen) {
         pages.marks_seen = marks.seq;
-        if pages.space.same_pages(&marks.space) {
+        taken.heard = true;
+        if pages.space.same_layout(&marks.space) {
             let (windows, space) = (&pages.windows, &pages.space);
             pages.needed = marks
                 .pages()
                 .filter(|p| windows.get(p.level as usize).is_some_and(|w| w.index(*p).is_some()) && space.holds(*p))
                 .collect();
             pages.update.needed = pages.needed.len() as u32;
-            fresh = true;
+            taken.fresh = true;
+            taken.current = marks.bias == how.bias + pressure.octaves;
         }
     }
     l.map.pages = Some(pages);
-    fresh
+    taken
 }
 
 /// Each light's pages, every level's, that one of `boxes` lies across, seen from the light;
@@ -332,7 +323,7 @@ mod tests {
         for i in indices {
             bits[level * MARK_WORDS + i / 32] |= 1 << (i % 32);
         }
-        PageMarks { light: light.to_bits(), seq, space: fit.space, windows, bits }
+        PageMarks { light: light.to_bits(), seq, space: fit.space, windows, bias: 0.0, bits }
     }
 
     fn marks(fit: &PagedFit, seq: u64, light: Entity, level: usize, indices: &[usize]) -> MarkedPages {
@@ -410,10 +401,10 @@ mod tests {
         assert_eq!(map.layers.len(), 1);
     }
 
-    /// Lights `near` and `far`, `maps` theirs in that order, updated together in a pool of five
-    /// slots (the far light given first).
+    /// Lights `near` and `far`, `maps` theirs in that order, updated together in a pool of
+    /// `capacity` slots (the far light given first).
     fn update_two(
-        pool: &mut SharedPool,
+        (pool, capacity): (&mut SharedPool, u32),
         maps: &mut [ShadowMap; 2],
         (near, far): (Entity, Entity),
         marked: &MarkedPages,
@@ -421,27 +412,32 @@ mod tests {
         let (fit, still) = (fit(), CasterChanges::default());
         let [a, b] = maps;
         let mut lights = [PagedLight { light: far, map: b, fit: fit.clone() }, PagedLight { light: near, map: a, fit }];
-        refresh_paged(pool, &mut lights, &PagedUpdate { capacity: 5, ..how(Some(marked), &still) });
+        refresh_paged(pool, &mut lights, &PagedUpdate { capacity, ..how(Some(marked), &still) });
     }
 
     #[test]
-    fn lights_share_one_pool_and_the_one_that_shows_least_goes_coarser_first() {
+    fn lights_share_one_pool_the_one_that_shows_least_finds_no_slot_first_and_all_go_coarser() {
         let (fit, still) = (fit(), CasterChanges::default());
         let (near, far) = (Entity::from_bits(42), Entity::from_bits(7));
         let (mut maps, mut pool) = ([ShadowMap::default(), ShadowMap::default()], SharedPool::default());
         let update = |pool: &mut SharedPool, maps: &mut [ShadowMap; 2], marked: &MarkedPages| {
-            update_two(pool, maps, (near, far), marked);
+            update_two((pool, 5), maps, (near, far), marked);
         };
         update(&mut pool, &mut maps, &MarkedPages(vec![marks_of(&fit, 1, near, 0, &[0, 1, 2, 3])]));
+        assert_eq!(pool.pressure.octaves, 0.0, "the far light is not marked yet");
         // Seven pages of one level asked for in five slots: the light that shows more keeps its
-        // pages, the other's go missing, and it alone goes an octave coarser.
+        // pages, the other's go missing, and the pool's levels go an octave coarser, every light's.
         let marked =
             MarkedPages(vec![marks_of(&fit, 2, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 1, far, 0, &[4, 5, 6])]);
         update(&mut pool, &mut maps, &marked);
         let pages = |m: &ShadowMap| m.pages.clone().unwrap();
         assert_eq!((pages(&maps[0]).resident, pages(&maps[1]).resident), (4, 1));
         assert_eq!(pages(&maps[1]).marked.residency.missing, 2);
-        assert_eq!((pages(&maps[0]).pressure.octaves, pages(&maps[1]).pressure.octaves), (0, 1));
+        // Seven pages for three quarters of five slots: 2.25^0.77 times too many.
+        assert_eq!(
+            (pool.pressure.octaves, pages(&maps[0]).pressure, pages(&maps[1]).pressure),
+            (0.75, pool.pressure, pool.pressure)
+        );
         assert_eq!(pool.pages.len(), 5);
         assert!(
             maps[1].layers[1..].iter().all(|l| l.page.is_some_and(|p| p.slot == 4)),
@@ -455,53 +451,35 @@ mod tests {
     }
 
     #[test]
-    fn no_light_goes_coarser_for_pages_another_asked_for_before_it_was_marked_again() {
+    fn the_pressure_moves_once_every_light_is_marked_at_it_since_pages_went_missing() {
         let fit = fit();
         let (near, far) = (Entity::from_bits(42), Entity::from_bits(7));
         let (mut maps, mut pool) = ([ShadowMap::default(), ShadowMap::default()], SharedPool::default());
-        let update = |pool: &mut SharedPool, maps: &mut [ShadowMap; 2], marked: &MarkedPages| {
-            update_two(pool, maps, (near, far), marked);
+        // Six slots: five pages are within the slack of three quarters of them.
+        let update = |pool: &mut SharedPool, maps: &mut [ShadowMap; 2], marked: Vec<PageMarks>| {
+            update_two((pool, 6), maps, (near, far), &MarkedPages(marked));
         };
-        let octaves = |maps: &[ShadowMap; 2]| maps.each_ref().map(|m| m.pages.as_ref().unwrap().pressure.octaves);
-        let first = MarkedPages(vec![marks_of(&fit, 1, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 1, far, 0, &[9])]);
-        update(&mut pool, &mut maps, &first);
-        let [near_was, far_was] = octaves(&maps);
-        // A cut: the far light asks for two new pages while the near one's last marking still
+        let at = |bias: f32, marks: PageMarks| PageMarks { bias, ..marks };
+        update(&mut pool, &mut maps, vec![marks_of(&fit, 1, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 1, far, 0, &[9])]);
+        assert_eq!((pool.pressure.octaves, pool.short), (0.0, false), "five pages in six slots");
+        // A cut: the far light asks for three new pages while the near one's last marking still
         // holds four slots; the pool is short, but the near light's need is older than that.
-        let cut = MarkedPages(vec![marks_of(&fit, 1, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 2, far, 0, &[20, 21])]);
-        update(&mut pool, &mut maps, &cut);
+        let cut = [20, 21, 22];
+        update(&mut pool, &mut maps, vec![marks_of(&fit, 1, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 2, far, 0, &cut)]);
         assert_eq!(pool.pages.changes().iter().filter(|(_, c)| *c == Change::Missing).count(), 1);
-        assert_eq!(octaves(&maps), [near_was, far_was], "no light is yet known to want for slots");
-        // Once the near light has been marked again and still needs its four, the far light,
-        // which shows least, gives way at its next marking.
-        let again = MarkedPages(vec![marks_of(&fit, 2, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 2, far, 0, &[20, 21])]);
-        update(&mut pool, &mut maps, &again);
-        assert_eq!(octaves(&maps)[1], far_was, "not marked since");
-        let later = MarkedPages(vec![marks_of(&fit, 2, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 3, far, 0, &[20, 21])]);
-        update(&mut pool, &mut maps, &later);
-        assert_eq!(octaves(&maps), [near_was, far_was + 1]);
-    }
-
-    #[test]
-    fn what_shows_least_is_counted_coarser_first_until_the_missing_pages_are_freed() {
-        // (shows, pages needed, can go coarser)
-        let lights = [(0.9, 100, true), (0.1, 10, true), (0.01, 50, false), (0.2, 40, true), (f32::NAN, 9, true)];
-        assert_eq!(coarser_first(&lights, 0), [false; 5]);
-        assert_eq!(coarser_first(&lights, 5), [false, false, false, false, true], "NaN shows nothing");
-        assert_eq!(coarser_first(&lights, 10), [false, true, false, false, true]);
-        assert_eq!(coarser_first(&lights, 20), [false, true, false, true, true]);
-        assert_eq!(coarser_first(&lights, u32::MAX), [true, true, false, true, true], "all that can");
-        assert!(coarser_first(&[], 7).is_empty());
-    }
-
-    #[test]
-    fn the_lights_that_show_most_have_first_call_on_the_room_to_go_finer() {
-        let lights = [(100, true), (40, false), (10, true)];
-        assert_eq!(finer_room(512, &lights), [512, 287, 247], "225 then 40 taken");
-        assert_eq!(finer_room(100, &lights), [100, 0, 0]);
-        assert_eq!(finer_room(0, &lights), [0, 0, 0]);
-        assert_eq!(finer_room(u32::MAX, &[(usize::MAX, true), (1, true)]), [u32::MAX, 0], "no overflow");
-        assert!(finer_room(9, &[]).is_empty());
+        assert_eq!(pool.pressure.octaves, 0.0, "no light is yet known to want for slots");
+        // Once the near light has been marked again and still needs its four, the levels go
+        // coarser: seven pages, 2.25^0.55 times three quarters of six.
+        update(&mut pool, &mut maps, vec![marks_of(&fit, 2, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 2, far, 0, &cut)]);
+        assert_eq!(pool.pressure.octaves, 0.5);
+        assert!(maps.iter().all(|m| m.pages.as_ref().unwrap().lookup_bias() == 0.5), "every light's lookups");
+        // Markings made before that move still ask for the finer levels' pages: they move nothing.
+        update(&mut pool, &mut maps, vec![marks_of(&fit, 3, near, 0, &[0, 1, 2, 3]), marks_of(&fit, 3, far, 0, &cut)]);
+        assert_eq!((pool.pressure.octaves, pool.short), (0.5, true));
+        let current =
+            vec![at(0.5, marks_of(&fit, 4, near, 0, &[0, 1, 2, 3])), at(0.5, marks_of(&fit, 4, far, 0, &cut))];
+        update(&mut pool, &mut maps, current);
+        assert_eq!(pool.pressure.octaves, 1.0, "marked at the coarser levels and still short");
     }
 
     #[test]

@@ -421,20 +421,15 @@ pub fn page_line(world: &World, stats: &ShadowStats) -> Option<String> {
         return None;
     }
     let sum = |f: &dyn Fn(&crate::components::VirtualPages) -> u32| pools.iter().map(|p| f(p)).sum::<u32>();
-    let pool = &world.get_resource::<crate::components::SharedPool>()?.pages;
-    let (resident, capacity) = (pool.len(), pool.capacity().max(1));
+    let shared = world.get_resource::<crate::components::SharedPool>()?;
+    let (resident, capacity) = (shared.pages.len(), shared.pages.capacity().max(1));
     let missing = sum(&|p| p.marked.residency.missing);
     let waiting = sum(&|p| p.marked.residency.waiting);
-    let octaves = pools.iter().map(|p| p.pressure.octaves).max().unwrap_or(0);
-    let lights = |f: fn(i32) -> bool| pools.iter().filter(|p| f(p.pressure.octaves)).count();
-    let of = |n: usize| if pools.len() > 1 { format!(" for {n} of {} lights", pools.len()) } else { String::new() };
-    let pressure = match octaves {
-        0 => String::new(),
-        o if o > 0 => format!(", every level up to {o} octaves coarser{} (the pool is full)", of(lights(|o| o > 0))),
-        _ => {
-            let finest = pools.iter().map(|p| p.pressure.octaves).min().unwrap_or(0);
-            format!(", every level up to {} octaves finer{} (the pool has room)", -finest, of(lights(|o| o < 0)))
-        }
+    let o = shared.pressure.octaves;
+    let pressure = match o {
+        0.0 => String::new(),
+        o if o > 0.0 => format!(", every light's levels {o} octaves coarser (the pool is short)"),
+        o => format!(", every light's levels {} octaves finer (the pool has room)", -o),
     };
     Some(format!(
         "pages: {resident} resident ({:.0} % of the pool), {} drawn, {missing} missing, {waiting} waiting, {} stale{pressure}",
