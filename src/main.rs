@@ -164,8 +164,7 @@ struct BenchArgs {
     #[arg(long, value_name = "FAMILY", conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]
     family: Vec<String>,
     /// Sweep without the configurations of this family (the default stays, for the ratios); give
-    /// it again for more. CI sweeps without "moment maps", half the quick sweep's time on a
-    /// software rasterizer.
+    /// it again for more: "moment maps" are half the quick sweep's time on a software rasterizer.
     #[arg(long, value_name = "FAMILY", conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]
     skip_family: Vec<String>,
     /// Configurations whose errors the sweep measures at once, each on a thread of its own

@@ -35,7 +35,10 @@ pub use fit::{
     spot_projection, view_distance,
 };
 pub use frustum_pages::{FrustumPages, MAX_FRUSTUM_PAGES, pages_for};
-pub use page_pool::{Change, LightPage, MAX_FINER, MAX_PRESSURE, PagePool, PoolKey, Pressure, Residency, Resident};
+pub use page_pool::{
+    Change, LightPage, MAX_FINER, MAX_PRESSURE, POOL_FILL, PRESSURE_SLACK, PagePool, PoolKey, Pressure, Residency,
+    Resident,
+};
 pub use page_space::PageSpace;
 pub use pages::{
     Clipmap, FINEST_TEXEL_LOG2, MARK_WORDS, MAX_PAGE_LEVELS, MIN_GRAZE, PAGE_BORDER, PAGE_GRID, PAGE_TEXELS, PAGE_TILE,

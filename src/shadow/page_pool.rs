@@ -315,7 +315,7 @@ impl Pressure {
         }
         let aim = POOL_FILL * capacity as f32;
         let step = ((needed as f32).ln() - aim.ln()) / 2.25f32.ln();
-        if !(step.abs() >= PRESSURE_SLACK) {
+        if step.abs() < PRESSURE_SLACK {
             return self;
         }
         let octaves = (self.octaves + step.clamp(-1.0, 1.0)).clamp(-MAX_FINER, MAX_PRESSURE as f32);
