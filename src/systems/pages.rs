@@ -208,10 +208,8 @@ fn finish(
 /// What taking a light's fit and marking in found.
 #[derive(Clone, Copy, Debug, Default)]
 struct Taken {
-    /// A marking of it came back (made against its pages as they are, or as they were before it
-    /// moved): the pool has heard what it needs.
-    heard: bool,
-    /// The marking was taken in: its pages are the ones it names.
+    /// A marking of it came back and was taken in: its pages are the ones it names (made against
+    /// its pages as they are, or as they were before it moved).
     fresh: bool,
     /// And it was made at the pool's pressure as it is.
     current: bool,
@@ -252,7 +250,6 @@ fn take_marks(pool: &mut PagePool<LightPage>, l: &mut PagedLight, how: &PagedUpd
     let marks = how.marked.and_then(|m| m.0.iter().find(|m| m.light == light));
     if let Some(marks) = marks.filter(|m| m.seq != pages.marks_seen) {
         pages.marks_seen = marks.seq;
-        taken.heard = true;
         if pages.space.same_layout(&marks.space) {
             let (windows, space) = (&pages.windows, &pages.space);
             pages.needed = marks
