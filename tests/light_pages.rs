@@ -54,6 +54,13 @@ fn tally(app: &mut App, frame: &DebugFrame, light: usize) -> metrics::Tally {
     metrics::tally(frame, &t[light], light, |_| true)
 }
 
+/// The median texels across a pixel where light `light`'s lookups are made in `frame`.
+fn texels_across(app: &mut App, frame: &DebugFrame, light: usize) -> f32 {
+    let eye = umbra::eval::texels::Eye::of(&mut app.world, H).expect("a camera");
+    let lights = umbra::light::light_list(&app.world);
+    umbra::eval::texels::density(frame, light, &lights[light], eye).quantile(0.5).unwrap_or(f32::NAN)
+}
+
 /// True (and SKIPPED said) when the device cannot mark pages.
 fn cannot_mark(app: &mut App) -> bool {
     let skip = app.take_notices().iter().any(|n| n.contains("compute pass"));
@@ -87,9 +94,10 @@ fn paged_lights_put_their_shadows_where_the_truth_does_sharper_than_their_coarse
         let pages = &light_pages(&virt, light);
         let percent = |t: &metrics::Tally| 100.0 * t.misclassified();
         let pressures: Vec<f32> = (1..4).map(|l| light_pages(&virt, l).pressure.octaves).collect();
+        let texels = texels_across(&mut virt, &frame, light);
         eprintln!(
-            "light {light}: {} pixels; misclassified atlas {:.4} %, coarse map {:.4} %, pages {:.4} % ({} resident; \
-             the paged lights' pressures {pressures:?})",
+            "light {light}: {} pixels; misclassified atlas {:.4} %, coarse map {:.4} %, pages {:.4} % ({} resident, \
+             {texels:.2} texels across a pixel at the median; the paged lights' pressures {pressures:?})",
             by_pages.pixels,
             percent(&by_atlas),
             percent(&by_coarse),

@@ -381,6 +381,27 @@ mod tests {
     }
 
     #[test]
+    fn a_light_that_moved_with_its_pages_cut_as_before_keeps_its_slots_and_draws_them_again() {
+        let (fit, light, still) = (fit(), Entity::from_bits(42), CasterChanges::default());
+        let (mut map, mut pool) = (ShadowMap::default(), SharedPool::default());
+        refresh(&mut pool, &mut map, light, &fit, &how(Some(&marks(&fit, 1, light, 1, &[9])), &still));
+        refresh(&mut pool, &mut map, light, &fit, &how(None, &still));
+        let before = map.layers[1];
+        assert!(!before.dirty);
+        // A new depth range: the same pages, each holding other depths now.
+        let PageSpace::Clipmap(c) = fit.space else { unreachable!() };
+        let moved = PagedFit { space: PageSpace::Clipmap(Clipmap { depth: (40.0, -40.0), ..c }), ..fit.clone() };
+        refresh(&mut pool, &mut map, light, &moved, &how(None, &still));
+        let after = map.layers[1];
+        assert_eq!((map.layers.len(), after.page.unwrap().slot), (2, before.page.unwrap().slot), "kept in its slot");
+        assert!(after.dirty && after.version != before.version, "drawn again");
+        assert_eq!(map.pages.as_ref().unwrap().update.invalidated, 1);
+        // A marking made before the move is still taken in.
+        refresh(&mut pool, &mut map, light, &moved, &how(Some(&marks(&fit, 2, light, 1, &[9, 10])), &still));
+        assert_eq!(map.pages.as_ref().unwrap().needed.len(), 2);
+    }
+
+    #[test]
     fn a_new_clipmap_or_a_forced_redraw_gives_up_every_page() {
         let (fit, light, still) = (fit(), Entity::from_bits(42), CasterChanges::default());
         let (mut map, mut pool) = (ShadowMap::default(), SharedPool::default());
