@@ -103,6 +103,11 @@ struct GpuLight {
     page_word: u32,
     page_finest_log2: f32,
     page_bias: f32,
+    // How near to a paged light its casters come along its axis (metres; 0: not measured).
+    nearest_caster: f32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -76,14 +76,19 @@ fn texel_size(index: u32, distance: f32) -> f32 {
 
 // The shadow test through layer `index` of the array, `distance` metres from the light.
 fn layer_test(light: GpuLight, index: u32, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint) -> f32 {
-    let texel = texel_size(index, distance);
+    return ref_test(light, layer_ref(light, index), distance, p, n, l, f);
+}
+
+// The shadow test through layer `at` of `light`, `distance` metres from the light.
+fn ref_test(light: GpuLight, at: LayerRef, distance: f32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint) -> f32 {
+    let texel = at.layer.texel_base + at.layer.texel_per_metre * distance;
     let biased = biased_point(p, n, l, texel, light_bias(light));
-    return shadow_lookup(layer_ref(light, index), biased, light.method, f, light.receiver_plane == 1u, l, texel);
+    return shadow_lookup(at, biased, light.method, f, light.receiver_plane == 1u, l, texel);
 }
 
 // Layer `index` of `light` as a lookup sees it.
 fn layer_ref(light: GpuLight, index: u32) -> LayerRef {
-    return LayerRef(layers[index], frame.atlas_guard == 1u, light.size, frame.pcss_search == 1u, light.bias_scale);
+    return LayerRef(layers[index], frame.atlas_guard == 1u, light.size, frame.pcss_search == 1u, light.bias_scale, PCSS_MAX_PENUMBRA, light.nearest_caster);
 }
 
 // The shadow test through a light's cube. With seams handled (frame.cube_seams), the face is
@@ -152,12 +157,59 @@ fn paged_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f
     if (fades && depth >= frame.shadow_distance) {
         return 1.0;
     }
-    let index = page_layer(light, p, page_level(light, p, n, l, f));
+    let coarse = light.first_layer + page_face(light, p);
+    var index = page_layer(light, p, page_level(light, p, n, l, f));
+    let pcss = light.method == METHOD_PCSS && frame.pcss_search == 1u;
+    if (pcss) {
+        let penumbra = coarse_penumbra(light, coarse, p, n, l, f, distance);
+        if (penumbra < 0.0) {
+            return 1.0;
+        }
+        let level = penumbra_level(light, p, coarse, distance, penumbra);
+        index = select(coarse, page_layer(light, p, max(level, page_level(light, p, n, l, f))), level >= 0);
+    }
     if (index == NO_PAGE) {
         return 1.0;
     }
-    let vis = layer_test(light, index, distance, p, n, l, f);
+    var at = layer_ref(light, index);
+    if (pcss && index != coarse) {
+        at.widest = f32(PAGE_BORDER);
+    }
+    let vis = ref_test(light, at, distance, p, n, l, f);
     return select(vis, mix(vis, 1.0, smoothstep(frame.fade_start, frame.shadow_distance, depth)), fades);
+}
+
+// PCSS on pages. A search as wide as a penumbra runs past a page's border, and one cut at
+// PCSS_MAX_PENUMBRA texels of a fine page is narrower in the world than the penumbra. So the
+// blockers are first searched for in the light's coarse map, which holds the whole light with
+// no page edges; the lookup then searches again, at most PAGE_BORDER texels wide, and filters on
+// the level where the penumbra found fits in that (see penumbra_level). A bound on the mean
+// penumbra at `p` (metres; see penumbra_bound), 0 where the coarse search finds no blocker.
+fn coarse_penumbra(light: GpuLight, coarse: u32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint, distance: f32) -> f32 {
+    let at = layer_ref(light, coarse);
+    let texel = texel_size(coarse, distance);
+    let biased = biased_point(p, n, l, texel, light_bias(light));
+    let found = shadow_coord(at, biased, METHOD_PCSS, f, light.receiver_plane == 1u, l, texel);
+    if (!found.inside) {
+        return -1.0;
+    }
+    return penumbra_bound(found.c, at) * receiver_texel(at, found.c);
+}
+
+// The finest level of `light` at `p` whose texels are wide enough that a penumbra `penumbra`
+// metres wide spans at most PAGE_BORDER of them, so that PCSS reads no texel past its page's
+// border; -1 where that level's texels are wider than the coarse map's (layer `coarse`, whose
+// own search is PCSS_MAX_PENUMBRA wide): the coarse map is read. A level's texel is
+// 2^(page_finest_log2 + level) · w (see pages.wgsl).
+fn penumbra_level(light: GpuLight, p: vec3<f32>, coarse: u32, distance: f32, penumbra: f32) -> i32 {
+    let w = log2(max(page_units(light, p).z, 1e-6));
+    let level = ceil(log2(penumbra / f32(PAGE_BORDER)) - light.page_finest_log2 - w);
+    let coarse_level = log2(texel_size(coarse, distance)) - light.page_finest_log2 - w;
+    if (level > min(coarse_level, f32(light.page_levels - 1u))) {
+        return -1;
+    }
+    // No penumbra (log2 of 0 is minus infinity): the finest.
+    return i32(max(level, 0.0));
 }
 
 // The cube face (0..6: +X, -X, +Y, -Y, +Z, -Z) that holds direction `d`: its largest axis, as

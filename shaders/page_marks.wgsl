@@ -40,7 +40,9 @@ struct MarkLight {
     faces: u32,
     // Level-0 page units a side of a cube's face.
     face_side: f32,
-    _pad0: u32,
+    // 1 where the light's lookups read every level coarser than the one a pixel wants (see
+    // paged_visibility), so each is marked too; 0 for others.
+    coarser: u32,
 };
 
 @group(0) @binding(0) var<uniform> view: MarkView;
@@ -135,12 +137,19 @@ fn reaches_box(i: u32, lo: vec3<f32>, hi: vec3<f32>) -> bool {
     return reach.w < 0.0 || distance(clamp(reach.xyz, lo, hi), reach.xyz) <= reach.w;
 }
 
-// The bits of light `i`'s pages that surface `s` wants: its level's (as page_level in pages.wgsl
-// finds it), and the next level's too where the pixel lies within a tenth of an octave of the
-// two's border, so a lookup whose footprint rounds the other way finds its page. A mask of 0
-// where it wants none.
-fn wanted_pages(i: u32, s: Surface) -> array<vec2<u32>, 2> {
-    var none = array<vec2<u32>, 2>(vec2<u32>(0u), vec2<u32>(0u));
+// The pages of light `i` that surface `s` wants: where it is (level-0 page units) and its level
+// (as page_level in pages.wgsl finds it), and the next level too where the pixel lies within a
+// tenth of an octave of the two's border, so a lookup whose footprint rounds the other way finds
+// its page (`other`, `level` where there is none). None where it wants no page.
+struct Wanted {
+    some: bool,
+    units: vec2<f32>,
+    level: u32,
+    other: u32,
+};
+
+fn wanted_pages(i: u32, s: Surface) -> Wanted {
+    let none = Wanted(false, vec2<f32>(0.0), 0u, 0u);
     let p = s.p;
     if (s.size < 0.0 || dot(p - view.eye, view.forward) >= lights[i].shadow_distance) {
         return none;
@@ -183,12 +192,16 @@ fn wanted_pages(i: u32, s: Surface) -> array<vec2<u32>, 2> {
     let octaves = log2(wanted) - lights[i].finest_log2 - log2(u.w) + lights[i].bias;
     let top = f32(lights[i].levels - 1u);
     let level = clamp(round(octaves), 0.0, top);
-    var bits = array<vec2<u32>, 2>(page_bit(i, units, u32(level)), vec2<u32>(0u));
     let other = clamp(select(level - 1.0, level + 1.0, octaves > level), 0.0, top);
-    if (abs(abs(octaves - level) - 0.5) < 0.1 && other != level) {
-        bits[1] = page_bit(i, units, u32(other));
+    let near_border = abs(abs(octaves - level) - 0.5) < 0.1;
+    return Wanted(true, units, u32(level), u32(select(level, other, near_border)));
+}
+
+// Sets bit `bit` (word, mask) of the marks; none for a mask of 0.
+fn mark(bit: vec2<u32>) {
+    if (bit.y != 0u) {
+        atomicOr(&marks[bit.x], bit.y);
     }
-    return bits;
 }
 
 @compute @workgroup_size(8, 8)
@@ -213,13 +226,22 @@ fn mark_pages(@builtin(global_invocation_id) id: vec3<u32>) {
         }
         var last = vec2<u32>(0u);
         for (var k = 0; k < 16; k += 1) {
-            let bits = wanted_pages(i, surfaces[k]);
-            if (bits[0].y != 0u && any(bits[0] != last)) {
-                atomicOr(&marks[bits[0].x], bits[0].y);
-                last = bits[0];
+            let wanted = wanted_pages(i, surfaces[k]);
+            if (!wanted.some) {
+                continue;
             }
-            if (bits[1].y != 0u) {
-                atomicOr(&marks[bits[1].x], bits[1].y);
+            let bit = page_bit(i, wanted.units, wanted.level);
+            if (any(bit != last)) {
+                mark(bit);
+                last = bit;
+                // Every coarser level's page over it as well, for a light whose lookups read them
+                // (PCSS on pages: where its penumbra fits a page's border).
+                for (var l = wanted.level + 1u; l < lights[i].levels * lights[i].coarser; l += 1u) {
+                    mark(page_bit(i, wanted.units, l));
+                }
+            }
+            if (wanted.other != wanted.level) {
+                mark(page_bit(i, wanted.units, wanted.other));
             }
         }
     }

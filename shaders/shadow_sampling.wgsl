@@ -165,14 +165,20 @@ struct LayerRef {
     pcss_search: bool,
     // The light's multiplicative depth offset (see scaled_depth).
     bias_scale: f32,
+    // The widest penumbra PCSS searches for and draws, in texels: PCSS_MAX_PENUMBRA, or a page's
+    // border on a page (see paged_visibility).
+    widest: f32,
+    // How near to the light its casters come along its axis, in metres, where that is known
+    // (GpuLight.nearest_caster; 0 where not): no blocker is nearer.
+    nearest: f32,
 };
 
 fn view_distance(at: LayerRef, z: f32) -> f32 {
     return layer_view_distance(at.layer, z);
 }
 
-// Widest penumbra PCSS draws (and so the widest it searches for blockers), in texels, and
-// the depth levels its blocker search compares with.
+// Widest penumbra PCSS draws (and so the widest it searches for blockers), in texels, on a map
+// of its own, and the depth levels its blocker search compares with.
 const PCSS_MAX_PENUMBRA: f32 = 24.0;
 const PCSS_LEVELS: i32 = 6;
 
@@ -214,31 +220,104 @@ fn shadow_pcss(c: ShadowCoord, at: LayerRef) -> f32 {
     if (!at.pcss_search) {
         return shadow_poisson32(c, POISSON32_RADIUS);
     }
-    let receiver = view_distance(at, c.depth);
-    // A blocker at the map's near plane throws the widest penumbra: search that far.
-    let widest = clamp(penumbra_texels(at, receiver, max(view_distance(at, 0.0), 1e-3)), 0.5, PCSS_MAX_PENUMBRA);
+    let search = pcss_search(c, at);
+    if (!search.found) {
+        return 1.0;
+    }
+    return shadow_poisson32(c, clamp(search.mean, 0.5, at.widest));
+}
+
+// What PCSS's blocker search finds: whether any blocker is nearer than the receiver, and the
+// mean penumbra of those it finds, in texels at the receiver, to within `step` (the widths it
+// compares with are `step` apart).
+struct BlockerSearch {
+    found: bool,
+    mean: f32,
+    step: f32,
+};
+
+// PCSS's blocker search round `c`, at most `at.widest` texels wide.
+fn pcss_search(c: ShadowCoord, at: LayerRef) -> BlockerSearch {
+    let widest = search_radius(c, at);
     let step = widest / f32(PCSS_LEVELS);
+    var widths: array<f32, PCSS_LEVELS>;
+    for (var k = 0; k < PCSS_LEVELS; k += 1) {
+        widths[k] = (f32(k) + 0.5) * step;
+    }
+    let b = find_blockers(c, at, widest, widths);
+    var mean = 0.0;
+    for (var k = 0; k < PCSS_LEVELS; k += 1) {
+        mean += step * b.beyond[k];
+    }
+    return BlockerSearch(b.found, mean, step);
+}
+
+// How far round `c` PCSS searches, in texels: as far as the nearest blocker there may be (at the
+// map's near plane, or the nearest caster where that is known) throws its penumbra, at most
+// `at.widest`.
+fn search_radius(c: ShadowCoord, at: LayerRef) -> f32 {
+    let receiver = view_distance(at, c.depth);
+    let nearest = max(max(view_distance(at, 0.0), at.nearest), 1e-3);
+    return clamp(penumbra_texels(at, receiver, nearest), 0.5, at.widest);
+}
+
+// The blockers round `c`, searched within `radius` texels: whether any is nearer than the
+// receiver, and the share of those whose penumbrae at the receiver are wider than each of
+// `widths` (texels).
+struct Blockers {
+    found: bool,
+    beyond: array<f32, PCSS_LEVELS>,
+};
+
+fn find_blockers(c: ShadowCoord, at: LayerRef, radius: f32, widths: array<f32, PCSS_LEVELS>) -> Blockers {
+    let receiver = view_distance(at, c.depth);
     var levels: array<f32, PCSS_LEVELS>;
     for (var k = 0; k < PCSS_LEVELS; k += 1) {
-        levels[k] = depth_for_penumbra(at, receiver, (f32(k) + 0.5) * step);
+        levels[k] = depth_for_penumbra(at, receiver, widths[k]);
     }
     let turn = disc_turn(c.pixel);
     var blocked = 0.0;
-    var beyond = 0.0;
+    var beyond: array<f32, PCSS_LEVELS>;
     for (var i = 0; i < 16; i += 1) {
-        let tap = c.uv + disc_offset(c, POISSON_16[i], turn, widest);
+        let tap = c.uv + disc_offset(c, POISSON_16[i], turn, radius);
         let along = dot(c.plane, tap - c.uv);
         let at = atlas_uv(c, tap);
         blocked += 1.0 - textureSampleCompareLevel(shadow_maps, shadow_sampler, at, c.layer, c.depth + along);
         for (var k = 0; k < PCSS_LEVELS; k += 1) {
-            beyond += 1.0 - textureSampleCompareLevel(shadow_maps, shadow_sampler, at, c.layer, levels[k] + along);
+            beyond[k] += 1.0 - textureSampleCompareLevel(shadow_maps, shadow_sampler, at, c.layer, levels[k] + along);
         }
     }
-    if (blocked < 1e-3) {
-        return 1.0;
+    let found = blocked >= 1e-3;
+    for (var k = 0; k < PCSS_LEVELS; k += 1) {
+        beyond[k] = select(0.0, beyond[k] / blocked, found);
     }
-    let radius = clamp(step * beyond / blocked, 0.5, PCSS_MAX_PENUMBRA);
-    return shadow_poisson32(c, radius);
+    return Blockers(found, beyond);
+}
+
+// An upper bound on the mean penumbra (texels at the receiver) of the blockers round `c`, -1
+// where there is none: a search as PCSS's, but comparing with widths an octave apart (the widest
+// over 32 up to the widest), so it is as close at a narrow penumbra as at a wide one. A blocker
+// counted between two widths is taken at the wider; one past the widest at twice it.
+fn penumbra_bound(c: ShadowCoord, at: LayerRef) -> f32 {
+    let widest = search_radius(c, at);
+    var widths: array<f32, PCSS_LEVELS>;
+    for (var k = 0; k < PCSS_LEVELS; k += 1) {
+        widths[k] = widest * exp2(f32(k + 1 - PCSS_LEVELS));
+    }
+    let b = find_blockers(c, at, widest, widths);
+    // Every blocker's penumbra is at most the first width, plus, for the share past each width,
+    // the step to the next.
+    var bound = widths[0];
+    for (var k = 0; k + 1 < PCSS_LEVELS; k += 1) {
+        bound += b.beyond[k] * (widths[k + 1] - widths[k]);
+    }
+    bound += b.beyond[PCSS_LEVELS - 1] * widest;
+    return select(-1.0, bound, b.found);
+}
+
+// The world size of a texel of `at` at the receiver of `c`.
+fn receiver_texel(at: LayerRef, c: ShadowCoord) -> f32 {
+    return at.layer.texel_base + at.layer.texel_per_metre * view_distance(at, c.depth);
 }
 
 // The moments of the lookup's layer around its point, bilinearly filtered from the blurred map.
@@ -544,28 +623,38 @@ fn scaled_depth(layer: GpuLayer, z: f32, scale: f32) -> f32 {
     return t.y / max(d, 1e-6) - t.x;
 }
 
-// Visibility of the (already biased) world point `biased` in layer `at`: 1 lit, 0 shadowed.
-// Points outside the map are lit. With `plane_on`, a spreading filter compares with the
-// receiver's plane; `l` is the unit direction towards the light and `texel` the texel's world
-// size at the point.
-fn shadow_lookup(at: LayerRef, biased: vec3<f32>, method: u32, f: Footprint, plane_on: bool, l: vec3<f32>, texel: f32) -> f32 {
+// Where the (already biased) world point `biased` falls in layer `at`, if it falls in it at all
+// (behind the map, off its sides or past its far plane it does not). With `plane_on`, a
+// spreading filter compares with the receiver's plane; `l` is the unit direction towards the
+// light and `texel` the texel's world size at the point.
+struct CoordIn {
+    inside: bool,
+    c: ShadowCoord,
+};
+
+fn shadow_coord(at: LayerRef, biased: vec3<f32>, method: u32, f: Footprint, plane_on: bool, l: vec3<f32>, texel: f32) -> CoordIn {
     let clip_from_world = at.layer.clip_from_world;
     let clip = clip_from_world * vec4<f32>(biased, 1.0);
-    if (clip.w <= 0.0) {
-        return 1.0;
-    }
     let ndc = clip.xyz / clip.w;
     let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
-    if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0) {
-        return 1.0;
-    }
     let depth = scaled_depth(at.layer, ndc.z, at.bias_scale);
     let distance = light_distance(at.layer, depth, biased, at.bias_scale);
     var c = ShadowCoord(uv, at.layer.page, at.layer.tile, at.guard, depth, vec2<f32>(0.0), f.pixel, distance);
-    if (plane_on && method_spreads(method)) {
+    let inside = clip.w > 0.0 && all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0)) && ndc.z <= 1.0;
+    if (inside && plane_on && method_spreads(method)) {
         let dx = ndc_change(clip_from_world, clip, f.dp_dx);
         let dy = ndc_change(clip_from_world, clip, f.dp_dy);
         c.plane = receiver_plane(dx, dy, ndc_change(clip_from_world, clip, l).z, texel, at.layer.tile.w);
     }
-    return sample_shadow(method, c, at);
+    return CoordIn(inside, c);
+}
+
+// Visibility of the (already biased) world point `biased` in layer `at` (see shadow_coord): 1
+// lit, 0 shadowed. Points outside the map are lit.
+fn shadow_lookup(at: LayerRef, biased: vec3<f32>, method: u32, f: Footprint, plane_on: bool, l: vec3<f32>, texel: f32) -> f32 {
+    let found = shadow_coord(at, biased, method, f, plane_on, l, texel);
+    if (!found.inside) {
+        return 1.0;
+    }
+    return sample_shadow(method, found.c, at);
 }

@@ -9,7 +9,7 @@ mod common;
 
 use umbra::eval::cases::{Score, case};
 use umbra::eval::measure::{Measurer, TruthSettings};
-use umbra::settings::{Settings, SunMaps};
+use umbra::settings::{LightMaps, Settings, SunMaps};
 use umbra::shadow::FitMode;
 
 const SIZE: (u32, u32) = (192, 192);
@@ -67,4 +67,23 @@ fn a_pool_too_small_shadows_through_coarser_pages_but_not_without_the_fallback()
 #[test]
 fn a_camera_creeping_across_a_level_boundary_flips_few_shadows_unless_the_grid_follows_it() {
     holds_and_breaks("level-creep", |s| s.cascade.fit_mode = FitMode::Unsnapped);
+}
+
+/// PCSS with every light paged: its blockers are found in the coarse map, searched no farther
+/// than the nearest caster throws a penumbra, and filtered on the level where the penumbra fits a
+/// page's border. A search of 24 texels of the finer pages the pool chose cut the pole's penumbra
+/// short (42.7 % before).
+#[test]
+fn pcss_with_every_light_paged_keeps_its_contact_hardening() {
+    let gpu = common::gpu();
+    if !gpu.computes() {
+        eprintln!("SKIPPED: this device runs no compute shaders, so no page is marked");
+        return;
+    }
+    let case = case("contact-hardening").unwrap();
+    let mut measurer = Measurer::new(&gpu, SIZE, TruthSettings { soft_rays: 0, ..TruthSettings::default() });
+    let score = (case.run)(&mut measurer, &paged(|s| s.maps.light_maps = LightMaps::Virtual)).unwrap();
+    eprintln!("contact-hardening, every light paged: {:.5} ({score:?})", score.value());
+    assert!(score.of > 100, "too few samples to judge ({score:?})");
+    assert!(score.value() <= case.threshold, "{:.5} > {}", score.value(), case.threshold);
 }

@@ -394,6 +394,14 @@ impl Light {
     pub fn size(&self) -> f32 {
         self.kind.penumbra_size()
     }
+
+    /// Its lookups may read any of its pages' levels coarser than a pixel wants, so each is
+    /// marked with the one it wants: PCSS with its blocker search reads the level where the
+    /// penumbra fits a page's border (`paged_visibility` in lights.wgsl).
+    #[must_use]
+    pub fn reads_coarser_pages(&self, pcss_search: bool) -> bool {
+        self.pages.is_some() && self.method == ShadowMethod::Pcss && pcss_search
+    }
 }
 
 /// One light of the world before its settings are looked up: its entity, kind and colour.

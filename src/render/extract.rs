@@ -11,7 +11,7 @@ use crate::components::*;
 use crate::light::clusters::{ClusterView, LightGrid, Reach};
 use crate::light::{Kind, Light, light_list};
 use crate::settings::{CasterCulling, FrameSettings, ShadowSettings};
-use crate::shadow::{Aabb, CUBE_FACES, CasterIndex, intersects_clip_volume};
+use crate::shadow::{Aabb, CUBE_FACES, CasterIndex, intersects_clip_volume, nearest_depth};
 use crate::systems::CastersAtRest;
 use bevy_ecs::prelude::*;
 use bytemuck::Zeroable;
@@ -65,6 +65,24 @@ fn layer_draws(
             page: l.page.map(|p| p.id),
         })
         .collect()
+}
+
+/// How near to a paged light at a point (`perspective`) the casters of its coarse map (`draws`:
+/// its layers' draws, pages after the coarse map) come along its axis, for PCSS's blocker search
+/// on pages (`coarse_penumbra` in lights.wgsl): a search as wide as a blocker at the map's near
+/// plane would throw its penumbra is mostly empty round a thin caster, and so misses it. 0 (not
+/// measured) for a sun, whose maps' near planes are fitted to its casters; `f32::MAX` where it
+/// has no caster (nothing can be found).
+fn nearest_caster(draws: &[LayerDraw], items: &[(DrawItem, Aabb)], perspective: bool) -> f32 {
+    if !perspective {
+        return 0.0;
+    }
+    draws
+        .iter()
+        .filter(|d| d.page.is_none())
+        .filter_map(|d| nearest_depth(&d.clip_from_world, d.casters.iter().map(|&i| &items[i].1)))
+        .fold(f32::INFINITY, f32::min)
+        .min(f32::MAX)
 }
 
 /// The culling hierarchy of the last frame's objects, kept to be refitted rather than built
@@ -169,6 +187,7 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
     let (mut lights, mut layers, mut draws, mut methods) = (Vec::new(), Vec::new(), Vec::new(), 0);
     let mut shadowless = Vec::new();
     for light in light_list(world) {
+        let mut nearest = 0.0;
         // A planar light has no layers (its shadow is drawn over the ground instead).
         let count = if light.method != ShadowMethod::Planar { light.layers.len() } else { 0 };
         if count > 0 {
@@ -177,7 +196,11 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
             if settings.shadow.enabled {
                 methods |= 1 << light.method as u32;
             }
+            let drawn = draws.len();
             draws.extend(layer_draws(&light, layers.len(), (&items, &index), cull_to));
+            if light.reads_coarser_pages(settings.shadow.pcss_blocker_search) {
+                nearest = nearest_caster(&draws[drawn..], &items, light.kind.homogeneous().w > 0.0);
+            }
             // Where a light at a point is; nothing for one infinitely far away (w = 0). A light at
             // a point sees in perspective, every layer of it: its map or faces, or its pages.
             let at = light.kind.homogeneous();
@@ -197,7 +220,15 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
             }));
         }
         let first_layer = (layers.len() - count) as u32;
-        lights.push(FrameLight { light, first_layer, layer_count: count as u32, planar_ground: false, page_word: 0 });
+        let layer_count = count as u32;
+        lights.push(FrameLight {
+            light,
+            first_layer,
+            layer_count,
+            planar_ground: false,
+            page_word: 0,
+            nearest_caster: nearest,
+        });
     }
     // The clustered light lists, for the main pass only.
     let (grid, clusters) = if main_pass {

@@ -118,6 +118,9 @@ pub struct FrameLight {
     /// Where its page table starts in [`FrameData::page_words`] (a paged light's; see
     /// [`super::page_table`]).
     pub page_word: u32,
+    /// How near to it its coarse map's casters come, along its axis (see
+    /// [`GpuLight::nearest_caster`]); 0 where it is not measured.
+    pub nearest_caster: f32,
 }
 
 impl FrameLight {
@@ -152,6 +155,7 @@ impl FrameLight {
             (g.page_finest_log2, g.page_bias) = (pages.space.finest_log2(), pages.bias);
             g.page_fades = pages.space.fades() as u32;
             g.page_faces = pages.space.faces() as u32;
+            g.nearest_caster = self.nearest_caster;
         }
         g
     }

@@ -179,6 +179,13 @@ gpu_struct! {
         pub page_finest_log2: f32,
         /// Octaves coarser than its footprint a pixel's page is chosen.
         pub page_bias: f32,
+        /// How near to a paged light its casters come along its axis, in metres: PCSS searches
+        /// no farther than a blocker that near throws its penumbra (0: as far as one at the
+        /// map's near plane; see `nearest_caster` in extract.rs).
+        pub nearest_caster: f32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 }
 
@@ -314,7 +321,10 @@ gpu_struct! {
         pub faces: u32,
         /// Level-0 page units a side of a cube's face, on whose square a point is held.
         pub face_side: f32,
-        pub _pad0: u32,
+        /// 1 where the light's lookups may read any level coarser than the one a pixel wants,
+        /// so that every coarser level's page is marked with it (PCSS on pages; see
+        /// `paged_visibility` in lights.wgsl).
+        pub coarser: u32,
     }
 }
 
@@ -392,6 +402,7 @@ pub fn prelude() -> String {
     constant("SHAPE_CUBE", SHAPE_CUBE as u64);
     constant("SHAPE_PAGES", SHAPE_PAGES as u64);
     constant("PAGE_GRID", crate::shadow::PAGE_GRID as u64);
+    constant("PAGE_BORDER", crate::shadow::PAGE_BORDER as u64);
     constant("MARK_WORDS", crate::shadow::MARK_WORDS as u64);
     constant("MAX_PAGE_LEVELS", crate::shadow::MAX_PAGE_LEVELS as u64);
     constant("CUBE_FACE_PAGES", crate::shadow::CUBE_FACE_PAGES as u64);

@@ -142,7 +142,7 @@ fn mark_light(light: &FrameLight, data: &FrameData) -> Option<(MarkLight, MarkTa
         extent: space.extent().unwrap_or(0.0),
         faces: space.faces() as u32,
         face_side: space.face_side().unwrap_or(0.0),
-        _pad0: 0,
+        coarser: light.light.reads_coarser_pages(data.frame.pcss_search == 1) as u32,
     };
     let tag = MarkTag {
         light: light.light.entity.to_bits(),

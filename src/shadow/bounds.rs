@@ -150,9 +150,46 @@ impl ClipVolume {
     }
 }
 
+/// How near to the eye of a perspective projection (`clip_from_world`, whose clip w is the depth
+/// along its axis) any of `boxes` comes: the least w of their corners, at least 0; `None` for no
+/// box, and 0 for a box that is not usable (where it is is unknown). A blocker's penumbra is
+/// widest the nearer it is to the light, so this bounds how wide any of theirs can be.
+#[must_use]
+pub fn nearest_depth<'a>(clip_from_world: &Mat4, boxes: impl IntoIterator<Item = &'a Aabb>) -> Option<f32> {
+    boxes.into_iter().fold(None, |nearest: Option<f32>, b| {
+        let depth = if b.is_usable() {
+            b.corners().iter().map(|&c| (*clip_from_world * c.extend(1.0)).w).fold(f32::INFINITY, f32::min).max(0.0)
+        } else {
+            0.0
+        };
+        Some(nearest.map_or(depth, |n| n.min(depth)))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_nearest_depth_is_the_nearest_corner_along_the_axis() {
+        use glam::camera::rh::{proj::directx, view::look_to_mat4};
+        // Looking down -Z from the origin.
+        let clip_from_world =
+            directx::perspective(1.2, 1.0, 0.05, 20.0) * look_to_mat4(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y);
+        let far = Aabb::new(Vec3::new(-0.5, -0.5, -6.0), Vec3::new(0.5, 0.5, -5.0));
+        let near = Aabb::new(Vec3::new(2.0, 0.0, -3.0), Vec3::new(2.5, 0.5, -2.0));
+        let depth = nearest_depth(&clip_from_world, [&far, &near]).unwrap();
+        assert!((depth - 2.0).abs() < 1e-4, "{depth}");
+        assert!((nearest_depth(&clip_from_world, [&far]).unwrap() - 5.0).abs() < 1e-4);
+        assert_eq!(nearest_depth(&clip_from_world, []), None, "no box, no blocker");
+        // Behind the eye, or round it: no nearer than the eye itself.
+        let round = Aabb::new(Vec3::splat(-1.0), Vec3::ONE);
+        assert_eq!(nearest_depth(&clip_from_world, [&far, &round]), Some(0.0));
+        // A box whose place is unknown may be anywhere.
+        let broken = Aabb::new(Vec3::ZERO, Vec3::new(f32::NAN, 1.0, 1.0));
+        assert_eq!(nearest_depth(&clip_from_world, [&far, &broken]), Some(0.0));
+        assert_eq!(nearest_depth(&clip_from_world, [&Aabb::EMPTY]), Some(0.0));
+    }
 
     #[test]
     fn only_finite_boxes_within_the_world_are_usable() {

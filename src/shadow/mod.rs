@@ -22,7 +22,7 @@ mod tile_size;
 mod updates;
 
 pub use atlas::{Atlas, AtlasShape, MAX_PAGE, MIN_TILE, Placed, Tile, distinct_pages};
-pub use bounds::{Aabb, ClipVolume, MAX_WORLD_EXTENT, frustum_corners, intersects_clip_volume};
+pub use bounds::{Aabb, ClipVolume, MAX_WORLD_EXTENT, frustum_corners, intersects_clip_volume, nearest_depth};
 pub use cascade::{
     FitMode, MAX_CASCADES, SceneBounds, SunScene, ViewFrustum, blend_bands, depth_step, fit_cascade, fit_seen,
     fit_slice, geometric_splits, split_depths,
