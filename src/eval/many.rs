@@ -288,8 +288,12 @@ fn measure(
         // A NaN share counts as the worst.
         if t.misclassified().partial_cmp(&row.worst_wrong).is_none_or(|o| o.is_gt()) {
             row.worst_wrong = t.misclassified();
-            let side = light.layers.first().map_or(0, |layer| layer.resolution);
-            row.worst = format!("{} ({side}², {} px)", light.label, t.pixels);
+            // A paged light's first layer is its coarse map; its shadow is mostly its pages.
+            let map = match light.pages {
+                Some(_) => "pages".to_string(),
+                None => format!("{}²", light.layers.first().map_or(0, |layer| layer.resolution)),
+            };
+            row.worst = format!("{} ({map}, {} px)", light.label, t.pixels);
         }
         wrong.push(t.misclassified());
     }
