@@ -158,7 +158,8 @@ fn paged_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f
         return 1.0;
     }
     let coarse = light.first_layer + page_face(light, p);
-    var index = page_layer(light, p, page_level(light, p, n, l, f));
+    let wanted = page_level(light, p, n, l, f);
+    var index = page_layer(light, p, wanted);
     let pcss = light.method == METHOD_PCSS && frame.pcss_search == 1u;
     if (pcss) {
         let penumbra = coarse_penumbra(light, coarse, p, n, l, f, distance);
@@ -166,7 +167,7 @@ fn paged_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f
             return 1.0;
         }
         let level = penumbra_level(light, p, coarse, distance, penumbra);
-        index = select(coarse, page_layer(light, p, max(level, page_level(light, p, n, l, f))), level >= 0);
+        index = select(coarse, page_layer(light, p, max(level, wanted)), level >= 0);
     }
     if (index == NO_PAGE) {
         return 1.0;
@@ -184,7 +185,8 @@ fn paged_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f
 // blockers are first searched for in the light's coarse map, which holds the whole light with
 // no page edges; the lookup then searches again, at most PAGE_BORDER texels wide, and filters on
 // the level where the penumbra found fits in that (see penumbra_level). A bound on the mean
-// penumbra at `p` (metres; see penumbra_bound), 0 where the coarse search finds no blocker.
+// penumbra at `p` (metres; see penumbra_bound), -1 where the coarse search finds no blocker (the
+// point is lit, as PCSS has it where its search finds none).
 fn coarse_penumbra(light: GpuLight, coarse: u32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint, distance: f32) -> f32 {
     let at = layer_ref(light, coarse);
     let texel = texel_size(coarse, distance);

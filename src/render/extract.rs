@@ -198,12 +198,12 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
             }
             let drawn = draws.len();
             draws.extend(layer_draws(&light, layers.len(), (&items, &index), cull_to));
-            if light.reads_coarser_pages(settings.shadow.pcss_blocker_search) {
-                nearest = nearest_caster(&draws[drawn..], &items, light.kind.homogeneous().w > 0.0);
-            }
             // Where a light at a point is; nothing for one infinitely far away (w = 0). A light at
             // a point sees in perspective, every layer of it: its map or faces, or its pages.
             let at = light.kind.homogeneous();
+            if light.reads_coarser_pages(settings.shadow.pcss_blocker_search) {
+                nearest = nearest_caster(&draws[drawn..], &items, at.w > 0.0);
+            }
             let origin = (at.truncate() * at.w).to_array();
             layers.extend(light.layers.iter().map(|l| GpuLayer {
                 clip_from_world: l.clip_from_world,
@@ -220,15 +220,8 @@ pub(super) fn read_world(world: &World, main_pass: bool, kept: &mut KeptIndex) -
             }));
         }
         let first_layer = (layers.len() - count) as u32;
-        let layer_count = count as u32;
-        lights.push(FrameLight {
-            light,
-            first_layer,
-            layer_count,
-            planar_ground: false,
-            page_word: 0,
-            nearest_caster: nearest,
-        });
+        let (layer_count, nearest_caster) = (count as u32, nearest);
+        lights.push(FrameLight { light, first_layer, layer_count, planar_ground: false, page_word: 0, nearest_caster });
     }
     // The clustered light lists, for the main pass only.
     let (grid, clusters) = if main_pass {
