@@ -35,6 +35,8 @@ pub const FRAME: ShaderFile = shader_file!("frame.wgsl");
 pub const CONTACT: ShaderFile = shader_file!("contact.wgsl");
 /// The shadow-map lookups, one function per method.
 pub const SAMPLING: ShaderFile = shader_file!("shadow_sampling.wgsl");
+/// PCSS: its blocker searches and the filter they size.
+pub const PCSS: ShaderFile = shader_file!("pcss.wgsl");
 /// Virtual shadow maps: the layer a paged light's lookup reads.
 pub const PAGES: ShaderFile = shader_file!("pages.wgsl");
 /// The marking of the pages a paged light's visible pixels need.
@@ -61,10 +63,11 @@ pub const SHADOW_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, SHADOW];
 /// The moment blur's and resolve's files.
 pub const BLUR_MODULE: &[ShaderFile] = &[MOMENTS, BLUR];
 /// The main pass's files, in dependency order.
-pub const MAIN_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, CONTACT, PAGES, LIGHTS, MAIN];
+pub const MAIN_MODULE: &[ShaderFile] =
+    &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, PCSS, CONTACT, PAGES, LIGHTS, MAIN];
 /// The planar shadows' files: the main pass's, and its own.
 pub const PLANAR_MODULE: &[ShaderFile] =
-    &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, CONTACT, PAGES, LIGHTS, MAIN, PLANAR];
+    &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, PCSS, CONTACT, PAGES, LIGHTS, MAIN, PLANAR];
 
 /// A module's text, and the line where each of its parts begins.
 #[derive(Clone, Debug)]
