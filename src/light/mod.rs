@@ -24,7 +24,9 @@ use crate::components::{
     SpotLight, Transform, VirtualPages,
 };
 use crate::settings::{CascadeSettings, MapSettings, ShadowSettings};
-use crate::shadow::{Aabb, CubePages, LightProjection, PageSpace, VisibleSamples, Window, cube_projections};
+use crate::shadow::{
+    Aabb, CubePages, LightProjection, PAGE_BORDER, PageSpace, VisibleSamples, Window, cube_projections,
+};
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
 use clusters::Reach;
@@ -155,7 +157,9 @@ impl LayerContext<'_> {
         let margin = if self.maps.cube_seams { crate::settings::CUBE_MARGIN } else { 0 };
         let coarse_side = coarse.min(POINT_COARSE);
         let camera = self.view.map_or(Vec3::ZERO, |v| v.transform.translation);
-        let space = PageSpace::Cube(CubePages::new(at, range, margin));
+        // Without the atlas guard, no border round the pages (as a spot's).
+        let border = if self.maps.atlas_guard { PAGE_BORDER } else { 0 };
+        let space = PageSpace::Cube(CubePages { border, ..CubePages::new(at, range, margin) });
         PagedFit { space, camera, coarse: self.cube(at, range, coarse_side), coarse_side }
     }
 }

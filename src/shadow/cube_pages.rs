@@ -1,13 +1,14 @@
-//! A point light's cube in pages, as pure math (the renderer does not page point lights yet):
-//! each of the six faces a perspective map in pages ([`FrustumPages`]), the faces laid out three
-//! across and two down on one grid of pages, so that every level lies in one window of the marks
-//! with its origin at 0, as a spot's does. A point's face is the largest axis of its direction
-//! from the light (as the cube maps pick it), and its page units are that face's matrix over w,
-//! the face's place on the grid built into the matrix: the marking and the lookups would read
-//! them as they read a spot's, given six matrices in place of one.
+//! A point light's cube in pages, as pure math: each of the six faces a perspective map in pages
+//! ([`FrustumPages`]), the faces laid out three across and two down on one grid of pages, so that
+//! every level lies in one window of the marks with its origin at 0, as a spot's does. A point's
+//! face is the largest axis of its direction from the light (as the cube maps pick it), and its
+//! page units are that face's matrix over w, the face's place on the grid built into the matrix:
+//! the marking and the lookups read them as they read a spot's, given six matrices in place of
+//! one.
 
 use super::{
-    Aabb, FrustumPages, LightProjection, PAGE_GRID, PAGE_TEXELS, PageId, PageRange, cube_face, cube_face_projection,
+    Aabb, FrustumPages, LightProjection, PAGE_BORDER, PAGE_GRID, PAGE_TEXELS, PageId, PageRange, cube_face,
+    cube_face_projection,
 };
 use glam::{IVec2, Mat4, Vec2, Vec3, Vec4};
 
@@ -30,6 +31,8 @@ pub struct CubePages {
     pub range: f32,
     /// Texels of the finest level each face reaches past its 90° edge.
     pub margin: u32,
+    /// Texels of border round each page's square in its tile (as [`FrustumPages::border`]).
+    pub border: u32,
 }
 
 impl CubePages {
@@ -37,7 +40,7 @@ impl CubePages {
     /// the finest level past its 90° edge (as the cube maps do, for the filters at the seams).
     #[must_use]
     pub fn new(position: Vec3, range: f32, margin: u32) -> CubePages {
-        CubePages { position, range, margin }
+        CubePages { position, range, margin, border: PAGE_BORDER }
     }
 
     /// Face `face` (in [`super::CUBE_FACES`] order): a perspective map of [`CUBE_FACE_PAGES`]
@@ -46,7 +49,7 @@ impl CubePages {
     pub fn face(&self, face: usize) -> FrustumPages {
         let side = CUBE_FACE_PAGES * PAGE_TEXELS;
         let map = cube_face_projection(self.position, self.range, side, self.margin, face);
-        FrustumPages::new(map, CUBE_FACE_PAGES)
+        FrustumPages { border: self.border, ..FrustumPages::new(map, CUBE_FACE_PAGES) }
     }
 
     /// Pages a side of each face on `level` (every face's, as [`FrustumPages::pages_across`]).
@@ -218,5 +221,12 @@ mod tests {
             assert_eq!(c.face_of(PageId { level: r.level, x: r.max.x, y: r.max.y }).map(|f| f.0), Some(0));
         }
         assert!(c.crossing(&Aabb::new(Vec3::NAN, Vec3::NAN)).is_empty());
+        // Past the light's reach (8 m) or inside its near plane it casts nothing on the faces.
+        let far = c.position + Vec3::new(9.0, 0.2, -0.4);
+        assert!(c.crossing(&Aabb::new(far - 0.5, far + 0.5)).is_empty(), "out of reach");
+        let near = c.position + Vec3::new(1e-4, 0.0, 0.0);
+        assert!(c.crossing(&Aabb::new(near - 1e-5, near + 1e-5)).is_empty(), "inside the near plane");
+        // Reaching across the far plane it still crosses.
+        assert!(!c.crossing(&Aabb::new(far - 1.5, far + 1.5)).is_empty(), "into its reach");
     }
 }

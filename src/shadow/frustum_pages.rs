@@ -135,24 +135,22 @@ impl FrustumPages {
     }
 
     /// The pages of every level whose tiles (border included) `b` lies across, seen from the
-    /// light: what a caster moving through `b` dirties. A box reaching from before the light to
-    /// behind it crosses the whole map; one off the map, or wholly behind the light, none.
+    /// light: what a caster moving through `b` dirties. Only the part of `b` between the map's
+    /// near plane and its far one counts (what its drawing keeps): a box reaching from behind the
+    /// light to before it crosses the pages its part ahead lies across, one off the map, wholly
+    /// behind the light, or wholly nearer than the near plane or past the far one, none.
     #[must_use]
     pub fn crossing(&self, b: &Aabb) -> Vec<PageRange> {
         if !b.is_usable() {
             return Vec::new();
         }
-        let clips = b.corners().map(|c| self.map.view_proj * c.extend(1.0));
-        let ahead = clips.iter().filter(|c| c.w > 0.0).count();
-        if ahead == 0 {
+        let ahead = ahead_of_near(b.corners().map(|c| self.map.view_proj * c.extend(1.0)));
+        if ahead.is_empty() || ahead.iter().all(|c| c.z > c.w) {
             return Vec::new();
         }
-        let (mut min, mut max) = (Vec2::splat(-1.0), Vec2::ONE);
-        if ahead == clips.len() {
-            let ndc = clips.map(|c| c.truncate().truncate() / c.w);
-            min = ndc.iter().fold(Vec2::INFINITY, |m, n| m.min(*n));
-            max = ndc.iter().fold(Vec2::NEG_INFINITY, |m, n| m.max(*n));
-        }
+        let ndc = ahead.iter().map(|c| c.truncate().truncate() / c.w);
+        let min = ndc.clone().fold(Vec2::INFINITY, Vec2::min);
+        let max = ndc.fold(Vec2::NEG_INFINITY, Vec2::max);
         if min.cmpgt(Vec2::ONE).any() || max.cmplt(Vec2::splat(-1.0)).any() {
             return Vec::new();
         }
@@ -168,6 +166,20 @@ impl FrustumPages {
             })
             .collect()
     }
+}
+
+/// The corners of a box in clip space (`clips`, in [`Aabb::corners`] order) on or past the near
+/// plane (clip depth 0), and where its twelve edges cross it: the points whose bounds bound the
+/// part of the box a map's drawing keeps, however much of it lies behind.
+fn ahead_of_near(clips: [Vec4; 8]) -> Vec<Vec4> {
+    let mut ahead: Vec<Vec4> = clips.iter().copied().filter(|c| c.z >= 0.0).collect();
+    for (i, bit) in (0..8).flat_map(|i| [1, 2, 4].map(|bit| (i, bit))).filter(|(i, bit)| i & bit == 0) {
+        let (p, q) = (clips[i], clips[i | bit]);
+        if (p.z >= 0.0) != (q.z >= 0.0) {
+            ahead.push(p.lerp(q, p.z / (p.z - q.z)));
+        }
+    }
+    ahead
 }
 
 /// Pages a side of the finest level a perspective map needs (`focal`: its projection's x scale)
