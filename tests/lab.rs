@@ -310,18 +310,22 @@ fn texel_density_is_red_for_a_coarse_map_and_blue_for_a_fine_one() {
 fn the_sweeps_errors_are_the_same_whether_one_thread_measures_them_or_several() {
     let gpu = gpu();
     let mut options = SweepOptions::new(true);
-    // The default and planar shadows, one small view, small cases, one timed frame.
+    // The default and planar shadows, one small view, one timed frame, and three small cases: one
+    // view, frames waiting on a starved budget, and a camera cut (every case took 66 s a
+    // configuration here).
     options.families = vec!["planar".into()];
     options.views = vec![VIEWS[0]];
     options.size = (160, 90);
     options.case_size = (128, 128);
     options.frames = 1;
+    options.cases = Some(["peter-panning", "starved-budget", "camera-cut"].map(String::from).to_vec());
     let run = |workers| {
         let options = SweepOptions { workers, ..options.clone() };
         umbra::eval::sweep::run(&gpu, &options, |_, _, _| {}).unwrap()
     };
     let (one, two) = (run(1), run(2));
     assert_eq!(one.len(), 2);
+    assert_eq!(one[0].cases.iter().filter(|c| c.is_some()).count(), 3, "only the cases asked for");
     assert!(one.iter().zip(&two).all(|(a, b)| a.config == b.config), "rows in the order of the configurations");
     for (a, b) in one.iter().zip(&two) {
         // The second configuration: measured after the first by one thread, first by its own.

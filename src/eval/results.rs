@@ -87,19 +87,21 @@ pub fn csv(rows: &[Row]) -> String {
             let _ = write!(out, ",{}", pct(band.misclassified()));
         }
         for s in &r.cases {
-            let _ = write!(out, ",{}", pct(s.value()));
+            let _ = write!(out, ",{}", s.map_or(String::new(), |s| pct(s.value())));
         }
         out.push('\n');
     }
     out
 }
 
-fn points(rows: &[Row], error: impl Fn(&Row) -> f64) -> Vec<Point> {
+/// Each row's cost against its `error`, where it has one.
+fn points(rows: &[Row], error: impl Fn(&Row) -> Option<f64>) -> Vec<Point> {
     let default = Config::default_settings();
     rows.iter()
-        .map(|r| Point {
+        .filter_map(|r| error(r).map(|e| (r, e)))
+        .map(|(r, error)| Point {
             cost: r.cost.total_ms(),
-            error: error(r),
+            error,
             label: r.config.short_label(),
             default: r.config == default,
             family: r.config.family(),
@@ -118,7 +120,7 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str, adapter: &str) -> Resu
         .map_err(|e| ResultsError::Write { path: dir.display().to_string(), why: e.to_string() })?;
     write(&dir.join("results.csv"), &csv(rows))?;
     let cost = cost_axis(adapter);
-    let scene = points(rows, |r| r.scene_all().all.misclassified());
+    let scene = points(rows, |r| Some(r.scene_all().all.misclassified()));
     let scene_front = front(&scene);
     cost_chart(
         &dir.join("scene"),
@@ -127,7 +129,7 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str, adapter: &str) -> Resu
         &scene,
         &scene_front,
     )?;
-    let edge = points(rows, |r| r.scene_all().edge.misclassified());
+    let edge = points(rows, |r| Some(r.scene_all().edge.misclassified()));
     cost_chart(
         &dir.join("scene-edge"),
         "Sample scene: shadow cost against error within 2 pixels of a true shadow edge",
@@ -135,7 +137,7 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str, adapter: &str) -> Resu
         &edge,
         &front(&edge),
     )?;
-    let soft = points(rows, |r| r.scene_all().all.mae_soft());
+    let soft = points(rows, |r| Some(r.scene_all().all.mae_soft()));
     cost_chart(
         &dir.join("scene-soft"),
         "Sample scene: shadow cost against mean error against the soft truth",
@@ -144,7 +146,10 @@ pub fn write_all(rows: &[Row], dir: &Path, heading: &str, adapter: &str) -> Resu
         &front(&soft),
     )?;
     for (k, case) in CASES.iter().enumerate() {
-        let p = points(rows, |r| r.cases[k].value());
+        let p = points(rows, |r| r.cases[k].map(|s| s.value()));
+        if p.is_empty() {
+            continue;
+        }
         let title = format!("{}: {}", case.name, case.measures);
         cost_chart(
             &dir.join(format!("case-{}", case.name)),
@@ -197,9 +202,9 @@ fn fit_points(rows: &[Row]) -> Vec<(String, Vec<(f64, f64)>)> {
     let Some(shimmer) = CASES.iter().position(|c| c.name == "shimmer") else { return Vec::new() };
     rows.iter()
         .filter(|r| r.config == Config { fit: r.config.fit, ..default })
-        .map(|r| {
-            let at = (100.0 * r.cases[shimmer].value(), 100.0 * r.scene_all().all.misclassified());
-            (r.config.fit.name().to_string(), vec![at])
+        .filter_map(|r| {
+            let at = (100.0 * r.cases[shimmer]?.value(), 100.0 * r.scene_all().all.misclassified());
+            Some((r.config.fit.name().to_string(), vec![at]))
         })
         .collect()
 }
@@ -256,7 +261,7 @@ fn by_format(rows: &[Row]) -> String {
             r.config.texel_bytes() as f64 * texels / (1024.0 * 1024.0),
             r.cost.total_ms(),
             pct(r.scene_all().all.misclassified()),
-            precision.and_then(|k| r.cases.get(k)).map_or("-".into(), |s| pct(s.value()))
+            precision.and_then(|k| r.cases.get(k).copied().flatten()).map_or("-".into(), |s| pct(s.value()))
         );
     }
     out
@@ -379,9 +384,13 @@ pub fn summary(rows: &[Row], front: &[usize], heading: &str) -> String {
     out += &by_format(rows);
     out += "\n| case | what it counts | threshold % | default % | best % (configuration) |\n| --- | --- | --- | --- | --- |\n";
     for (k, case) in CASES.iter().enumerate() {
-        let at_default = rows.iter().find(|r| r.config == default).map_or(f64::NAN, |r| r.cases[k].value());
-        let best = rows.iter().min_by(|a, b| a.cases[k].value().total_cmp(&b.cases[k].value()));
-        let best = best.map_or(String::new(), |r| format!("{} ({})", pct(r.cases[k].value()), r.config.label()));
+        let measured: Vec<(&Row, f64)> = rows.iter().filter_map(|r| Some((r, r.cases[k]?.value()))).collect();
+        if measured.is_empty() {
+            continue;
+        }
+        let at_default = measured.iter().find(|(r, _)| r.config == default).map_or(f64::NAN, |(_, v)| *v);
+        let best = measured.iter().min_by(|a, b| a.1.total_cmp(&b.1));
+        let best = best.map_or(String::new(), |(r, v)| format!("{} ({})", pct(*v), r.config.label()));
         let _ = writeln!(
             out,
             "| {} | {} | {} | {} | {best} |",
@@ -402,9 +411,9 @@ mod tests {
     use crate::shadow::FitMode;
 
     fn row(config: Config, shimmer_hits: u64) -> Row {
-        let mut cases = vec![Score::default(); CASES.len()];
+        let mut cases = vec![Some(Score::default()); CASES.len()];
         let k = CASES.iter().position(|c| c.name == "shimmer").unwrap();
-        cases[k] = Score { hits: shimmer_hits, of: 1000, garbage: 0 };
+        cases[k] = Some(Score { hits: shimmer_hits, of: 1000, garbage: 0 });
         Row { config, cost: Default::default(), scene: Vec::new(), lights: Vec::new(), cases }
     }
 
@@ -424,5 +433,28 @@ mod tests {
         let shimmer: Vec<f64> = fits.iter().map(|(_, p)| p[0].0).collect();
         assert_eq!(shimmer, [0.0, 0.3, 0.1]);
         assert!(fit_points(&rows[2..4]).is_empty());
+    }
+
+    #[test]
+    fn a_case_the_sweep_left_out_is_blank_in_the_table_and_missing_from_the_summary() {
+        let d = Config::default_settings();
+        let mut rows = [row(d, 2), row(Config { fit: FitMode::Tight, ..d }, 5)];
+        let acne = CASES.iter().position(|c| c.name == "acne").unwrap();
+        for r in &mut rows {
+            r.cases[acne] = None;
+        }
+        let table = csv(&rows);
+        let header: Vec<&str> = table.lines().next().unwrap().split(',').collect();
+        let column = header.iter().position(|h| *h == "acne_pct").unwrap();
+        let shimmer = header.iter().position(|h| *h == "shimmer_pct").unwrap();
+        for line in table.lines().skip(1) {
+            let fields: Vec<&str> = line.split(',').collect();
+            assert_eq!((fields.len(), fields[column]), (header.len(), ""), "{line}");
+            assert_ne!(fields[shimmer], "", "{line}");
+        }
+        let summary = summary(&rows, &[], "heading");
+        assert!(!summary.contains("| acne |"), "a case nobody measured has no line");
+        assert!(summary.contains("| shimmer |"));
+        assert!(fit_points(&rows).iter().all(|(_, p)| p.len() == 1));
     }
 }

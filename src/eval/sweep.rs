@@ -24,8 +24,9 @@ pub struct Row {
     pub scene: Vec<LightReport>,
     /// The measured scene's lights' names, in the order of `scene`.
     pub lights: Vec<String>,
-    /// Its score in each failure case, in [`CASES`] order.
-    pub cases: Vec<Score>,
+    /// Its score in each failure case, in [`CASES`] order; none where the sweep left the case out
+    /// ([`SweepOptions::cases`]).
+    pub cases: Vec<Option<Score>>,
 }
 
 impl Row {
@@ -137,7 +138,10 @@ fn measure_all(
             begins(&config.label());
             let settings = config.settings(&options.base);
             let (accuracy, lights) = scene_accuracy(&mut scene, &settings, &options.views)?;
-            let scores = CASES.iter().map(|c| (c.run)(&mut cases, &settings)).collect::<Result<Vec<_>, _>>()?;
+            let scores = CASES
+                .iter()
+                .map(|c| options.measures_case(c.name).then(|| (c.run)(&mut cases, &settings)).transpose())
+                .collect::<Result<Vec<_>, _>>()?;
             rows.push((i, Row { config, cost, scene: accuracy, lights, cases: scores }));
         }
     };

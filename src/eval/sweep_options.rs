@@ -70,6 +70,9 @@ pub struct SweepOptions {
     /// Configurations whose errors are measured at once, each by a thread with renderers of
     /// its own (the timing is never shared).
     pub workers: usize,
+    /// Only the failure cases of these names (every case when `None`): the others are left
+    /// unmeasured, and the results say so.
+    pub cases: Option<Vec<String>>,
 }
 
 /// Threads that measure errors at once on a machine of `cores` cores: one per four cores, one
@@ -80,6 +83,12 @@ pub fn error_workers(cores: usize) -> usize {
 }
 
 impl SweepOptions {
+    /// True when the sweep measures the failure case `name`.
+    #[must_use]
+    pub fn measures_case(&self, name: &str) -> bool {
+        self.cases.as_ref().is_none_or(|cases| cases.iter().any(|c| c == name))
+    }
+
     /// The full sweep, or the quick one.
     pub fn new(quick: bool) -> SweepOptions {
         let workers = error_workers(std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -95,6 +104,7 @@ impl SweepOptions {
                 families: Vec::new(),
                 skipped: Vec::new(),
                 workers,
+                cases: None,
             }
         } else {
             SweepOptions {
@@ -108,6 +118,7 @@ impl SweepOptions {
                 families: Vec::new(),
                 skipped: Vec::new(),
                 workers,
+                cases: None,
             }
         }
     }
