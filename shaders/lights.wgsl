@@ -214,19 +214,6 @@ fn penumbra_level(light: GpuLight, p: vec3<f32>, coarse: u32, distance: f32, pen
     return i32(max(level, 0.0));
 }
 
-// The cube face (0..6: +X, -X, +Y, -Y, +Z, -Z) that holds direction `d`: its largest axis, as
-// `shadow::cube_face` picks it.
-fn cube_face(d: vec3<f32>) -> u32 {
-    let a = abs(d);
-    if (a.x >= a.y && a.x >= a.z) {
-        return select(0u, 1u, d.x < 0.0);
-    }
-    if (a.y >= a.z) {
-        return select(2u, 3u, d.y < 0.0);
-    }
-    return select(4u, 5u, d.z < 0.0);
-}
-
 // Visibility of light `light` at `p`, `distance` metres from it (1 where it casts no shadow).
 fn light_visibility(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Footprint, depth: f32, distance: f32) -> f32 {
     if (light.layer_count == 0u) {

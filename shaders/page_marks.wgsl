@@ -159,16 +159,10 @@ fn wanted_pages(i: u32, s: Surface) -> Wanted {
     if (reach.w >= 0.0 && distance(p, reach.xyz) > reach.w) {
         return none;
     }
-    // A cube's face holding `p` looks along its largest axis from the light: the largest w.
-    var u = lights[i].page_from_world[0] * vec4<f32>(p, 1.0);
-    var face = 0u;
-    for (var f = 1u; f < lights[i].faces; f += 1u) {
-        let v = lights[i].page_from_world[f] * vec4<f32>(p, 1.0);
-        if (v.w > u.w) {
-            u = v;
-            face = f;
-        }
-    }
+    // A cube's face holding `p` looks along its largest axis from the light (as the lookups
+    // pick it: page_face in pages.wgsl).
+    let face = select(0u, cube_face(p - lights[i].light.xyz), lights[i].faces == 6u);
+    let u = lights[i].page_from_world[face] * vec4<f32>(p, 1.0);
     var units = u.xy / u.w;
     let face_side = lights[i].face_side;
     if (face_side > 0.0) {

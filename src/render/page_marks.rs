@@ -9,7 +9,7 @@ use super::async_read::AsyncRead;
 use super::depth_compute::DepthCompute;
 use super::frame::{FrameData, FrameLight};
 use super::gpu_types::{MarkLight, MarkView};
-use super::shaders::PAGE_MARKS;
+use super::shaders::MARK_MODULE;
 use crate::light::Kind;
 use crate::light::clusters::Reach;
 use crate::shadow::{MARK_WORDS, MAX_PAGE_LEVELS, PageMarks, PageSpace, Window};
@@ -49,7 +49,7 @@ impl PageMarking {
         use wgpu::BufferUsages as U;
         let mark_bytes = (MARK_BATCH * LIGHT_WORDS * 4) as u64;
         PageMarking {
-            pass: DepthCompute::new(device, "page marking", &[PAGE_MARKS], "mark_pages", 1),
+            pass: DepthCompute::new(device, "page marking", MARK_MODULE, "mark_pages", 1),
             view: buffer("marking view", size_of::<MarkView>() as u64, U::UNIFORM | U::COPY_DST),
             lights: buffer("marking lights", (MARK_BATCH * size_of::<MarkLight>()) as u64, U::STORAGE | U::COPY_DST),
             marks: buffer("page marks", mark_bytes, U::STORAGE | U::COPY_DST | U::COPY_SRC),

@@ -37,6 +37,8 @@ pub const CONTACT: ShaderFile = shader_file!("contact.wgsl");
 pub const SAMPLING: ShaderFile = shader_file!("shadow_sampling.wgsl");
 /// PCSS: its blocker searches and the filter they size.
 pub const PCSS: ShaderFile = shader_file!("pcss.wgsl");
+/// The face of a point light's cube that holds a direction, for the lookups and the marking.
+pub const CUBE: ShaderFile = shader_file!("cube.wgsl");
 /// Virtual shadow maps: the layer a paged light's lookup reads.
 pub const PAGES: ShaderFile = shader_file!("pages.wgsl");
 /// The marking of the pages a paged light's visible pixels need.
@@ -64,10 +66,12 @@ pub const SHADOW_MODULE: &[ShaderFile] = &[COMMON, SKINNING, MOMENTS, SHADOW];
 pub const BLUR_MODULE: &[ShaderFile] = &[MOMENTS, BLUR];
 /// The main pass's files, in dependency order.
 pub const MAIN_MODULE: &[ShaderFile] =
-    &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, PCSS, CONTACT, PAGES, LIGHTS, MAIN];
+    &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, PCSS, CONTACT, CUBE, PAGES, LIGHTS, MAIN];
 /// The planar shadows' files: the main pass's, and its own.
 pub const PLANAR_MODULE: &[ShaderFile] =
-    &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, PCSS, CONTACT, PAGES, LIGHTS, MAIN, PLANAR];
+    &[COMMON, SKINNING, MOMENTS, FRAME, SAMPLING, PCSS, CONTACT, CUBE, PAGES, LIGHTS, MAIN, PLANAR];
+/// The marking of pages' files.
+pub const MARK_MODULE: &[ShaderFile] = &[CUBE, PAGE_MARKS];
 
 /// A module's text, and the line where each of its parts begins.
 #[derive(Clone, Debug)]
@@ -188,7 +192,7 @@ mod tests {
         check(&Composed::new(&[LINES])).unwrap();
         check(&Composed::new(&[BARE_DEPTH])).unwrap();
         check(&Composed::new(&[TILE])).unwrap();
-        check(&Composed::new(&[PAGE_MARKS])).unwrap();
+        check(&Composed::new(MARK_MODULE)).unwrap();
         let (module, _) = check(&Composed::new(&[MAP_VIEW])).unwrap();
         // The viewer's uniform holds three vectors for every layer it shows.
         let terms = module.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some("view_layers")).unwrap().1;
@@ -239,7 +243,7 @@ mod tests {
         let reduce_struct = ("Reduce", gpu_types::Reduce::FIELDS, size_of::<gpu_types::Reduce>());
         let (tile, _) = check(&Composed::new(&[TILE])).unwrap();
         let fill_struct = ("Fill", gpu_types::Fill::FIELDS, size_of::<gpu_types::Fill>());
-        let (marks, _) = check(&Composed::new(&[PAGE_MARKS])).unwrap();
+        let (marks, _) = check(&Composed::new(MARK_MODULE)).unwrap();
         let mark_view = ("MarkView", gpu_types::MarkView::FIELDS, size_of::<gpu_types::MarkView>());
         let mark_light = ("MarkLight", gpu_types::MarkLight::FIELDS, size_of::<gpu_types::MarkLight>());
         let each = shared.iter().map(|s| (&module, *s)).chain([
