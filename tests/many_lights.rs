@@ -4,7 +4,7 @@
 
 mod common;
 
-use bevy_ecs::prelude::{Entity, With};
+use bevy_ecs::prelude::Entity;
 use common::*;
 use glam::Vec3;
 use umbra::assets::{MeshLibrary, plane};
@@ -204,16 +204,16 @@ fn a_starved_budget_draws_one_map_a_frame_and_the_other_keeps_its_old_shadow_unt
     assert!(changed * 200 <= both.len(), "{changed} of {} pixels changed while it waited", both.len());
 }
 
-/// The lamp field of 64 shadowed lamps, paged where `paged`, with a cube that will move under
-/// lamp 0 (the scene's last entity).
-fn paged_field(paged: bool) -> App {
+/// The lamp field of 64 shadowed lamps, paged where `paged`, and a cube between the first two
+/// lamps (its entity), level with them.
+fn paged_field(paged: bool) -> (App, Entity) {
     let mut app = lamp_field(8, true);
     let light_maps = if paged { LightMaps::Virtual } else { LightMaps::Atlas };
     app.set_settings(&app.settings().with(|s| s.maps.light_maps = light_maps)).unwrap();
     let block = app.world.resource_mut::<MeshLibrary>().add(umbra::assets::cube(Vec3::splat(0.5)));
     let at = Transform::from_xyz(-12.0, 0.2, -14.0).with_scale(Vec3::splat(0.4));
-    app.world.spawn((block, at, Material::color(0.8, 0.2, 0.2), ShadowCaster, ShadowReceiver));
-    app
+    let cube = app.world.spawn((block, at, Material::color(0.8, 0.2, 0.2), ShadowCaster, ShadowReceiver)).id();
+    (app, cube)
 }
 
 /// Renders `app` a frame at a time as a window would (nothing drawn first), each marking of
@@ -262,7 +262,7 @@ fn a_still_field_of_paged_lamps_draws_no_page_and_a_bobbing_lamp_or_a_moving_cub
         return;
     }
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
-    let mut app = paged_field(true);
+    let (mut app, cube) = paged_field(true);
     assert_eq!(settle(&gpu, &mut renderer, &mut app).len(), 64, "every lamp draws its pages");
     let still = app.world.resource::<ShadowStats>();
     assert!(still.pages.kept >= 64 && still.pages.drawn == 0, "a still field keeps every page: {still}");
@@ -270,10 +270,8 @@ fn a_still_field_of_paged_lamps_draws_no_page_and_a_bobbing_lamp_or_a_moving_cub
     let bob = 27;
     app.world.get_mut::<Transform>(lamps[bob]).unwrap().translation.y += 0.05;
     assert_eq!(settle(&gpu, &mut renderer, &mut app), [bob].into(), "only the bobbing lamp draws");
-    // The cube lies at the height of the lamps' centres: past their reach it crossed every
-    // page of four faces of each lamp in its row and column (a box across the plane through
-    // a light once counted as crossing its whole face).
-    let cube = app.world.query_filtered::<Entity, With<ShadowCaster>>().iter(&app.world).last().unwrap();
+    // The planes through the lamps of its row cut the cube: a box cut so once counted as
+    // crossing every page of the faces either side, however far past a lamp's reach it lay.
     app.world.get_mut::<Transform>(cube).unwrap().translation.x += 0.1;
     let near_cube = settle(&gpu, &mut renderer, &mut app);
     assert!((1..=4).contains(&near_cube.len()), "only the lamps round the cube draw: {near_cube:?}");
@@ -288,7 +286,7 @@ fn a_quarter_of_the_lamps_bobbing_redraw_fewer_texels_on_pages_than_in_the_atlas
     }
     let texels = |paged: bool| {
         let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
-        let mut app = paged_field(paged);
+        let (mut app, _) = paged_field(paged);
         settle(&gpu, &mut renderer, &mut app);
         let lamps: Vec<_> = umbra::light::light_list(&app.world).iter().map(|l| l.entity).collect();
         let (mut texels, mut frame) = (0, 0);
