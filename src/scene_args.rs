@@ -106,7 +106,7 @@ pub struct SceneArgs {
     #[arg(long)]
     pub cascade_debug: bool,
     /// How shadow maps are sampled, for every light without a method of its own: nearest,
-    /// bilinear, pcf3, pcf5, gauss5, poisson16, poisson32, pcss, vsm, evsm, evsm2 (EVSM's positive warp alone), msm, r32f (depth in an R32F colour target) or r16f-radial (distance from the light in R16F).
+    /// bilinear, pcf3, pcf5, gauss5, poisson16, poisson32, pcss, vsm, evsm, evsm2 (EVSM's positive warp alone), msm, msm-hausdorff (MSM's bound knowing depths lie in 0..1), r32f (depth in an R32F colour target), r16f-radial (distance from the light in R16F) or planar (shadows projected onto the ground, no map).
     #[arg(long, alias = "filter", value_name = "METHOD")]
     pub method: Option<ShadowMethod>,
     /// Blur radius of moment maps (vsm, evsm, evsm2, msm) in texels, 0..16 (0: none).

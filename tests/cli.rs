@@ -224,3 +224,15 @@ fn no_adapter_is_a_clear_error_not_a_panic() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(!dir.join("umbra.png").exists());
 }
+
+#[test]
+fn help_lists_every_shadow_method_the_parser_takes() {
+    let dir = std::env::temp_dir();
+    let help = String::from_utf8(umbra(&["render", "--help"], &dir).stdout).unwrap();
+    let line = help.lines().find(|l| l.trim_start().starts_with("--method")).expect("--method is listed");
+    let words: Vec<&str> = line.split(|c: char| !(c.is_ascii_alphanumeric() || c == '-')).collect();
+    for method in umbra::components::ShadowMethod::ALL {
+        assert_eq!(method.name().parse::<umbra::components::ShadowMethod>(), Ok(*method));
+        assert!(words.contains(&method.name()), "--help does not list {}: {line}", method.name());
+    }
+}
