@@ -416,10 +416,10 @@ fn app(scene: &SceneArgs) -> Result<App> {
     }
     if let Some((model, _)) = models.iter(&app.world).find(|_| scene.scene.is_some()) {
         let (lights, camera) = (model.0.lights.len(), model.0.camera.is_some());
-        let names: Vec<String> = umbra::light::light_list(&app.world).iter().map(|l| l.label.to_string()).collect();
+        let labels: Vec<_> = umbra::light::light_list(&app.world).iter().map(|l| l.label).collect();
         println!(
             "lights: {}{}; {}",
-            names.join(", "),
+            umbra::light::names::lights_line(&labels),
             if lights == 0 { " (added: the file has no light)" } else { "" },
             if camera { "its own camera" } else { "a camera that frames it (the file has none)" }
         );

@@ -11,6 +11,7 @@
 //! one (the [`LightKind`] variant and [`LightSources`]), its component and the shaders.
 
 pub mod clusters;
+pub mod names;
 mod point;
 mod spot;
 mod sun;
