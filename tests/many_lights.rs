@@ -216,6 +216,16 @@ fn paged_field(paged: bool) -> (App, Entity) {
     (app, cube)
 }
 
+/// The GPU, where it runs compute shaders; none (SKIPPED said) where it cannot mark pages.
+fn marking_gpu() -> Option<std::sync::MutexGuard<'static, Gpu>> {
+    let gpu = gpu();
+    if !gpu.computes() {
+        eprintln!("SKIPPED: this device runs no compute shaders, so no page is marked");
+        return None;
+    }
+    Some(gpu)
+}
+
 /// Renders `app` a frame at a time as a window would (nothing drawn first), each marking of
 /// pages read back before the next frame, and hands each frame's stats to `each` until it says
 /// stop, 16 frames at most; false if it never did.
@@ -256,11 +266,7 @@ fn settle(gpu: &Gpu, renderer: &mut Renderer, app: &mut App) -> std::collections
 
 #[test]
 fn a_still_field_of_paged_lamps_draws_no_page_and_a_bobbing_lamp_or_a_moving_cube_only_the_pages_they_touch() {
-    let gpu = gpu();
-    if !gpu.computes() {
-        eprintln!("SKIPPED: this device runs no compute shaders, so no page is marked");
-        return;
-    }
+    let Some(gpu) = marking_gpu() else { return };
     let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
     let (mut app, cube) = paged_field(true);
     assert_eq!(settle(&gpu, &mut renderer, &mut app).len(), 64, "every lamp draws its pages");
@@ -279,11 +285,7 @@ fn a_still_field_of_paged_lamps_draws_no_page_and_a_bobbing_lamp_or_a_moving_cub
 
 #[test]
 fn a_quarter_of_the_lamps_bobbing_redraw_fewer_texels_on_pages_than_in_the_atlas() {
-    let gpu = gpu();
-    if !gpu.computes() {
-        eprintln!("SKIPPED: this device runs no compute shaders, so no page is marked");
-        return;
-    }
+    let Some(gpu) = marking_gpu() else { return };
     let texels = |paged: bool| {
         let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
         let (mut app, _) = paged_field(paged);

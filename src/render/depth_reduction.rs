@@ -5,9 +5,13 @@
 
 use super::async_read::AsyncRead;
 use super::depth_compute::DepthCompute;
+use super::frame::FrameData;
 use super::gpu_types::Reduce;
 use super::shaders::SDSM;
+use crate::components::{Camera, DirectionalLight};
+use crate::settings::CascadeSettings;
 use crate::shadow::{SDSM_WORDS, VisibleSamples, initial_words};
+use bevy_ecs::world::World;
 
 /// Where the reduction's words were binned: the range of view depths and the light space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -16,6 +20,29 @@ pub struct Binning {
     pub range: (f32, f32),
     /// The sun's light space the boxes are in.
     pub light_from_world: glam::Mat4,
+}
+
+/// What the reduction of frame `data`'s depth buffer (`size` pixels) reads and how it bins it:
+/// the view depths up to the shadows' reach, and the first sun's light space. None without a
+/// camera, a sun or cascade settings.
+pub fn frame_reduction(world: &World, data: &FrameData, size: (u32, u32)) -> Option<(Reduce, Binning)> {
+    let shadow_distance = world.get_resource::<CascadeSettings>()?.shadow_distance;
+    let camera = world.try_query::<&Camera>().and_then(|mut q| q.iter(world).next().copied())?;
+    let sun = world.try_query::<&DirectionalLight>().and_then(|mut q| q.iter(world).next().map(|s| s.direction))?;
+    let far = camera.shadow_far(shadow_distance);
+    let binning =
+        Binning { range: (camera.near, far), light_from_world: crate::shadow::light_view(glam::Vec3::ZERO, sun) };
+    let reduce = Reduce {
+        world_from_clip: data.clip_from_world.inverse(),
+        light_from_world: binning.light_from_world,
+        eye: data.frame.camera_position,
+        near: binning.range.0,
+        forward: data.frame.camera_forward,
+        far: binning.range.1,
+        size: [size.0, size.1],
+        _pad: [0; 2],
+    };
+    Some((reduce, binning))
 }
 
 /// The pipeline, its buffers and the reading in flight.

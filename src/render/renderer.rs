@@ -2,10 +2,10 @@
 
 use super::bare_depth::BareDepth;
 use super::camera_depth::CameraDepth;
-use super::depth_reduction::{Binning, DepthReduction};
+use super::depth_reduction::{DepthReduction, frame_reduction};
 use super::extract::{KeptIndex, read_world};
 use super::frame::{FrameData, Shadowless};
-use super::gpu_types::{GpuLayer, Object, Reduce};
+use super::gpu_types::{GpuLayer, Object};
 use super::lines::{LinePass, volume_lines};
 use super::main_pass::MainPass;
 use super::map_view::{self, MapView};
@@ -22,9 +22,8 @@ use super::timing::{PassTimer, PassTimes};
 use super::uniform_array::UniformArray;
 use super::{Gpu, RenderError};
 use crate::assets::{MeshLibrary, TextureLibrary};
-use crate::components::{Camera, DirectionalLight};
 use crate::light::LightLabel;
-use crate::settings::{CascadeSettings, FrameSettings};
+use crate::settings::FrameSettings;
 use crate::shadow::FitMode;
 use crate::systems::{ShadowAtlas, ShadowCaps};
 use bevy_ecs::prelude::*;
@@ -578,26 +577,8 @@ impl Renderer {
             }
             return;
         }
-        let Some(cascade) = world.get_resource::<CascadeSettings>() else { return };
-        let shadow_distance = cascade.shadow_distance;
-        let camera = world.try_query::<&Camera>().and_then(|mut q| q.iter(world).next().copied());
-        let sun = world.try_query::<&DirectionalLight>().and_then(|mut q| q.iter(world).next().map(|s| s.direction));
-        let (Some(camera), Some(sun), Some(depth)) = (camera, sun, &self.depth) else {
-            return;
-        };
-        let far = camera.shadow_far(shadow_distance);
-        let binning =
-            Binning { range: (camera.near, far), light_from_world: crate::shadow::light_view(glam::Vec3::ZERO, sun) };
-        let reduce = Reduce {
-            world_from_clip: data.clip_from_world.inverse(),
-            light_from_world: binning.light_from_world,
-            eye: data.frame.camera_position,
-            near: binning.range.0,
-            forward: data.frame.camera_forward,
-            far: binning.range.1,
-            size: [depth.size.0, depth.size.1],
-            _pad: [0; 2],
-        };
+        let Some(depth) = &self.depth else { return };
+        let Some((reduce, binning)) = frame_reduction(world, data, depth.size) else { return };
         let reduction = self.reduction.get_or_insert_with(|| DepthReduction::new(&gpu.device));
         reduction.encode((&gpu.device, &gpu.queue), encoder, &depth.depth_only, depth.made, reduce, binning);
     }
