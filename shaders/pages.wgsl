@@ -3,8 +3,9 @@
 // point light's cube faces side by side, each cover the whole map from one window at the origin.
 // A point's level-0 page units are its page_from_world (its cube face's) over w, and a texel of
 // level 0 there is 2^page_finest_log2 · w (w is 1 for a sun, the distance along a spot's or a
-// face's axis). Its page table (src/render/page_table.rs) gives each level's window origin and,
-// for each page of the window, the layer its resident page is in. The math mirrors
+// face's axis). Its page table (src/render/page_table.rs) gives each level's window (its origin,
+// the pages across and down it holds, where its entries start) and, for each page a level can
+// hold, the layer its resident page is in. The math mirrors
 // src/shadow/pages.rs, src/shadow/page_space.rs and src/shadow/cube_pages.rs.
 
 // The face of `light` that holds `p`: a point light's cube face (as cube_face picks it), 0 for
@@ -14,12 +15,12 @@ fn page_face(light: GpuLight, p: vec3<f32>) -> u32 {
 }
 
 // `light`'s world to level-0 page units on face `face`: its own, or a cube face's from its page
-// table (after the entries, 16 words a face, column by column).
+// table (after the levels' headers, 16 words a face, column by column).
 fn page_matrix(light: GpuLight, face: u32) -> mat4x4<f32> {
     if (light.page_faces != 6u) {
         return light.page_from_world;
     }
-    let at = light.page_word + light.page_levels * (2u + PAGE_GRID * PAGE_GRID) + 16u * face;
+    let at = light.page_word + light.page_levels * PAGE_LEVEL_WORDS + 16u * face;
     var columns: array<vec4<f32>, 4>;
     for (var c = 0u; c < 4u; c += 1u) {
         let w = at + 4u * c;
@@ -72,10 +73,25 @@ fn page_level(light: GpuLight, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, f: Foot
     return i32(clamp(round(octaves), 0.0, f32(light.page_levels - 1u)));
 }
 
-// Level `level`'s window origin of `light`.
-fn page_origin(light: GpuLight, level: u32) -> vec2<i32> {
-    let at = light.page_word + 2u * level;
-    return vec2<i32>(bitcast<i32>(table_word(at)), bitcast<i32>(table_word(at + 1u)));
+// One level's window as its page table holds it.
+struct PageWindow {
+    // Its first page's column and row.
+    origin: vec2<i32>,
+    // The pages across and down it holds.
+    size: vec2<i32>,
+    // Its first entry's word in the page tables.
+    entries: u32,
+}
+
+// Level `level`'s window of `light` (its header: PAGE_LEVEL_WORDS words).
+fn page_window(light: GpuLight, level: u32) -> PageWindow {
+    let at = light.page_word + PAGE_LEVEL_WORDS * level;
+    let size = table_word(at + 2u);
+    return PageWindow(
+        vec2<i32>(bitcast<i32>(table_word(at)), bitcast<i32>(table_word(at + 1u))),
+        vec2<i32>(i32(size & 0xffffu), i32(size >> 16u)),
+        light.page_word + table_word(at + 3u)
+    );
 }
 
 // What page_layer gives where no page is resident and the fallback is off.
@@ -90,14 +106,13 @@ fn page_layer(light: GpuLight, p: vec3<f32>, level: i32) -> u32 {
     let units = at_p.xy;
     // Behind the light nothing is paged: the coarse map.
     let behind = !(at_p.z > 0.0);
-    let entries = light.page_word + 2u * light.page_levels;
-    let grid = i32(PAGE_GRID);
     let first = u32(max(level, 0));
     let last = select(first + 1u, light.page_levels, frame.page_fallback == 1u);
     for (var l = first; l < select(min(last, light.page_levels), 0u, behind); l += 1u) {
-        let at = vec2<i32>(floor(units / exp2(f32(l)))) - page_origin(light, l);
-        if (all(at >= vec2<i32>(0)) && all(at < vec2<i32>(grid))) {
-            let entry = table_word(entries + (l * PAGE_GRID + u32(at.y)) * PAGE_GRID + u32(at.x));
+        let window = page_window(light, l);
+        let at = vec2<i32>(floor(units / exp2(f32(l)))) - window.origin;
+        if (all(at >= vec2<i32>(0)) && all(at < window.size)) {
+            let entry = table_word(window.entries + u32(at.y * window.size.x + at.x));
             if (entry > 0u) {
                 return entry - 1u;
             }

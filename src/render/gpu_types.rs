@@ -171,9 +171,8 @@ gpu_struct! {
         pub page_from_world: Mat4,
         /// A paged light's levels (0: it is not paged).
         pub page_levels: u32,
-        /// Its page table's first word in the page-table texture: each level's window origin
-        /// (two words), then each level's [`crate::shadow::PAGE_GRID`]² entries (a layer + 1, 0:
-        /// not there), then a cube's six face matrices (16 words each, column by column).
+        /// Its page table's first word in the page-table texture: each level's header, a cube's
+        /// six face matrices, then each level's entries (see [`super::page_table`]).
         pub page_word: u32,
         /// log2 of its level 0's texel, in metres.
         pub page_finest_log2: f32,
@@ -374,6 +373,11 @@ pub const RESOLVE_MAX_RADIUS: u32 = 7;
 /// Words in a row of the texture that holds the clustered light lists.
 pub const LIST_WIDTH: u32 = 4096;
 
+/// Words of each level's header in a paged light's page table (`render/page_table.rs`): its
+/// window's origin (x, y), its pages across (low 16 bits) and down (high 16 bits), and its first
+/// entry's word counted from the table's first.
+pub const PAGE_LEVEL_WORDS: usize = 4;
+
 /// Lights the measuring view reports in one pass (a vec4 target of visibilities).
 pub const MEASURED_PER_PASS: usize = 4;
 
@@ -402,6 +406,7 @@ pub fn prelude() -> String {
     constant("SHAPE_CUBE", SHAPE_CUBE as u64);
     constant("SHAPE_PAGES", SHAPE_PAGES as u64);
     constant("PAGE_GRID", crate::shadow::PAGE_GRID as u64);
+    constant("PAGE_LEVEL_WORDS", PAGE_LEVEL_WORDS as u64);
     constant("PAGE_BORDER", crate::shadow::PAGE_BORDER as u64);
     constant("MARK_WORDS", crate::shadow::MARK_WORDS as u64);
     constant("MAX_PAGE_LEVELS", crate::shadow::MAX_PAGE_LEVELS as u64);

@@ -57,6 +57,12 @@ impl CubePages {
         CUBE_FACE_PAGES.checked_shr(level).unwrap_or(0).max(1) as i32
     }
 
+    /// Pages across and down of level `level`'s grid: its six faces, three across and two down.
+    #[must_use]
+    pub fn grid(level: u32) -> IVec2 {
+        IVec2::new(CUBE_ACROSS as i32, 2) * Self::side(level)
+    }
+
     /// Levels, from level 0 down to faces of a single page.
     #[must_use]
     pub fn levels(&self) -> u32 {

@@ -6,7 +6,9 @@
 //! the lookups read them alike; what differs (windows, what a moving box crosses, when old marks
 //! still name the same pages, which pages exist) is answered here.
 
-use super::{Aabb, CUBE_FACE_PAGES, Clipmap, CubePages, FrustumPages, LightProjection, PageId, PageRange, Window};
+use super::{
+    Aabb, CUBE_FACE_PAGES, Clipmap, CubePages, FrustumPages, LightProjection, PAGE_GRID, PageId, PageRange, Window,
+};
 use glam::{IVec2, Mat3, Mat4, Vec2, Vec3};
 
 /// The pages of a paged light's virtual map.
@@ -80,6 +82,18 @@ impl PageSpace {
                 page.level < f.levels && (0..side).contains(&page.x) && (0..side).contains(&page.y)
             }
             PageSpace::Cube(c) => page.level < c.levels() && c.face_of(page).is_some(),
+        }
+    }
+
+    /// Pages across and down from level `level`'s window origin where its pages may lie: a
+    /// clipmap's whole window, a perspective map's level, a cube's six faces (a page table holds
+    /// these alone).
+    #[must_use]
+    pub fn level_grid(&self, level: u32) -> IVec2 {
+        match self {
+            PageSpace::Clipmap(_) => IVec2::splat(PAGE_GRID as i32),
+            PageSpace::Frustum(f) => IVec2::splat(f.pages_across(level) as i32),
+            PageSpace::Cube(_) => CubePages::grid(level),
         }
     }
 

@@ -222,9 +222,17 @@ impl Window {
     /// Where `page` is in the window, as an index 0..PAGE_GRID² (row by row), if it is in it.
     #[must_use]
     pub fn index(&self, page: PageId) -> Option<usize> {
+        self.index_in(page, IVec2::splat(PAGE_GRID as i32))
+    }
+
+    /// Where `page` is in the first `grid` columns and rows of the window, as an index (row by
+    /// row, `grid.x` a row), if it is in them.
+    #[must_use]
+    pub fn index_in(&self, page: PageId, grid: IVec2) -> Option<usize> {
         let (x, y) = (i64::from(page.x) - i64::from(self.origin.x), i64::from(page.y) - i64::from(self.origin.y));
-        let grid = i64::from(PAGE_GRID);
-        (page.level == self.level && (0..grid).contains(&x) && (0..grid).contains(&y)).then(|| (y * grid + x) as usize)
+        let (columns, rows) = (i64::from(grid.x), i64::from(grid.y));
+        let inside = page.level == self.level && (0..columns).contains(&x) && (0..rows).contains(&y);
+        inside.then(|| (y * columns + x) as usize)
     }
 
     /// The page at `index` (row by row) of the window.
