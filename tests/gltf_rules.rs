@@ -393,6 +393,12 @@ fn a_missing_or_broken_image_is_a_warning_and_the_factor_alone_is_used() {
     let model = load(&broken);
     assert!(model.parts[0].texture.is_none());
     assert!(model.warnings.iter().any(|w| w.contains("image 0 (checker) cannot be read")), "{:?}", model.warnings);
+    // A JPEG cut short: refused by name and why, not drawn grey past the cut.
+    let jpeg = include_bytes!("../src/assets/test_images/gradient.jpg");
+    let model = load(&TestModel::new().with_texture(&jpeg[..jpeg.len() * 2 / 3], None));
+    assert!(model.parts[0].texture.is_none());
+    let said = |w: &String| w.contains("image 0 (checker) cannot be read (a broken JPEG, cut short");
+    assert!(model.warnings.iter().any(said), "{:?}", model.warnings);
     let mut no_uv = TestModel::new().with_texture(&png, None);
     no_uv.json["meshes"][0]["primitives"][0]["attributes"].as_object_mut().unwrap().remove("TEXCOORD_0");
     let model = load(&no_uv);

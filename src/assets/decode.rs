@@ -1,6 +1,8 @@
 //! PNG and JPEG images into 8-bit RGBA, with their size known (and refused if too large) before
 //! the pixels are decoded: `png` reads PNG, `zune-jpeg` reads JPEG (baseline and progressive,
-//! grey, RGB and CMYK), nothing else.
+//! grey, RGB and CMYK), nothing else. Either refuses an image it cannot read whole: a JPEG is
+//! decoded strictly, since a lenient decoder draws a file cut short as grey past the cut, and
+//! scrambled before it, without a word.
 
 use zune_jpeg::zune_core::{bytestream::ZCursor, colorspace::ColorSpace, options::DecoderOptions};
 
@@ -28,7 +30,8 @@ pub fn header(bytes: &[u8], max: u32) -> Result<Header<'_>, String> {
         let options = DecoderOptions::default()
             .set_max_width(side)
             .set_max_height(side)
-            .jpeg_set_out_colorspace(ColorSpace::RGBA);
+            .jpeg_set_out_colorspace(ColorSpace::RGBA)
+            .set_strict_mode(true);
         let mut decoder = zune_jpeg::JpegDecoder::new_with_options(ZCursor::new(bytes), options);
         decoder.decode_headers().map_err(|e| format!("a broken JPEG: {e:?}"))?;
         let info = decoder.info().ok_or("a broken JPEG: no frame header")?;
@@ -67,7 +70,7 @@ impl Header<'_> {
                 rgba(&buf, frame.color_type)
             }
             Header::Jpeg(mut decoder, (width, height)) => {
-                let pixels = decoder.decode().map_err(|e| format!("a broken JPEG: {e:?}"))?;
+                let pixels = decoder.decode().map_err(|e| format!("a broken JPEG, cut short or damaged: {e}"))?;
                 let expected = width as usize * height as usize * 4;
                 if pixels.len() != expected {
                     return Err(format!("a JPEG decoded to {} bytes, not {expected}", pixels.len()));
@@ -152,5 +155,21 @@ mod tests {
         assert!(header(half, 64).and_then(Header::decode).is_err(), "a PNG cut in half");
         assert!(header(&jpeg[..jpeg.len() / 2], 64).and_then(Header::decode).is_err(), "a JPEG cut in half");
         assert!(header(&jpeg[..4], 64).is_err(), "a JPEG with no header");
+    }
+
+    #[test]
+    fn a_jpeg_cut_short_is_refused_as_cut() {
+        let whole = include_bytes!("test_images/gradient.jpg");
+        assert_eq!(decoded(whole).0, (64, 48));
+        let progressive = include_bytes!("test_images/gradient-progressive.jpg");
+        assert_eq!(decoded(progressive).0, (64, 48));
+        for (name, jpeg) in [("baseline", &whole[..]), ("progressive", &progressive[..])] {
+            // Its headers whole, its pixels cut: the size is known, the decoding refused.
+            let cut = &jpeg[..jpeg.len() * 2 / 3];
+            let header = header(cut, 64).unwrap();
+            assert_eq!(header.size(), (64, 48), "{name}");
+            let why = header.decode().expect_err(name);
+            assert!(why.starts_with("a broken JPEG, cut short"), "{name}: {why}");
+        }
     }
 }
