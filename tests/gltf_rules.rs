@@ -393,6 +393,13 @@ fn a_missing_or_broken_image_is_a_warning_and_the_factor_alone_is_used() {
     let model = load(&broken);
     assert!(model.parts[0].texture.is_none());
     assert!(model.warnings.iter().any(|w| w.contains("image 0 (checker) cannot be read")), "{:?}", model.warnings);
+    // An image wider than umbra keeps: drawn from its first mipmap that fits, and said so.
+    let wide = umbra::assets::MAX_KEPT_SIZE * 2;
+    let model = load(&TestModel::new().with_texture(&png_rgba(wide, 2, &vec![9; wide as usize * 8]), None));
+    let image = &model.parts[0].texture.as_ref().unwrap().image;
+    assert_eq!((image.width, image.height), (wide / 2, 1));
+    let said = |w: &String| w.contains(&format!("image 0 (checker) is {wide}x2; it is drawn at {}x1", wide / 2));
+    assert!(model.warnings.iter().any(said), "{:?}", model.warnings);
     // A JPEG cut short: refused by name and why, not drawn grey past the cut.
     let jpeg = include_bytes!("../src/assets/test_images/gradient.jpg");
     let model = load(&TestModel::new().with_texture(&jpeg[..jpeg.len() * 2 / 3], None));

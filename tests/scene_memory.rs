@@ -10,14 +10,6 @@ use common::gltf::TestModel;
 use umbra::render::{HEADLESS_FORMAT, Renderer, render_headless};
 use umbra::{App, Settings};
 
-/// The most this process was ever resident, in bytes (Linux's VmHWM); `None` elsewhere.
-fn peak_resident() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kib: u64 = line.trim_start_matches("VmHWM:").trim().trim_end_matches("kB").trim().parse().ok()?;
-    Some(kib * 1024)
-}
-
 #[test]
 fn a_model_of_100_000_nodes_is_drawn_in_under_a_gigabyte() {
     let path = common::scratch("scene-memory").join("many.gltf");
@@ -31,7 +23,7 @@ fn a_model_of_100_000_nodes_is_drawn_in_under_a_gigabyte() {
     assert!(image.pixels.chunks(4).any(|p| p[..3] != image.pixels[..3]), "a picture came out");
     let drawn = app.world.resource::<umbra::render::ShadowStats>().drawn();
     assert!(drawn > 0, "the model's shadows were drawn");
-    let Some(peak) = peak_resident() else { return };
+    let Some(peak) = common::peak_resident() else { return };
     eprintln!("100,000 nodes drawn at 1280x720 on {}: peak resident {:.0} MB", gpu.describe(), peak as f64 / 1e6);
     assert!(peak < 1_000_000_000, "peak resident {peak} bytes: over 1 GB");
 }

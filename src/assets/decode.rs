@@ -67,7 +67,7 @@ impl Header<'_> {
                 let mut buf = vec![0; reader.output_buffer_size().ok_or("a PNG too large to decode")?];
                 let frame = reader.next_frame(&mut buf).map_err(|e| format!("a broken PNG: {e}"))?;
                 buf.truncate(frame.buffer_size());
-                rgba(&buf, frame.color_type)
+                rgba(buf, frame.color_type)
             }
             Header::Jpeg(mut decoder, (width, height)) => {
                 let pixels = decoder.decode().map_err(|e| format!("a broken JPEG, cut short or damaged: {e}"))?;
@@ -81,10 +81,11 @@ impl Header<'_> {
     }
 }
 
-/// 8-bit pixels of `colour` as RGBA (indexed colour has been expanded by the decoder).
-fn rgba(pixels: &[u8], colour: png::ColorType) -> Result<Vec<u8>, String> {
+/// 8-bit pixels of `colour` as RGBA (indexed colour has been expanded by the decoder); RGBA
+/// pixels are taken as they are, not copied.
+fn rgba(pixels: Vec<u8>, colour: png::ColorType) -> Result<Vec<u8>, String> {
     Ok(match colour {
-        png::ColorType::Rgba => pixels.to_vec(),
+        png::ColorType::Rgba => pixels,
         png::ColorType::Rgb => pixels.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect(),
         png::ColorType::GrayscaleAlpha => pixels.chunks_exact(2).flat_map(|p| [p[0], p[0], p[0], p[1]]).collect(),
         png::ColorType::Grayscale => pixels.iter().flat_map(|&g| [g, g, g, 255]).collect(),

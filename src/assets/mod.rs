@@ -16,6 +16,6 @@ pub use gltf::{MAX_DECODED_BYTES, MAX_INPUT_BYTES, MAX_OBJECTS, MAX_PARTS, Model
 pub use mesh::{MeshData, MeshLibrary, SkinVertex, Vertex, cube, plane, sphere};
 pub use model::{Model, ModelInstance};
 pub use texture::{
-    DecodeError, Filter, ImageData, MAX_TEXTURE_SIZE, Sampling, TextureData, TextureLibrary, UvTransform, Wrap,
-    decode_image, mipmapped_bytes,
+    DecodeError, Filter, ImageData, MAX_KEPT_SIZE, MAX_TEXTURE_SIZE, Sampling, TextureData, TextureLibrary,
+    UvTransform, Wrap, decode_image, mipmapped_bytes,
 };

@@ -8,6 +8,11 @@ use std::sync::{Arc, OnceLock};
 /// Widest and tallest image umbra decodes.
 pub const MAX_TEXTURE_SIZE: u32 = 8192;
 
+/// Widest and tallest image umbra keeps: a larger one is kept from its first mipmap that fits. An
+/// 8192² image with its mipmaps is 358 MB, and a software adapter's texture holds as much again
+/// in the same process (`tests/scene_memory.rs`); at 4096² each is a quarter of that.
+pub const MAX_KEPT_SIZE: u32 = 4096;
+
 /// An RGBA image with its mipmaps: colour in sRGB, alpha linear, 4 bytes a texel, rows top first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ImageData {
@@ -17,8 +22,11 @@ pub struct ImageData {
     pub width: u32,
     /// Height of level 0 in texels.
     pub height: u32,
-    /// Level 0 (the image itself), then each level half the size of the one before, down to 1x1.
+    /// Level 0 (the image itself, or its first mipmap within [`MAX_KEPT_SIZE`]), then each level
+    /// half the size of the one before, down to 1x1.
     pub levels: Vec<Vec<u8>>,
+    /// The size it was decoded at, where that was larger than umbra keeps.
+    pub shrunk_from: Option<(u32, u32)>,
 }
 
 /// How texels are blended.
@@ -161,20 +169,28 @@ pub enum DecodeError {
 }
 
 impl ImageData {
-    /// An image from RGBA bytes (sRGB colour, linear alpha), with its mipmaps made.
+    /// An image from RGBA bytes (sRGB colour, linear alpha), with its mipmaps made; one larger
+    /// than [`MAX_KEPT_SIZE`] keeps its first mipmap that fits, and the levels after it.
     #[must_use]
     pub fn new(name: &str, width: u32, height: u32, rgba: Vec<u8>) -> ImageData {
-        let (width, height) = (width.max(1), height.max(1));
+        let decoded = (width.max(1), height.max(1));
         let mut rgba = rgba;
-        rgba.resize(width as usize * height as usize * 4, 255);
+        rgba.resize(decoded.0 as usize * decoded.1 as usize * 4, 255);
         let mut levels = vec![rgba];
-        let (mut w, mut h) = (width, height);
+        let (mut w, mut h) = decoded;
+        let mut kept = decoded;
         while w > 1 || h > 1 {
             let (next, nw, nh) = half(levels.last().map_or(&[][..], |l| l), w, h);
+            // A level larger than umbra keeps gives way to the one made from it.
+            if w.max(h) > MAX_KEPT_SIZE {
+                levels.clear();
+                kept = (nw, nh);
+            }
             levels.push(next);
             (w, h) = (nw, nh);
         }
-        ImageData { name: name.to_string(), width, height, levels }
+        let shrunk_from = (kept != decoded).then_some(decoded);
+        ImageData { name: name.to_string(), width: kept.0, height: kept.1, levels, shrunk_from }
     }
 
     /// The width and height of mipmap level `level`.
@@ -279,6 +295,19 @@ mod tests {
         let rgba =
             (0..n * n).flat_map(|i| if (i % n + i / n).is_multiple_of(2) { [255, 0, 0, 255] } else { [0, 0, 255, 0] });
         ImageData::new("checker", n, n, rgba.collect())
+    }
+
+    #[test]
+    fn an_image_wider_than_umbra_keeps_keeps_its_first_mipmap_that_fits() {
+        let wide = MAX_KEPT_SIZE * 2;
+        let rgba: Vec<u8> = (0..wide * 2).flat_map(|i| [(i % 256) as u8, 0, 0, 255]).collect();
+        let (first, ..) = half(&rgba, wide, 2);
+        let image = ImageData::new("wide", wide, 2, rgba);
+        assert_eq!((image.width, image.height, image.shrunk_from), (MAX_KEPT_SIZE, 1, Some((wide, 2))));
+        assert_eq!(image.levels[0], first, "level 0 is the first mipmap");
+        assert_eq!(image.levels.len(), MAX_KEPT_SIZE.ilog2() as usize + 1, "down to 1x1");
+        let fits = ImageData::new("fits", MAX_KEPT_SIZE, 1, vec![9; MAX_KEPT_SIZE as usize * 4]);
+        assert_eq!((fits.width, fits.shrunk_from), (MAX_KEPT_SIZE, None));
     }
 
     #[test]

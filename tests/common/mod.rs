@@ -18,6 +18,14 @@ pub fn scratch(name: &str) -> std::path::PathBuf {
     dir
 }
 
+/// The most this process was ever resident, in bytes (Linux's VmHWM); `None` elsewhere.
+pub fn peak_resident() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: u64 = line.trim_start_matches("VmHWM:").trim().trim_end_matches("kB").trim().parse().ok()?;
+    Some(kib * 1024)
+}
+
 /// An 8-bit RGBA PNG as umbra writes them (`render --out`, screenshots), or `None` while the file
 /// is missing or not whole.
 pub fn read_png(path: &std::path::Path) -> Option<Image> {

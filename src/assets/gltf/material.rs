@@ -5,7 +5,10 @@
 use super::accessor::Data;
 use super::budget::Budget;
 use super::container::{Source, read_uri};
-use crate::assets::texture::{DecodeError, Filter, ImageData, Sampling, TextureData, UvTransform, Wrap, decode_image};
+use crate::assets::texture::{
+    DecodeError, Filter, ImageData, MAX_KEPT_SIZE, Sampling, TextureData, UvTransform, Wrap, decode_image,
+    mipmapped_bytes,
+};
 use crate::components::{AlphaMode, Material};
 use glam::{Vec2, Vec3};
 use std::borrow::Cow;
@@ -135,7 +138,19 @@ impl<'s, 'd> Materials<'s, 'd> {
             decode_image(&label, &b, |n| budget.spend(n))
         });
         let image = match decoded {
-            Ok(image) => Some(Arc::new(image)),
+            Ok(image) => {
+                if let Some((w, h)) = image.shrunk_from {
+                    warnings.push(format!(
+                        "{label} is {w}x{h}; it is drawn at {}x{} (its first mipmap within {MAX_KEPT_SIZE}², the \
+                         largest umbra keeps: the whole image would take {} MB, and as much again on a software \
+                         adapter)",
+                        image.width,
+                        image.height,
+                        mipmapped_bytes(w, h) / 1_000_000
+                    ));
+                }
+                Some(Arc::new(image))
+            }
             Err(DecodeError::Broken(why)) => {
                 warnings.push(format!(
                     "{label} cannot be read ({why}); the materials that use it keep their base colour alone"
