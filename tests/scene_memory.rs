@@ -7,23 +7,19 @@
 mod common;
 
 use common::gltf::TestModel;
-use umbra::render::{HEADLESS_FORMAT, Renderer, render_headless};
-use umbra::{App, Settings};
 
 #[test]
 fn a_model_of_100_000_nodes_is_drawn_in_under_a_gigabyte() {
     let path = common::scratch("scene-memory").join("many.gltf");
     std::fs::write(&path, TestModel::instanced(100_000).gltf_embedded()).unwrap();
-    let mut app = App::new(Settings::default().with(|s| s.scene.model = Some(path))).unwrap();
-    app.resize(1280, 720);
-    app.set_time(2.0);
-    let gpu = common::gpu();
-    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
-    let image = render_headless(&gpu, &mut renderer, &mut app, 1280, 720).unwrap();
-    assert!(image.pixels.chunks(4).any(|p| p[..3] != image.pixels[..3]), "a picture came out");
+    let (app, _) = common::draw_model(path);
     let drawn = app.world.resource::<umbra::render::ShadowStats>().drawn();
     assert!(drawn > 0, "the model's shadows were drawn");
     let Some(peak) = common::peak_resident() else { return };
-    eprintln!("100,000 nodes drawn at 1280x720 on {}: peak resident {:.0} MB", gpu.describe(), peak as f64 / 1e6);
+    eprintln!(
+        "100,000 nodes drawn at 1280x720 on {}: peak resident {:.0} MB",
+        common::gpu().describe(),
+        peak as f64 / 1e6
+    );
     assert!(peak < 1_000_000_000, "peak resident {peak} bytes: over 1 GB");
 }

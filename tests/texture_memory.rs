@@ -7,8 +7,7 @@
 mod common;
 
 use common::gltf::TestModel;
-use umbra::render::{HEADLESS_FORMAT, Renderer, render_headless};
-use umbra::{App, Settings};
+use umbra::assets::TextureLibrary;
 
 #[test]
 fn a_model_with_an_8192_texture_is_drawn_in_under_a_gigabyte() {
@@ -28,14 +27,17 @@ fn a_model_with_an_8192_texture_is_drawn_in_under_a_gigabyte() {
     let path = common::scratch("texture-memory").join("big.glb");
     std::fs::write(&path, TestModel::new().with_texture(&png, None).glb()).unwrap();
     drop(png);
-    let mut app = App::new(Settings::default().with(|s| s.scene.model = Some(path))).unwrap();
-    app.resize(1280, 720);
-    app.set_time(2.0);
-    let gpu = common::gpu();
-    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
-    let image = render_headless(&gpu, &mut renderer, &mut app, 1280, 720).unwrap();
-    assert!(image.pixels.chunks(4).any(|p| p[..3] != image.pixels[..3]), "a picture came out");
+    let (app, _) = common::draw_model(path);
+    let kept: Vec<_> =
+        app.world.resource::<TextureLibrary>().all().iter().map(|t| (t.image.width, t.image.height)).collect();
+    let most = umbra::assets::MAX_KEPT_SIZE;
+    // The model's texture beside the sample scene's own, from its first mipmap within 4096².
+    assert!(kept.contains(&(most, most)) && kept.iter().all(|&(w, h)| w.max(h) <= most), "{kept:?}");
     let Some(peak) = common::peak_resident() else { return };
-    eprintln!("an 8192² texture drawn at 1280x720 on {}: peak resident {:.0} MB", gpu.describe(), peak as f64 / 1e6);
+    eprintln!(
+        "an 8192² texture drawn at 1280x720 on {}: peak resident {:.0} MB",
+        common::gpu().describe(),
+        peak as f64 / 1e6
+    );
     assert!(peak < 1_000_000_000, "peak resident {peak} bytes: over 1 GB");
 }

@@ -10,7 +10,7 @@ pub const MAX_TEXTURE_SIZE: u32 = 8192;
 
 /// Widest and tallest image umbra keeps: a larger one is kept from its first mipmap that fits. An
 /// 8192² image with its mipmaps is 358 MB, and a software adapter's texture holds as much again
-/// in the same process (`tests/scene_memory.rs`); at 4096² each is a quarter of that.
+/// in the same process (`tests/texture_memory.rs`); at 4096² each is a quarter of that.
 pub const MAX_KEPT_SIZE: u32 = 4096;
 
 /// An RGBA image with its mipmaps: colour in sRGB, alpha linear, 4 bytes a texel, rows top first.

@@ -148,6 +148,6 @@ mod tests {
             assert_eq!(header(&data, start, level, 3) as usize, first + cells, "level {level}");
             cells += 6 * (side * side) as usize;
         }
-        assert!(cells * 8 < levels * (PAGE_GRID * PAGE_GRID) as usize, "a tenth of a whole window per level");
+        assert!(cells * 8 < levels * (PAGE_GRID * PAGE_GRID) as usize, "under an eighth of a whole window per level");
     }
 }

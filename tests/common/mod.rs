@@ -18,6 +18,19 @@ pub fn scratch(name: &str) -> std::path::PathBuf {
     dir
 }
 
+/// The sample scene with the model at `path` placed in it, drawn at 1280x720 as `umbra render
+/// --model` draws it (t = 2 s), checked to have made a picture.
+pub fn draw_model(path: std::path::PathBuf) -> (App, Image) {
+    let mut app = App::new(umbra::Settings::default().with(|s| s.scene.model = Some(path))).unwrap();
+    app.resize(1280, 720);
+    app.set_time(2.0);
+    let gpu = gpu();
+    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
+    let image = render_headless(&gpu, &mut renderer, &mut app, 1280, 720).unwrap();
+    assert!(image.pixels.chunks(4).any(|p| p[..3] != image.pixels[..3]), "a picture came out");
+    (app, image)
+}
+
 /// The most this process was ever resident, in bytes (Linux's VmHWM); `None` elsewhere.
 pub fn peak_resident() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
