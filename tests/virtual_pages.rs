@@ -127,7 +127,7 @@ fn virtual_maps_put_the_suns_shadows_where_the_truth_does_with_fewer_wrong_pixel
     assert!(by_pages.misclassified() * 3.0 < by_coarse.misclassified(), "the pages are read, not the coarse map");
     assert!(deep_shadow_dark(&frame, &truth, 3) > 0.999);
     let capacity = virt.world.resource::<SharedPool>().pages.capacity();
-    assert!(p.resident <= capacity && capacity == 512, "32 MiB of 128² depth pages");
+    assert!(p.resident <= capacity && capacity == 2048, "32 MiB of 64² depth pages");
     assert!(p.resident > 100 && p.marked.residency.missing == 0, "{:?}", p.marked);
 }
 
@@ -161,8 +161,8 @@ fn a_pool_too_small_reads_coarser_levels_counts_what_it_lacks_and_leaves_no_deep
     let gpu = gpu();
     let Some((_, mut app, frame)) = primed(&gpu, |s| s.maps.page_memory = 1) else { return };
     let p = pages(&mut app);
-    assert_eq!(app.world.resource::<SharedPool>().pages.capacity(), 16, "1 MiB of 128² depth pages");
-    assert!(p.resident <= 16);
+    assert_eq!(app.world.resource::<SharedPool>().pages.capacity(), 64, "1 MiB of 64² depth pages");
+    assert!(p.resident <= 64);
     assert!(p.pressure.octaves > 0.0, "coarser: {:?}", p.pressure);
     let (tally, truth) = sun_tally(&mut app, &frame);
     assert!(deep_shadow_dark(&frame, &truth, 6) > 0.98);

@@ -16,9 +16,9 @@ use glam::{IVec2, Mat4, Vec2, Vec3, Vec4};
 pub const CUBE_ACROSS: u32 = 3;
 
 /// Pages a side of each face at the finest level: six faces of them fit a window of
-/// [`PAGE_GRID`] pages (three of 16 across, two down), 1,920 texels across a face, a texel about
+/// [`PAGE_GRID`] pages (three of 32 across, two down), 1,792 texels across a face, a texel about
 /// a millimetre a metre from the light.
-pub const CUBE_FACE_PAGES: u32 = 16;
+pub const CUBE_FACE_PAGES: u32 = 32;
 
 const _: () = assert!(CUBE_ACROSS * CUBE_FACE_PAGES <= PAGE_GRID);
 
@@ -162,7 +162,7 @@ mod tests {
     #[test]
     fn the_faces_lie_side_by_side_in_one_window_at_every_level() {
         let c = cube();
-        assert_eq!(c.levels(), 5);
+        assert_eq!(c.levels(), 6);
         for level in 0..c.levels() {
             let side = c.face(0).pages_across(level) as i32;
             let mut seen = std::collections::HashMap::new();
@@ -176,7 +176,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(c.face_of(PageId { level: 0, x: 48, y: 0 }), None, "past the third face");
+        assert_eq!(c.face_of(PageId { level: 0, x: 3 * CUBE_FACE_PAGES as i32, y: 0 }), None, "past the third face");
         assert_eq!(c.face_of(PageId { level: 0, x: 0, y: -1 }), None);
     }
 

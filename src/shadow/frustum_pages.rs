@@ -219,7 +219,7 @@ mod tests {
         assert_eq!((p.pages, p.levels), (16, 5));
         assert_eq!((0..6).map(|l| p.pages_across(l)).collect::<Vec<_>>(), [16, 8, 4, 2, 1, 1]);
         assert_eq!(p.pages_across(u32::MAX), 1);
-        for (asked, got) in [(0, 1), (1, 1), (3, 2), (100, 64), (128, 64), (u32::MAX, 64)] {
+        for (asked, got) in [(0, 1), (1, 1), (3, 2), (100, 64), (128, 128), (u32::MAX, MAX_FRUSTUM_PAGES)] {
             assert_eq!(FrustumPages::new(p.map, asked).pages, got, "{asked}");
         }
         assert!((p.texel(1, 5.0) - 2.0 * p.texel(0, 5.0)).abs() < 1e-7);
@@ -308,8 +308,8 @@ mod tests {
     #[test]
     fn a_map_takes_the_pages_its_nearest_sharpest_pixel_asks_for() {
         let focal = 1.0 / 30f32.to_radians().tan();
-        // 2 m from the light, 1 mm texels: 2 · 2 · tan 30° / 0.001 = 2,309 texels, 20 pages, 32.
-        assert_eq!(pages_for(focal, 2.0, 0.001), 32);
+        // 2 m from the light, 1 mm texels: 2 · 2 · tan 30° / 0.001 = 2,309 texels, 42 pages, 64.
+        assert_eq!(pages_for(focal, 2.0, 0.001), 64);
         assert_eq!(pages_for(focal, 2.0, 1.0), 1, "a far, coarse light takes one page");
         assert_eq!(pages_for(focal, 2.0, 1e-9), MAX_FRUSTUM_PAGES);
         for odd in [f32::NAN, 0.0, -3.0, f32::INFINITY] {

@@ -17,14 +17,14 @@ use glam::camera::rh::proj::directx;
 use glam::{IVec2, Mat4, Vec2, Vec3};
 
 /// Texels a side of the atlas tile a page is drawn into.
-pub const PAGE_TILE: u32 = 128;
+pub const PAGE_TILE: u32 = 64;
 /// Texels of border on each side of a page's tile: as far as any filter reaches past the texel
 /// it samples ([`crate::components::ShadowMethod::reach`]), as a cube face's margin.
 pub const PAGE_BORDER: u32 = 4;
 /// Texels a side of a page's own square: the spacing of pages on their level's grid.
 pub const PAGE_TEXELS: u32 = PAGE_TILE - 2 * PAGE_BORDER;
 /// Pages along a side of a level's window round the camera.
-pub const PAGE_GRID: u32 = 64;
+pub const PAGE_GRID: u32 = 128;
 /// Most levels a clipmap has.
 pub const MAX_PAGE_LEVELS: u32 = 16;
 /// log2 of the finest level's texel in metres: about a millimetre.

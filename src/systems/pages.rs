@@ -300,7 +300,7 @@ fn page_layer(space: &PageSpace, slot: u32, r: &Resident<LightPage>) -> ShadowLa
 mod tests {
     use super::*;
     use crate::light::LayerFit;
-    use crate::shadow::{Change, Clipmap, MARK_WORDS, PageMarks};
+    use crate::shadow::{Change, Clipmap, MARK_WORDS, PAGE_GRID, PageMarks};
     use glam::{Vec2, Vec3};
 
     fn clipmap() -> Clipmap {
@@ -366,11 +366,12 @@ mod tests {
         let (fit, light) = (fit(), Entity::from_bits(42));
         let (mut map, mut pool) = (ShadowMap::default(), SharedPool::default());
         let window = clipmap().window(0, Vec2::ZERO);
-        let marked = marks(&fit, 1, light, 0, &[0, 2080]);
+        let camera_page = (PAGE_GRID / 2 * (PAGE_GRID + 1)) as usize;
+        let marked = marks(&fit, 1, light, 0, &[0, camera_page]);
         refresh(&mut pool, &mut map, light, &fit, &how(Some(&marked), &CasterChanges::default()));
         refresh(&mut pool, &mut map, light, &fit, &how(Some(&marked), &CasterChanges::default()));
         // A small box inside the second page's square, seen along the light.
-        let (min, max) = clipmap().footprint(window.page(2080));
+        let (min, max) = clipmap().footprint(window.page(camera_page));
         let centre = (min + max) * 0.5;
         let world = clipmap().light_from_world.inverse().transform_point3(centre.extend(0.0));
         let moved = CasterChanges { moved: vec![Aabb::new(world - 0.01, world + 0.01)], settled: Vec::new() };
@@ -503,12 +504,12 @@ mod tests {
     #[test]
     fn the_pool_holds_the_page_memory_and_the_budget_limits_new_pages() {
         let settings = MapSettings { page_memory: 32, ..MapSettings::default() };
-        assert_eq!(pool_capacity(&settings, 4, PAGE_TILE), 512, "32 MiB of 128² depth pages");
-        assert_eq!(pool_capacity(&settings, 8, PAGE_TILE), 256);
-        assert_eq!(pool_capacity(&settings, 4, PAGE_TILE / 2), 128, "squeezed tiles, fewer pages");
+        assert_eq!(pool_capacity(&settings, 4, PAGE_TILE), 2048, "32 MiB of 64² depth pages");
+        assert_eq!(pool_capacity(&settings, 8, PAGE_TILE), 1024);
+        assert_eq!(pool_capacity(&settings, 4, PAGE_TILE / 2), 512, "squeezed tiles, fewer pages");
         assert_eq!(pool_capacity(&settings, 0, 0), 0);
         assert_eq!(admit_limit(&settings), usize::MAX);
-        assert_eq!(admit_limit(&MapSettings { shadow_updates: 1 << 20, ..settings }), 64);
+        assert_eq!(admit_limit(&MapSettings { shadow_updates: 1 << 20, ..settings }), 256);
         assert_eq!(admit_limit(&MapSettings { shadow_updates: 1024, ..settings }), 1);
         assert_eq!(coarse_side(&MapSettings { shadow_map_size: 256, ..settings }), 256);
     }

@@ -335,8 +335,8 @@ mod tests {
         }
         world.run_system_once(size_shadow_maps).unwrap();
         let atlas = *world.resource::<ShadowAtlas>();
-        // The pool once (32 MiB of 128² depth pages), the sun's 1024² coarse map, the spot's 256²
-        // and each lamp's six 128² faces: 512 + 64 + 4 + 600 tiles of 128².
+        // The pool once (32 MiB of depth pages), the sun's 1024² coarse map, the spot's 256² and
+        // each lamp's six 128² faces: 512 + 64 + 4 + 600 tiles of 128².
         let tiles = 512 + 64 + 4 + 100 * 6;
         assert!(atlas.shape.texels() >= tiles * 128 * 128, "{atlas:?}");
         assert!(atlas.bytes() < 2 * tiles * 128 * 128 * 4, "about what they need, not a pool each: {atlas:?}");

@@ -173,7 +173,7 @@ pub const CASES: [Case; 25] = [
     },
     Case {
         name: "starved-budget",
-        measures: "misclassified share of three spots' ground while a budget of one spot's atlas tile a frame (in texels, paged or not) serves their sliding posts, 4 cm a frame (a wait past 8 frames and a turn: 100%)",
+        measures: "misclassified share of three spots' ground while a budget of a third of what their slides redraw unlimited (one spot's share: a spot's atlas tile, or the pages its posts cross) serves their sliding posts, 4 cm a frame (a wait past 8 frames and a turn: 100%)",
         threshold: 0.05,
         run: budget::starved_budget,
     },

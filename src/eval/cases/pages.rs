@@ -188,7 +188,7 @@ pub fn moving_caster(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score,
     Ok(score)
 }
 
-/// The pool-too-small case's page memory, MiB: 16 pages of 128².
+/// The pool-too-small case's page memory, MiB: 64 pages of 64².
 pub const SMALL_POOL: u32 = 1;
 
 /// Where the pool-too-small case looks at its poles from, and at.
