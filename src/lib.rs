@@ -71,6 +71,15 @@ macro_rules! named_choices {
             }
         }
 
+        impl $crate::NamedChoice for $ty {
+            fn all() -> &'static [$ty] {
+                Self::ALL
+            }
+            fn choice_name(self) -> &'static str {
+                self.name()
+            }
+        }
+
         impl std::str::FromStr for $ty {
             type Err = String;
             fn from_str(s: &str) -> Result<$ty, String> {
@@ -81,6 +90,15 @@ macro_rules! named_choices {
             }
         }
     };
+}
+
+/// A setting chosen by name from one table (each written by `named_choices!`): what the command
+/// line lists in its help and parses, and the keys step through.
+pub trait NamedChoice: Copy + Send + Sync + 'static {
+    /// Every choice, in the table's order.
+    fn all() -> &'static [Self];
+    /// The choice's name as the command line spells it.
+    fn choice_name(self) -> &'static str;
 }
 
 pub mod assets;

@@ -2,8 +2,8 @@
 
 use anyhow::Result;
 use clap::Args;
+use clap::builder::TypedValueParser;
 use std::path::PathBuf;
-use umbra::Settings;
 use umbra::components::ShadowMethod;
 use umbra::reproduce::{
     LightSetting, parse_bias, parse_contact, parse_method, parse_size as parse_light_size, parse_texels,
@@ -13,6 +13,13 @@ use umbra::settings::{
     ShadowDepth, ShadowFaces, ShadowSettings, SunMaps, TileSizes, ViewSettings,
 };
 use umbra::shadow::FitMode;
+use umbra::{NamedChoice, Settings};
+
+/// The parser of a setting chosen by name: it takes the names of the table the settings read,
+/// and its help lists them all from there.
+fn choice<T: NamedChoice + std::str::FromStr<Err = String>>() -> impl clap::builder::TypedValueParser<Value = T> {
+    clap::builder::PossibleValuesParser::new(T::all().iter().map(|c| c.choice_name())).try_map(|name| name.parse::<T>())
+}
 
 /// Settings shared by every command.
 #[derive(Args, Clone, Default)]
@@ -80,18 +87,18 @@ pub struct SceneArgs {
     pub cascade_blend: Option<f32>,
     /// How cascades are fitted: stable (no shimmer), unsnapped, tight (sharper, shimmers) or
     /// sdsm (to what the camera saw: splits and boxes from a reduction of its depth buffer).
-    #[arg(long, value_name = "MODE")]
+    #[arg(long, value_name = "MODE", value_parser = choice::<FitMode>())]
     pub fit: Option<FitMode>,
     /// How the sun's shadow is laid out: cascades (the default), or virtual (a clipmap of
-    /// 128² pages round the camera, each drawn once and kept, at the resolution the visible
+    /// 64² pages round the camera, each drawn once and kept, at the resolution the visible
     /// pixels need; depth methods only).
-    #[arg(long, value_name = "KIND")]
+    #[arg(long, value_name = "KIND", value_parser = choice::<SunMaps>())]
     pub sun_maps: Option<SunMaps>,
     /// How spot and point lights' shadows are laid out: atlas (the default: tiles sized by what
-    /// each light shows), or virtual (a spot's map or a point light's cube in 128² pages, every
+    /// each light shows), or virtual (a spot's map or a point light's cube in 64² pages, every
     /// level over the whole map, each drawn once and kept, at the resolution the visible pixels
     /// need; depth methods only).
-    #[arg(long, value_name = "KIND")]
+    #[arg(long, value_name = "KIND", value_parser = choice::<LightMaps>())]
     pub light_maps: Option<LightMaps>,
     /// Octaves (-4..4) coarser than each pixel's footprint its virtual page is chosen (negative:
     /// finer, more pages; default -1, two texels across a pixel).
@@ -105,9 +112,11 @@ pub struct SceneArgs {
     /// Tint each cascade in its own colour.
     #[arg(long)]
     pub cascade_debug: bool,
-    /// How shadow maps are sampled, for every light without a method of its own: nearest,
-    /// bilinear, pcf3, pcf5, gauss5, poisson16, poisson32, pcss, vsm, evsm, evsm2 (EVSM's positive warp alone), msm, msm-hausdorff (MSM's bound knowing depths lie in 0..1), r32f (depth in an R32F colour target), r16f-radial (distance from the light in R16F) or planar (shadows projected onto the ground, no map).
-    #[arg(long, alias = "filter", value_name = "METHOD")]
+    /// How shadow maps are sampled, for every light without a method of its own (evsm2: EVSM's
+    /// positive warp alone; msm-hausdorff: MSM's bound knowing depths lie in 0..1; r32f: depth in
+    /// an R32F colour target; r16f-radial: distance from the light in R16F; planar: shadows
+    /// projected onto the ground, no map).
+    #[arg(long, alias = "filter", value_name = "METHOD", value_parser = choice::<ShadowMethod>())]
     pub method: Option<ShadowMethod>,
     /// Blur radius of moment maps (vsm, evsm, evsm2, msm) in texels, 0..16 (0: none).
     #[arg(long, value_name = "TEXELS")]
@@ -116,24 +125,24 @@ pub struct SceneArgs {
     #[arg(long, value_name = "0..0.9")]
     pub light_bleeding: Option<f32>,
     /// Float bits per moment: auto (each method's own choice), 16 or 32.
-    #[arg(long, value_name = "BITS")]
+    #[arg(long, value_name = "BITS", value_parser = choice::<MomentBits>())]
     pub moment_bits: Option<MomentBits>,
     /// How moment maps are made: depth (resolved from the depth map), depth/2 or depth/4 (at
     /// half or a quarter of its side, each texel the mean of 2x2 or 4x4 depth texels), or
     /// colour (drawn as a colour target of their own).
-    #[arg(long, value_name = "SOURCE")]
+    #[arg(long, value_name = "SOURCE", value_parser = choice::<MomentSource>())]
     pub moments_from: Option<MomentSource>,
     /// How moments resolved from depth are made: compute (one dispatch resolves and blurs in
     /// shared memory), passes (full-screen passes: resolve, rows, columns) or auto (compute on a
     /// GPU, passes on a software rasterizer).
-    #[arg(long, value_name = "HOW")]
+    #[arg(long, value_name = "HOW", value_parser = choice::<MomentResolve>())]
     pub moment_resolve: Option<MomentResolve>,
     /// Samples per texel of moment maps resolved from depth: 1, or 2, 4 or 8 (the depth map
     /// drawn multisampled at the moment map's size, each texel the mean of its samples).
     #[arg(long, value_name = "N")]
     pub moment_samples: Option<u32>,
     /// Format of the depth maps: d32 (32-bit float) or d16 (16-bit fixed point, half the memory).
-    #[arg(long, value_name = "FORMAT")]
+    #[arg(long, value_name = "FORMAT", value_parser = choice::<ShadowDepth>())]
     pub shadow_depth: Option<ShadowDepth>,
     /// Filters compare every tap with the lookup's centre, not with the receiver's plane (for
     /// every light without a bias of its own; key R in play).
@@ -148,14 +157,14 @@ pub struct SceneArgs {
     pub toon: Option<u32>,
     /// Which casters shadow maps take: light (all in the light's volume) or camera (only those
     /// the camera sees, a shortcut that loses off-screen casters).
-    #[arg(long, value_name = "MODE")]
+    #[arg(long, value_name = "MODE", value_parser = choice::<CasterCulling>())]
     pub culling: Option<CasterCulling>,
     /// Which caster faces shadow maps take: both, or back (only those turned away from the light).
-    #[arg(long, value_name = "FACES")]
+    #[arg(long, value_name = "FACES", value_parser = choice::<ShadowFaces>())]
     pub shadow_faces: Option<ShadowFaces>,
     /// How big lights' shadow tiles are: screen (by what each shows, the default), fixed (every
     /// layer at the map size) or bevy (spots at the map size, point lights' faces at half).
-    #[arg(long, value_name = "POLICY")]
+    #[arg(long, value_name = "POLICY", value_parser = choice::<TileSizes>())]
     pub tile_sizes: Option<TileSizes>,
     /// Draw every shadow map every frame instead of only those of dirty lights.
     #[arg(long)]

@@ -47,8 +47,8 @@ fn bad_arguments_are_named_and_fail() {
     let dir = scratch("bad");
     let cases: [(&[&str], &str); 30] = [
         (&["render", "--bias-scale", "0.9"], "bias_scale"),
-        (&["render", "--shadow-depth", "d8"], "not a depth-map format"),
-        (&["render", "--moment-bits", "24"], "not a moment-map precision"),
+        (&["render", "--shadow-depth", "d8"], "'d8' for '--shadow-depth <FORMAT>'\n  [possible values: d32, d16]"),
+        (&["render", "--moment-bits", "24"], "[possible values: auto, 16, 32]"),
         (&["render", "--moment-blur", "99"], "moment_blur"),
         (&["render", "--light-bleeding", "1"], "light_bleeding"),
         (&["bench", "--shadow-map-size", "512"], "apply to `bench --cache` only"),
@@ -56,7 +56,7 @@ fn bad_arguments_are_named_and_fail() {
         (&["render", "--width", "-5"], "not a size"),
         (&["render", "--cascades", "5"], "cascades"),
         (&["render", "--split-lambda", "2"], "split_lambda"),
-        (&["render", "--fit", "loose"], "not a fit mode"),
+        (&["render", "--fit", "loose"], "'loose' for '--fit <MODE>'"),
         (&["bench", "--frames", "0"], "--frames"),
         (&["render", "--height", "0"], "not a size"),
         (&["render", "--time", "nan"], "not a time"),
@@ -73,7 +73,7 @@ fn bad_arguments_are_named_and_fail() {
         (&["render", "--eye", "1,2", "--target", "0,0,0"], "not a point"),
         (&["play", "--measure-scale", "9"], "--measure-scale"),
         (&["render", "--sun-maps", "virtual", "--method", "vsm"], "vsm reads a colour map"),
-        (&["render", "--sun-maps", "paged"], "not a kind of sun maps"),
+        (&["render", "--sun-maps", "paged"], "[possible values: cascades, virtual]"),
         (&["render", "--page-bias", "9"], "page_bias"),
         (&["render", "--page-memory", "200"], "page_memory"),
     ];
@@ -226,13 +226,25 @@ fn no_adapter_is_a_clear_error_not_a_panic() {
 }
 
 #[test]
-fn help_lists_every_shadow_method_the_parser_takes() {
+fn help_lists_every_shadow_method_the_parser_takes_and_a_wrong_one_is_refused_with_them() {
     let dir = std::env::temp_dir();
     let help = String::from_utf8(umbra(&["render", "--help"], &dir).stdout).unwrap();
-    let line = help.lines().find(|l| l.trim_start().starts_with("--method")).expect("--method is listed");
-    let words: Vec<&str> = line.split(|c: char| !(c.is_ascii_alphanumeric() || c == '-')).collect();
+    // The option's entry: its line and what follows up to the next option.
+    let entry: String = help
+        .lines()
+        .skip_while(|l| !l.trim_start().starts_with("--method"))
+        .enumerate()
+        .take_while(|(i, l)| *i == 0 || !l.trim_start().starts_with('-'))
+        .map(|(_, l)| format!("{l}\n"))
+        .collect();
+    let listed = entry.split("[possible values:").nth(1).expect("--method lists its values");
+    let words: Vec<&str> = listed.split(|c: char| !(c.is_ascii_alphanumeric() || c == '-')).collect();
     for method in umbra::components::ShadowMethod::ALL {
         assert_eq!(method.name().parse::<umbra::components::ShadowMethod>(), Ok(*method));
-        assert!(words.contains(&method.name()), "--help does not list {}: {line}", method.name());
+        assert!(words.contains(&method.name()), "--help does not list {}: {entry}", method.name());
     }
+    let wrong = umbra(&["render", "--method", "blurry", "--out", "never.png"], &dir);
+    let err = String::from_utf8(wrong.stderr).unwrap();
+    assert!(!wrong.status.success() && err.contains("--method") && err.contains("msm-hausdorff"), "{err}");
+    assert!(!dir.join("never.png").exists());
 }
