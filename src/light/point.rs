@@ -9,8 +9,8 @@ use bevy_ecs::prelude::*;
 use glam::{Vec3, Vec4};
 
 /// Texels a side of each face of a paged point light's coarse cube: a fallback while its pages
-/// come (six 128² faces, 384 KiB).
-pub const POINT_COARSE: u32 = 128;
+/// come (six 64² faces, 96 KiB: a bobbing lamp redraws them every frame, so they are kept small).
+pub const POINT_COARSE: u32 = 64;
 
 /// Light from `position` every way, out to `range`.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -335,11 +335,11 @@ mod tests {
         }
         world.run_system_once(size_shadow_maps).unwrap();
         let atlas = *world.resource::<ShadowAtlas>();
-        // The pool once (32 MiB of depth pages), the sun's 1024² coarse map, the spot's 256² and
-        // each lamp's six 128² faces: 512 + 64 + 4 + 600 tiles of 128².
-        let tiles = 512 + 64 + 4 + 100 * 6;
-        assert!(atlas.shape.texels() >= tiles * 128 * 128, "{atlas:?}");
-        assert!(atlas.bytes() < 2 * tiles * 128 * 128 * 4, "about what they need, not a pool each: {atlas:?}");
+        // The pool once (32 MiB of 64² depth pages), the sun's 1024² coarse map, the spot's 256²
+        // and each lamp's six 64² faces: 2048 + 256 + 16 + 600 tiles of 64².
+        let tiles = 2048 + 256 + 16 + 100 * 6;
+        assert!(atlas.shape.texels() >= tiles * 64 * 64, "{atlas:?}");
+        assert!(atlas.bytes() < 2 * tiles * 64 * 64 * 4, "about what they need, not a pool each: {atlas:?}");
         let mut maps = world.query::<&ShadowMap>();
         assert!(maps.iter(&world).all(|m| m.resolution == PAGE_TILE), "a paged light's pages are the pool's");
     }
