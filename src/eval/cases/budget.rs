@@ -229,11 +229,11 @@ pub fn starved_budget(m: &mut Measurer<'_>, settings: &Settings) -> Result<Score
     let app = &mut m.subject(STARVED, &unlimited, starved_scene)?.app;
     slide_posts(app, 0);
     measure_at(m, STARVED, "start", |_| {})?;
+    measure_at(m, STARVED, "1", |app| slide_posts(app, 1))?;
     let mut slid = 0;
-    for frame in 1..=SHARE_FRAMES + 1 {
+    for frame in 2..=SHARE_FRAMES + 1 {
         measure_at(m, STARVED, &format!("{frame}"), |app| slide_posts(app, frame))?;
-        let (app, _) = m.parts(STARVED)?;
-        slid += if frame > 1 { app.world.resource::<ShadowStats>().texels } else { 0 };
+        slid += m.parts(STARVED)?.0.world.resource::<ShadowStats>().texels;
     }
     let share = slid / u64::from(SHARE_FRAMES) / STARVED_SPOTS as u64;
     let budget = u32::try_from(share).unwrap_or(u32::MAX).max(crate::settings::MIN_SHADOW_UPDATES);
