@@ -93,6 +93,11 @@ impl CameraDepth {
         CameraDepth { pipelines, camera, instances: InstanceBuffer::new(device, &palette.layout), target: None }
     }
 
+    /// The texture last drawn, if any.
+    pub fn view(&self) -> Option<&wgpu::TextureView> {
+        self.target.as_ref().map(|(view, _)| view)
+    }
+
     /// Draws `data`'s surfaces as its camera sees them into a texture of `size`; returns the
     /// texture when it was made anew (the main pass must bind it).
     pub fn encode(

@@ -9,8 +9,8 @@ pub struct DepthCompute {
     label: &'static str,
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
-    /// The bind group, and which depth buffer it binds (made again only for a new one).
-    bound: Option<(u64, wgpu::BindGroup)>,
+    /// The bind group, and the depth buffer it binds (made again only for another one).
+    bound: Option<(wgpu::TextureView, wgpu::BindGroup)>,
 }
 
 impl DepthCompute {
@@ -54,18 +54,17 @@ impl DepthCompute {
         DepthCompute { label, pipeline, layout, bound: None }
     }
 
-    /// Records `groups` workgroups reading `depth` (with a number that changes whenever the
-    /// buffer is made anew), `uniform` and `inputs` (the same buffers every call), and writing
-    /// `words`.
+    /// Records `groups` workgroups reading `depth`, `uniform` and `inputs` (the same buffers
+    /// every call), and writing `words`.
     pub fn dispatch(
         &mut self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         (uniform, words, inputs): (&wgpu::Buffer, &wgpu::Buffer, &[&wgpu::Buffer]),
-        (depth, made): (&wgpu::TextureView, u64),
+        depth: &wgpu::TextureView,
         groups: (u32, u32),
     ) {
-        if self.bound.as_ref().is_none_or(|(m, _)| *m != made) {
+        if self.bound.as_ref().is_none_or(|(bound, _)| bound != depth) {
             let mut entries = vec![
                 wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(depth) },
@@ -80,7 +79,7 @@ impl DepthCompute {
                 layout: &self.layout,
                 entries: &entries,
             });
-            self.bound = Some((made, bind_group));
+            self.bound = Some((depth.clone(), bind_group));
         }
         let (_, bind_group) = self.bound.as_ref().expect("made above");
         let mut pass = encoder

@@ -70,15 +70,14 @@ impl DepthReduction {
         }
     }
 
-    /// Reduces `depth` (the camera's depth buffer, `reduce.size` texels, its depth aspect, with
-    /// a number that changes whenever the buffer is made anew) into the words, binned as
-    /// `binning` says, and copies them out to be read, unless a reading is still under way.
+    /// Reduces `depth` (the camera's depth buffer, `reduce.size` texels, its depth aspect) into
+    /// the words, binned as `binning` says, and copies them out to be read, unless a reading is
+    /// still under way.
     pub fn encode(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         encoder: &mut wgpu::CommandEncoder,
         depth: &wgpu::TextureView,
-        made: u64,
         reduce: Reduce,
         binning: Binning,
     ) {
@@ -88,7 +87,7 @@ impl DepthReduction {
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&reduce));
         queue.write_buffer(&self.words, 0, bytemuck::cast_slice(&initial_words()));
         let groups = (reduce.size[0].div_ceil(8), reduce.size[1].div_ceil(8));
-        self.pass.dispatch(device, encoder, (&self.uniform, &self.words, &[]), (depth, made), groups);
+        self.pass.dispatch(device, encoder, (&self.uniform, &self.words, &[]), depth, groups);
         self.read.copy(encoder, &self.words, binning);
     }
 

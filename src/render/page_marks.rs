@@ -59,14 +59,13 @@ impl PageMarking {
     }
 
     /// Marks the pages the pixels of `depth` (the camera's depth buffer of `data`'s frame, its
-    /// depth aspect, with a number that changes whenever it is made anew, and its size) need of
-    /// the next batch of paged lights, and copies the marks out to be read, unless a reading is
-    /// still under way or no light is paged.
+    /// depth aspect, and its size) need of the next batch of paged lights, and copies the marks
+    /// out to be read, unless a reading is still under way or no light is paged.
     pub fn encode(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         encoder: &mut wgpu::CommandEncoder,
-        (depth, made, size): (&wgpu::TextureView, u64, (u32, u32)),
+        (depth, size): (&wgpu::TextureView, (u32, u32)),
         data: &FrameData,
     ) {
         let paged: Vec<_> = data.lights.iter().filter(|l| l.layer_count > 0 && l.light.pages.is_some()).collect();
@@ -93,7 +92,7 @@ impl PageMarking {
         encoder.clear_buffer(&self.marks, 0, Some((lights.len() * LIGHT_WORDS * 4) as u64));
         // Each invocation marks 4x4 pixels, a workgroup 8x8 invocations.
         let groups = (size.0.div_ceil(32), size.1.div_ceil(32));
-        self.pass.dispatch(device, encoder, (&self.view, &self.marks, &[&self.lights]), (depth, made), groups);
+        self.pass.dispatch(device, encoder, (&self.view, &self.marks, &[&self.lights]), depth, groups);
         self.read.copy(encoder, &self.marks, tags);
     }
 

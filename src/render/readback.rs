@@ -122,11 +122,12 @@ fn prime_sdsm(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u
 pub const PRIME_ROUNDS: u32 = 6;
 
 /// With virtual shadow maps a frame reads the pages the camera's pixels asked for a frame or two
-/// before: a headless frame first draws its view (the clock held) until what it asks for has
-/// slots and is drawn, at most [`PRIME_ROUNDS`] times for each batch of [`MARK_BATCH`] paged
-/// lights (the batches take turns at the marking), so the frame it returns reads the pages its own view needs and is the same
+/// before: a headless frame first draws its view's depth alone (the clock held; see
+/// [`Renderer::render_priming`]) until what it asks for has slots and is drawn, at most
+/// [`PRIME_ROUNDS`] times for each batch of [`MARK_BATCH`] paged lights (the batches take turns
+/// at the marking), so the frame it returns reads the pages its own view needs and is the same
 /// every time. A view whose pages do not all fit the pool stops at the limit, its pixels on
-/// coarser pages.
+/// coarser pages, and says how many lights it left so.
 fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, u32)) -> Result<(), RenderError> {
     // Each paged light's last marking (its number, and what taking it in did) and its
     // pressure since.
@@ -147,11 +148,11 @@ fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, 
     // A marking of an earlier frame still under way would keep this view's from being made.
     renderer.wait_for_samples(gpu);
     app.hear(renderer.news());
-    let texture = gpu.target("page priming", (w, h), HEADLESS_FORMAT)?;
-    let view = texture.create_view(&Default::default());
     // The batches of paged lights take turns at the marking: each has its rounds.
-    for _ in 0..PRIME_ROUNDS as usize * paged(app).len().div_ceil(MARK_BATCH).max(1) {
-        renderer.render(gpu, &app.world, &view, w, h)?;
+    let rounds = PRIME_ROUNDS as usize * paged(app).len().div_ceil(MARK_BATCH).max(1);
+    let (mut unsettled, mut all) = (0, 0);
+    for _ in 0..rounds {
+        renderer.render_priming(gpu, &app.world, (w, h))?;
         renderer.wait_for_samples(gpu);
         app.hear(renderer.news());
         app.step_held();
@@ -168,11 +169,17 @@ fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, 
         let done = |(e, (seen, update, _)): (&_, &(u64, crate::components::PageUpdate, _))| {
             before.get(e).is_none_or(|(then, _, _)| seen > then) && update.settled() && steady.contains(e)
         };
-        if !marked.is_empty() && marked.iter().all(done) {
-            break;
+        (unsettled, all) = (marked.iter().filter(|&m| !done(m)).count(), marked.len());
+        if all > 0 && unsettled == 0 {
+            return Ok(());
         }
         last = marked;
     }
+    let line = format!(
+        "virtual pages: {unsettled} of {all} paged lights still wanted pages after {rounds} priming frames \
+         (the pool too small for the view, or their pressure still moving): their pixels read coarser pages"
+    );
+    app.world.get_resource_or_init::<crate::components::Notices>().0.push(line);
     Ok(())
 }
 

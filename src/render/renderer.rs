@@ -38,6 +38,9 @@ enum Output<'a> {
     Probes(&'a wgpu::TextureView, (u32, u32), &'a wgpu::Buffer, u32, usize),
     /// Nothing but the shadow maps.
     ShadowsOnly,
+    /// The shadow maps, then the camera's depth alone, and from it the virtual pages marked and
+    /// the SDSM reduction made: what a headless frame draws until its view's pages are in.
+    Priming,
 }
 
 /// The camera's depth buffer.
@@ -47,8 +50,6 @@ struct DepthBuffer {
     /// Its depth aspect, which the SDSM reduction reads.
     depth_only: wgpu::TextureView,
     size: (u32, u32),
-    /// How many depth buffers were made before it (so the reduction knows when to bind anew).
-    made: u64,
 }
 
 /// The shadow-map viewer's picture: its view, a number that changes whenever the texture behind
@@ -240,6 +241,13 @@ impl Renderer {
         self.draw(gpu, world, grid, Output::Probes(target, grid, points, count, first_light))
     }
 
+    /// Draws the shadow maps the world needs now, then the camera's depth alone, `size`, and
+    /// marks from it the virtual pages it needs and makes the SDSM fit's reduction: a frame that
+    /// brings in what the view needs for less than a picture costs.
+    pub fn render_priming(&mut self, gpu: &Gpu, world: &World, size: (u32, u32)) -> Result<(), RenderError> {
+        self.draw(gpu, world, size, Output::Priming)
+    }
+
     /// Draws the shadow maps the world needs now and nothing else (what `umbra bench
     /// --shadow-pass` times: the extract, culling and bookkeeping they take included).
     pub fn render_shadow_maps(&mut self, gpu: &Gpu, world: &World) -> Result<(), RenderError> {
@@ -412,7 +420,9 @@ impl Renderer {
             ShadowStats::default()
         };
         self.atlas_stale |= stats.drawn() > 0 || stats.blurred() > 0;
-        if data.frame.contact_steps > 0 && matches!(output, Output::Picture(_) | Output::Measure(..)) {
+        let (sees, priming) =
+            (matches!(output, Output::Picture(_) | Output::Measure(..)), matches!(output, Output::Priming));
+        if (data.frame.contact_steps > 0 && sees) || priming {
             let pass = self
                 .camera_depth
                 .get_or_insert_with(|| CameraDepth::new(device, &self.objects.layout, &self.joints, &self.textures));
@@ -422,10 +432,16 @@ impl Renderer {
             }
         }
         let timer = self.timer.as_ref();
-        let sees = matches!(output, Output::Picture(_) | Output::Measure(..));
-        let reduces = sdsm && sees;
-        let marks = shadows && sees && data.lights.iter().any(|l| l.layer_count > 0 && l.light.pages.is_some());
+        let reduces = sdsm && (sees || priming);
+        let marks =
+            shadows && (sees || priming) && data.lights.iter().any(|l| l.layer_count > 0 && l.light.pages.is_some());
         self.main.keep_depth = reduces || marks;
+        // What the reduction and the marking read: the main pass's depth, or the camera's alone.
+        let seen = match (priming, &self.depth, &self.camera_depth) {
+            (true, _, Some(camera)) => camera.view().cloned(),
+            (false, Some(depth), _) => Some(depth.depth_only.clone()),
+            _ => None,
+        };
         let parts = Part::split(data.draw_order.len(), self.part_draws);
         match output {
             Output::Picture(target) => {
@@ -457,13 +473,15 @@ impl Renderer {
                 data.measure_from(first);
                 self.main.encode_probes(queue, &mut encoder, target, &data, (points, count));
             }
-            Output::ShadowsOnly => {}
+            Output::ShadowsOnly | Output::Priming => {}
         }
-        if reduces {
-            self.reduce_depth(gpu, world, &mut encoder, &data);
-        }
-        if marks {
-            self.mark_pages(gpu, &mut encoder, &data);
+        if let Some(seen) = seen.as_ref().map(|view| (view, (width, height))) {
+            if reduces {
+                self.reduce_depth(gpu, world, &mut encoder, &data, seen);
+            }
+            if marks {
+                self.mark_pages(gpu, &mut encoder, &data, seen);
+            }
         }
         if let Some(timer) = self.timer.as_mut() {
             timer.resolve(&mut encoder);
@@ -534,8 +552,7 @@ impl Renderer {
         let view = texture.create_view(&Default::default());
         let depth_only = texture
             .create_view(&wgpu::TextureViewDescriptor { aspect: wgpu::TextureAspect::DepthOnly, ..Default::default() });
-        let made = self.depth.as_ref().map_or(0, |d| d.made + 1);
-        self.depth = Some(DepthBuffer { view: view.clone(), depth_only, size: (width, height), made });
+        self.depth = Some(DepthBuffer { view: view.clone(), depth_only, size: (width, height) });
         view
     }
 
@@ -553,7 +570,13 @@ impl Renderer {
     /// Marks the pages the camera's pixels need of the paged lights (see
     /// [`super::page_marks`]); says once where the device cannot, and the paged lights then read
     /// their coarse maps alone.
-    fn mark_pages(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, data: &FrameData) {
+    fn mark_pages(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        data: &FrameData,
+        depth: (&wgpu::TextureView, (u32, u32)),
+    ) {
         if !self.computes {
             if !std::mem::replace(&mut self.marks_told, true) {
                 let why = "virtual shadow maps mark their pages in a compute pass, which this device lacks: \
@@ -562,14 +585,20 @@ impl Renderer {
             }
             return;
         }
-        let Some(depth) = &self.depth else { return };
         let marking = self.marking.get_or_insert_with(|| PageMarking::new(&gpu.device));
-        marking.encode((&gpu.device, &gpu.queue), encoder, (&depth.depth_only, depth.made, depth.size), data);
+        marking.encode((&gpu.device, &gpu.queue), encoder, depth, data);
     }
 
     /// Reduces the camera's depth buffer for the SDSM fit, binned along the view and in the
     /// first sun's light space; says once where the device cannot run it.
-    fn reduce_depth(&mut self, gpu: &Gpu, world: &World, encoder: &mut wgpu::CommandEncoder, data: &FrameData) {
+    fn reduce_depth(
+        &mut self,
+        gpu: &Gpu,
+        world: &World,
+        encoder: &mut wgpu::CommandEncoder,
+        data: &FrameData,
+        (depth, size): (&wgpu::TextureView, (u32, u32)),
+    ) {
         if !self.computes {
             if !std::mem::replace(&mut self.sdsm_told, true) {
                 let why = "the sdsm fit needs compute shaders, which this device lacks: cascades are fitted stable";
@@ -577,9 +606,8 @@ impl Renderer {
             }
             return;
         }
-        let Some(depth) = &self.depth else { return };
-        let Some((reduce, binning)) = frame_reduction(world, data, depth.size) else { return };
+        let Some((reduce, binning)) = frame_reduction(world, data, size) else { return };
         let reduction = self.reduction.get_or_insert_with(|| DepthReduction::new(&gpu.device));
-        reduction.encode((&gpu.device, &gpu.queue), encoder, &depth.depth_only, depth.made, reduce, binning);
+        reduction.encode((&gpu.device, &gpu.queue), encoder, depth, reduce, binning);
     }
 }
