@@ -2,7 +2,8 @@
 //! its buffers and each draw's state in the process's memory): a file of 100,000 nodes placed in
 //! the sample scene and drawn at 1280x720, as `umbra render --model` does, stays under 1 GB of
 //! resident memory (1.06 GB before each object's placement was shared by its layers). Alone in
-//! its binary, so that no other test's memory lands in the count.
+//! its binary, so that no other test's memory lands in the count (`tests/primitive_memory.rs`
+//! is its twin for a model of many primitives).
 
 mod common;
 
@@ -10,16 +11,6 @@ use common::gltf::TestModel;
 
 #[test]
 fn a_model_of_100_000_nodes_is_drawn_in_under_a_gigabyte() {
-    let path = common::scratch("scene-memory").join("many.gltf");
-    std::fs::write(&path, TestModel::instanced(100_000).gltf_embedded()).unwrap();
-    let (app, _) = common::draw_model(path);
-    let drawn = app.world.resource::<umbra::render::ShadowStats>().drawn();
-    assert!(drawn > 0, "the model's shadows were drawn");
-    let Some(peak) = common::peak_resident() else { return };
-    eprintln!(
-        "100,000 nodes drawn at 1280x720 on {}: peak resident {:.0} MB",
-        common::gpu().describe(),
-        peak as f64 / 1e6
-    );
+    let Some(peak) = common::peak_drawing("100,000 nodes", TestModel::instanced(100_000)) else { return };
     assert!(peak < 1_000_000_000, "peak resident {peak} bytes: over 1 GB");
 }

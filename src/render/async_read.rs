@@ -49,8 +49,12 @@ impl<T> AsyncRead<T> {
             });
             self.mapping = Some((rx, tag));
         }
-        let how = if wait { wgpu::PollType::wait_indefinitely() } else { wgpu::PollType::Poll };
-        let _ = device.poll(how);
+        // A wait that fails leaves the mapping to a later poll.
+        if wait {
+            let _ = super::gpu::wait_for(device);
+        } else {
+            let _ = device.poll(wgpu::PollType::Poll);
+        }
         let (rx, _) = self.mapping.as_ref()?;
         match rx.try_recv() {
             Err(TryRecvError::Empty) => None,

@@ -14,7 +14,7 @@ use super::moment_compute::ComputeStores;
 use super::moments;
 use super::news::RenderNews;
 use super::page_marks::PageMarking;
-use super::parts::{PART_DRAWS, Part};
+use super::parts::{PART_DRAWS, Part, SHADOW_PARTS_LARGER};
 use super::shadow_pass::{DrawOptions, ShadowPass};
 use super::shadow_stats::ShadowStats;
 use super::texture::MaterialTextures;
@@ -297,8 +297,9 @@ impl Renderer {
     }
 
     /// Draws the main pass in parts of at most `most` draws, each submitted and waited for
-    /// before the next (0: whole). A software adapter draws parts of [`crate::render::PART_DRAWS`]
-    /// by default, so that what it bins ahead of drawing stays bounded; a GPU draws it whole.
+    /// before the next, and the shadow pass in parts four times as large, cut between tiles (0:
+    /// whole; see `src/render/parts.rs`). A software adapter draws parts of [`crate::render::PART_DRAWS`]
+    /// by default, so that what it bins ahead of drawing stays bounded; a GPU draws them whole.
     pub fn draw_in_parts(&mut self, most: usize) {
         self.part_draws = most;
     }
@@ -415,7 +416,8 @@ impl Renderer {
             timer.begin();
         }
         let stats = if shadows {
-            self.shadow.encode((device, queue), &mut encoder, &data, drawables, how, self.timer.as_mut())
+            self.shadow.part_draws = self.part_draws.saturating_mul(SHADOW_PARTS_LARGER);
+            self.shadow.encode((device, queue), &mut encoder, &data, drawables, how, self.timer.as_mut())?
         } else {
             ShadowStats::default()
         };

@@ -9,6 +9,7 @@
 //! new to it; with an update budget, the out-of-date layers take turns ([`plan_updates`]) and
 //! those left waiting are sampled with the projection their map was drawn with.
 
+use super::RenderError;
 use super::frame::LayerKey;
 use super::frame::{FrameData, LayerDraw};
 use super::gpu_types::{Fill, GpuLayer};
@@ -18,11 +19,12 @@ use super::moment_blur::{MomentBlur, MomentInput, MomentTile, MomentWork, passes
 use super::moment_compute::ComputeStores;
 use super::moment_samples::SampleScratch;
 use super::moments::{ColourFormat, ColourLayout, far_moments};
+use super::parts::submit_and_wait;
 use super::shaders::{Composed, SHADOW_MODULE};
 use super::shadow_atlas::{Placement, ShadowMaps, depth_texture};
 use super::shadow_stats::ShadowStats;
 pub use super::shadow_tiles::DrawOptions;
-use super::shadow_tiles::{Drawing, Job, begin, groups, shadow_variant};
+use super::shadow_tiles::{Drawing, Job, PagePass, begin, page_passes, shadow_variant};
 use super::static_maps::StaticMaps;
 use super::texture::MaterialTextures;
 use super::tile_fill::{FillKind, TileFill};
@@ -94,6 +96,9 @@ pub struct ShadowPass {
     stale_since: HashMap<LayerKey, u64>,
     /// This frame's plan, by index in its layers: drawn, or left stale (and for how long).
     plan: Vec<Planned>,
+    /// Most draws a submission of the pass holds between tiles (0: no limit; see
+    /// [`super::parts`]).
+    pub part_draws: usize,
 }
 
 /// What the plan does with one layer this frame.
@@ -181,6 +186,7 @@ impl ShadowPass {
             planned_for: None,
             stale_since: HashMap::new(),
             plan: Vec::new(),
+            part_draws: 0,
         }
     }
 
@@ -329,7 +335,8 @@ impl ShadowPass {
     /// inside its volume (with `instancing`, a depth-only layer's rigid opaque
     /// casters in one call per mesh; with the static cache, only its moving casters over its
     /// casters at rest put back), and blurs the moment layers among them by `blur` texels; the
-    /// others keep their maps. Returns what it did.
+    /// others keep their maps. Returns what it did. With [`ShadowPass::part_draws`] it submits
+    /// what `encoder` holds and waits for it between tiles, as often as that takes.
     pub fn encode(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
@@ -338,7 +345,7 @@ impl ShadowPass {
         with: Drawables<'_>,
         how: DrawOptions,
         timer: Option<&mut PassTimer>,
-    ) -> ShadowStats {
+    ) -> Result<ShadowStats, RenderError> {
         let DrawOptions { reuse, blur, static_cache, moments_from, .. } = how;
         let from_depth = moments_from.from_depth();
         if let Some(statics) = &mut self.statics {
@@ -394,7 +401,7 @@ impl ShadowPass {
         }
         passes += self.sampled_passes((&made[atlas..], atlas), blur, &mut stats);
         let mut stamps = Stamps { timer, next: 0, total: passes };
-        self.encode_jobs(device, encoder, data, &jobs, with, &mut stamps);
+        self.encode_jobs((device, queue), encoder, data, &jobs, with, &mut stamps)?;
         if let Some(moment_blur) = self.blur.as_mut().filter(|_| !made.is_empty()) {
             moment_blur.write((device, queue), &made, self.maps.moments.scale, blur);
         }
@@ -419,7 +426,7 @@ impl ShadowPass {
         for job in jobs.iter().chain(&sampled).filter(|j| blur > 0 && self.has_moment_map(j.layer)) {
             stats.count_blur(job.layer.light);
         }
-        stats
+        Ok(stats)
     }
 
     /// Where `job`'s moments go in the colour atlas (its tile, as wide as the layer draws,
@@ -433,10 +440,11 @@ impl ShadowPass {
     }
 
     /// The passes the jobs take: per page, one over the static atlas if a static map on it is
-    /// redrawn, one for its depth-only tiles, one for its tiles with a colour map.
+    /// redrawn, one for its depth-only tiles, one for its tiles with a colour map, each cut
+    /// where the frame is submitted in parts (see [`page_passes`]).
     fn passes(&self, jobs: &[Job]) -> usize {
         let statics = distinct_pages(jobs.iter().filter(|j| j.statics.is_some()).map(|j| j.tile)).len();
-        statics + groups(jobs).len()
+        statics + page_passes(jobs, self.part_draws).iter().map(|p| p.passes()).sum::<usize>()
     }
 
     /// How each layer of `todo` (with its tile) is drawn as `how` says: the calls that draw it,
@@ -528,13 +536,13 @@ impl ShadowPass {
     /// Records the jobs' passes (see [`ShadowPass::passes`]), each tile filled and then drawn.
     fn encode_jobs(
         &self,
-        device: &wgpu::Device,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
         encoder: &mut wgpu::CommandEncoder,
         data: &FrameData,
         jobs: &[Job],
         with: Drawables<'_>,
         stamps: &mut Stamps<'_>,
-    ) {
+    ) -> Result<(), RenderError> {
         let depth = depth_texture(self.maps.depth);
         let set = &self.sets[self.maps.depth as usize];
         // The fills' places in the order `prepare` wrote them: a static clear, then the tile's.
@@ -569,19 +577,28 @@ impl ShadowPass {
         let kept: HashSet<u32> =
             data.draws.iter().filter(|d| !drawn.contains(&d.key)).filter_map(|d| d.tile.map(|t| t.page)).collect();
         let mut cleared = HashSet::new();
-        for (page, coloured) in groups(jobs) {
+        for PagePass { page, coloured, jobs: mine } in page_passes(jobs, self.part_draws) {
             let target = &self.maps.pages.layer_views[page as usize];
             let colour = coloured.then(|| &self.maps.moments.layer_views[page as usize]);
-            let clear = !kept.contains(&page) && cleared.insert(page);
-            let mut pass = begin(encoder, (target, colour), clear, stamps.next());
-            let mine = jobs.iter().zip(&fills).filter(|(j, _)| j.tile.page == page && j.colour.is_some() == coloured);
-            for (job, &(_, fill)) in mine {
+            let mut clear = !kept.contains(&page) && cleared.insert(page);
+            let mut pass = None;
+            for (i, submit) in mine {
+                if submit {
+                    drop(pass.take());
+                    submit_and_wait((device, queue), encoder)?;
+                }
+                // Begun again after a submission, it keeps what the part before drew.
+                let pass = pass.get_or_insert_with(|| {
+                    begin(encoder, (target, colour), std::mem::take(&mut clear), stamps.next()).forget_lifetime()
+                });
+                let (job, (_, fill)) = (&jobs[i], fills[i]);
                 let kind = job.fill_kind();
                 let filled = cleared.contains(&page) && kind == FillKind::Clear(None);
                 let fill = (!filled).then_some((&self.fill, (depth, kind), fill, restore.as_ref()));
-                drawing.tile(&mut pass, job, job.place(), fill, (set.get(job.colour), &job.calls));
+                drawing.tile(pass, job, job.place(), fill, (set.get(job.colour), &job.calls));
             }
         }
+        Ok(())
     }
 }
 

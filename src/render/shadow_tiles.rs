@@ -11,12 +11,41 @@ use crate::components::AlphaMode;
 use crate::settings::{MomentSource, ShadowFaces};
 use crate::shadow::Tile;
 
-/// The (page, with a colour map) groups the jobs' tiles fall in, each once, in order.
-pub(super) fn groups(jobs: &[Job]) -> Vec<(u32, bool)> {
-    let mut groups: Vec<(u32, bool)> = jobs.iter().map(|j| (j.tile.page, j.colour.is_some())).collect();
-    groups.sort_unstable();
-    groups.dedup();
-    groups
+/// The tiles of one page (depth-only, or with a colour map) that one pass draws, or more than
+/// one where the frame is submitted in parts between them.
+pub(super) struct PagePass {
+    pub(super) page: u32,
+    pub(super) coloured: bool,
+    /// Its jobs (their indices) in the order it records them, each with whether the frame so
+    /// far is submitted before it: before the first, ahead of the pass; before a later one, the
+    /// pass ended and begun again.
+    pub(super) jobs: Vec<(usize, bool)>,
+}
+
+impl PagePass {
+    /// The render passes it takes: one, and one more for each submission after its first job.
+    pub(super) fn passes(&self) -> usize {
+        1 + self.jobs.iter().skip(1).filter(|(_, submit)| *submit).count()
+    }
+}
+
+/// The passes the jobs' tiles take, a page and colour at a time in order, submitted in parts of
+/// at most `most` draws where a part can end between tiles (see
+/// [`super::parts::submits_before`]; 0: no limit).
+pub(super) fn page_passes(jobs: &[Job], most: usize) -> Vec<PagePass> {
+    let group = |i: usize| (jobs[i].tile.page, jobs[i].colour.is_some());
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    order.sort_by_key(|&i| group(i));
+    let draws: Vec<usize> = order.iter().map(|&i| jobs[i].calls.calls()).collect();
+    let submits = super::parts::submits_before(&draws, most);
+    let mut passes: Vec<PagePass> = Vec::new();
+    for (i, submit) in order.into_iter().zip(submits) {
+        match passes.last_mut() {
+            Some(pass) if (pass.page, pass.coloured) == group(i) => pass.jobs.push((i, submit)),
+            _ => passes.push(PagePass { page: group(i).0, coloured: group(i).1, jobs: vec![(i, submit)] }),
+        }
+    }
+    passes
 }
 
 /// A pass over a page of depth `target` (and of colour, if given), keeping what its other tiles

@@ -255,6 +255,16 @@ impl TestModel {
         model
     }
 
+    /// The test column drawn rigid, its mesh of `n` primitives, each the column again (each a
+    /// mesh of its own to umbra, drawn with a call of its own).
+    pub fn primitives(n: usize) -> TestModel {
+        let mut model = TestModel::new();
+        model.json["nodes"][2].as_object_mut().unwrap().remove("skin");
+        let column = model.json["meshes"][0]["primitives"][0].clone();
+        model.json["meshes"][0]["primitives"] = json!(vec![column; n]);
+        model
+    }
+
     /// The model as .gltf text naming `bin_name`, whose bytes are returned beside it.
     pub fn gltf_external(&self, bin_name: &str) -> (Vec<u8>, Vec<u8>) {
         let mut json = self.json.clone();

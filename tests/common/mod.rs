@@ -31,6 +31,22 @@ pub fn draw_model(path: std::path::PathBuf) -> (App, Image) {
     (app, image)
 }
 
+/// Writes `model` to a file (and lets go of it), draws it as `umbra render --model` does (see
+/// [`draw_model`]) and checks its shadows were drawn; returns the process's peak resident bytes,
+/// said with `name`, where the system tells (Linux). A test calling it belongs alone in its
+/// binary, so that no other test's memory lands in the count.
+pub fn peak_drawing(name: &str, model: gltf::TestModel) -> Option<u64> {
+    let path = scratch("scene-memory").join("model.gltf");
+    std::fs::write(&path, model.gltf_embedded()).unwrap();
+    drop(model);
+    let (app, _) = draw_model(path);
+    let drawn = app.world.resource::<umbra::render::ShadowStats>().drawn();
+    assert!(drawn > 0, "the model's shadows were drawn");
+    let peak = peak_resident()?;
+    eprintln!("{name} drawn at 1280x720 on {}: peak resident {:.0} MB", gpu().describe(), peak as f64 / 1e6);
+    Some(peak)
+}
+
 /// The most this process was ever resident, in bytes (Linux's VmHWM); `None` elsewhere.
 pub fn peak_resident() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
