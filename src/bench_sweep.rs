@@ -2,6 +2,7 @@
 
 use super::{BenchArgs, app};
 use anyhow::Result;
+use std::path::Path;
 use std::time::Instant;
 use umbra::Settings;
 use umbra::render::Gpu;
@@ -83,7 +84,7 @@ pub(super) fn sweep(args: &BenchArgs) -> Result<()> {
 {} configurations{} on {}, timed by {timing}; {:.0} s in all ({:.0} s timing, {:.0} s measuring errors). Shadow cost: the median over {} \
          frames of drawing every shadow layer (a frame with every map drawn against the same frame with every \
          map kept) plus what the lookups add (that frame against one with shadows off). Errors: pixels of {} views of {scene} at {}x{} against a ray-traced truth (every light \
-         together; the soft truth from {} rays over each light's disc: {}).",
+         together; the soft truth from {} rays over each light's disc: {}).\n\n{}",
         if args.quick { " --quick" } else { "" },
         rows.len(),
         families(&options),
@@ -97,6 +98,7 @@ pub(super) fn sweep(args: &BenchArgs) -> Result<()> {
         options.size.1,
         options.truth.soft_rays,
         light_sizes(options.truth.sizes),
+        umbra::figures::made_by(Path::new("."), &gpu.describe()),
     );
     let summary = results::write_all(&rows, &args.out, &heading, &gpu.describe())?;
     println!("{summary}");

@@ -105,6 +105,7 @@ pub mod assets;
 pub mod biases;
 pub mod components;
 pub mod eval;
+pub mod figures;
 pub mod lanterns;
 pub mod light;
 pub mod play;

@@ -37,6 +37,10 @@ enum Command {
     /// planar, R16F radial, toon) and write a Markdown grid labelling each picture with its cost
     /// and error from a bench run's results.csv.
     Gallery(GalleryArgs),
+    /// Write every figure of the README and the book anew from the run it names (a block
+    /// `<!-- figure: docs/bench/summary.md | rows: … -->`; see src/figures.rs): after a bench run,
+    /// its tables in the docs follow. Run from the project's root.
+    Docs,
 }
 
 #[derive(Args)]
@@ -244,7 +248,22 @@ fn run(cli: Cli) -> Result<()> {
         Command::Bench(args) => bench(&args),
         Command::Tune(args) => tune(&args),
         Command::Gallery(args) => gallery(&args),
+        Command::Docs => docs(),
     }
+}
+
+fn docs() -> Result<()> {
+    let root = Path::new(".");
+    let read = |path: &str| std::fs::read_to_string(root.join(path)).map_err(|e| e.to_string());
+    for document in umbra::figures::documents(root) {
+        let text = std::fs::read_to_string(&document).with_context(|| format!("reading {}", document.display()))?;
+        let written = umbra::figures::rewrite(&text, read).with_context(|| format!("in {}", document.display()))?;
+        if written != text {
+            std::fs::write(&document, written).with_context(|| format!("writing {}", document.display()))?;
+            println!("wrote the figures of {}", document.display());
+        }
+    }
+    Ok(())
 }
 
 fn gallery(args: &GalleryArgs) -> Result<()> {
@@ -368,12 +387,13 @@ fn lights(args: &BenchArgs) -> Result<()> {
     print!("{shrink}");
     std::fs::create_dir_all(&args.out)?;
     let head = format!(
-        "adapter: {adapter}; {} frames at {}x{}, measured at {}x{}\n\n{}\n\n",
+        "adapter: {adapter}; {} frames at {}x{}, measured at {}x{}\n\n{}\n\n{}\n\n",
         options.frames,
         options.size.0,
         options.size.1,
         options.measure.0,
         options.measure.1,
+        umbra::figures::made_by(Path::new("."), &adapter),
         many::columns_note()
     );
     let tail =

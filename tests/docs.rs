@@ -124,6 +124,22 @@ fn the_readmes_gallery_is_the_grid_umbra_gallery_wrote() {
 }
 
 #[test]
+fn every_figure_block_is_its_runs_table_as_it_is_now() {
+    // Not retyped, not stale: each `<!-- figure: … -->` block is what `umbra docs` writes from
+    // its run's file today (src/figures.rs).
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let read = |path: &str| std::fs::read_to_string(root.join(path)).map_err(|e| e.to_string());
+    let mut blocks = 0;
+    for document in umbra::figures::documents(root) {
+        let text = std::fs::read_to_string(&document).unwrap();
+        blocks += text.lines().filter(|l| l.trim_start().starts_with("<!-- figure:")).count();
+        let written = umbra::figures::rewrite(&text, read).unwrap_or_else(|e| panic!("{}: {e}", document.display()));
+        assert!(written == text, "{} has a figure that is not its run's: run `umbra docs`", document.display());
+    }
+    assert!(blocks > 0, "the README and the book hold figure blocks");
+}
+
+#[test]
 fn links_are_found_outside_code_and_headings_make_githubs_anchors() {
     let text = "see [a](x.md#b-c) and `[no](code)`\n```\n[no](fence)\n```\n![pic](p.png)";
     assert_eq!(links(text), ["x.md#b-c", "p.png"]);
