@@ -51,7 +51,7 @@ impl<T> AsyncRead<T> {
         }
         // A wait that fails leaves the mapping to a later poll.
         if wait {
-            let _ = super::gpu::wait_for(device);
+            let _ = super::wait::wait_for(device);
         } else {
             let _ = device.poll(wgpu::PollType::Poll);
         }

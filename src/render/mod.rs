@@ -42,6 +42,7 @@ mod texture;
 mod tile_fill;
 mod timing;
 mod uniform_array;
+mod wait;
 
 pub use extract::{extract, extract_shadow_maps};
 pub use frame::{DrawItem, FrameData, FrameLight, LayerDraw, SHADOW_FADE, Shadowless};

@@ -78,7 +78,7 @@ pub fn submit_and_wait(
 ) -> Result<(), RenderError> {
     let fresh = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame, part") });
     queue.submit([std::mem::replace(encoder, fresh).finish()]);
-    super::gpu::wait_for(device)
+    super::wait::wait_for(device)
 }
 
 /// Before which of a list of jobs (their draws each, in the order they are recorded) what was

@@ -150,7 +150,9 @@ fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, 
     app.hear(renderer.news());
     // The batches of paged lights take turns at the marking: each has its rounds.
     let rounds = PRIME_ROUNDS as usize * paged(app).len().div_ceil(MARK_BATCH).max(1);
-    let (mut unsettled, mut all) = (0, 0);
+    // Lights marked since priming began, and those of them not done: where none is ever
+    // marked (no compute pass here), the renderer has said why already.
+    let (mut marked_since, mut unsettled) = (0, 0);
     for _ in 0..rounds {
         renderer.render_priming(gpu, &app.world, (w, h))?;
         renderer.wait_for_samples(gpu);
@@ -169,17 +171,22 @@ fn prime_pages(gpu: &Gpu, renderer: &mut Renderer, app: &mut App, (w, h): (u32, 
         let done = |(e, (seen, update, _)): (&_, &(u64, crate::components::PageUpdate, _))| {
             before.get(e).is_none_or(|(then, _, _)| seen > then) && update.settled() && steady.contains(e)
         };
-        (unsettled, all) = (marked.iter().filter(|&m| !done(m)).count(), marked.len());
-        if all > 0 && unsettled == 0 {
+        marked_since =
+            marked.iter().filter(|(e, (seen, ..))| before.get(*e).is_none_or(|(then, ..)| seen > then)).count();
+        unsettled = marked.iter().filter(|&m| !done(m)).count();
+        if !marked.is_empty() && unsettled == 0 {
             return Ok(());
         }
         last = marked;
     }
-    let line = format!(
-        "virtual pages: {unsettled} of {all} paged lights still wanted pages after {rounds} priming frames \
-         (the pool too small for the view, or their pressure still moving): their pixels read coarser pages"
-    );
-    app.world.get_resource_or_init::<crate::components::Notices>().0.push(line);
+    if marked_since > 0 {
+        let line = format!(
+            "virtual pages: {unsettled} of {} paged lights still wanted pages after {rounds} priming frames \
+             (the pool too small for the view, or their pressure still moving): their pixels read coarser pages",
+            paged(app).len()
+        );
+        app.world.get_resource_or_init::<crate::components::Notices>().0.push(line);
+    }
     Ok(())
 }
 
