@@ -19,12 +19,11 @@ use super::moment_blur::{MomentBlur, MomentInput, MomentTile, MomentWork, passes
 use super::moment_compute::ComputeStores;
 use super::moment_samples::SampleScratch;
 use super::moments::{ColourFormat, ColourLayout, far_moments};
-use super::parts::submit_and_wait;
 use super::shaders::{Composed, SHADOW_MODULE};
 use super::shadow_atlas::{Placement, ShadowMaps, depth_texture};
 use super::shadow_stats::ShadowStats;
 pub use super::shadow_tiles::DrawOptions;
-use super::shadow_tiles::{Drawing, Job, PagePass, begin, page_passes, shadow_variant};
+use super::shadow_tiles::{Job, page_passes, shadow_variant};
 use super::static_maps::StaticMaps;
 use super::texture::MaterialTextures;
 use super::tile_fill::{FillKind, TileFill};
@@ -35,6 +34,7 @@ use crate::settings::ShadowDepth;
 use crate::shadow::{AtlasShape, MIN_TILE, Tile, TileState, Update, distinct_pages, plan_updates};
 use std::collections::{HashMap, HashSet};
 
+mod jobs;
 mod sampled;
 
 /// The pipelines that draw into depth maps of one format: depth alone, depth with a colour
@@ -531,74 +531,6 @@ impl ShadowPass {
             fills.push(Fill { colour, page, _pad0: 0, _pad1: 0, _pad2: 0 });
         }
         self.fill.write(device, queue, &fills);
-    }
-
-    /// Records the jobs' passes (see [`ShadowPass::passes`]), each tile filled and then drawn.
-    fn encode_jobs(
-        &self,
-        (device, queue): (&wgpu::Device, &wgpu::Queue),
-        encoder: &mut wgpu::CommandEncoder,
-        data: &FrameData,
-        jobs: &[Job],
-        with: Drawables<'_>,
-        stamps: &mut Stamps<'_>,
-    ) -> Result<(), RenderError> {
-        let depth = depth_texture(self.maps.depth);
-        let set = &self.sets[self.maps.depth as usize];
-        // The fills' places in the order `prepare` wrote them: a static clear, then the tile's.
-        let mut next_fill = 0..;
-        let fills: Vec<(usize, usize)> = jobs
-            .iter()
-            .map(|j| {
-                let first = next_fill.next().unwrap_or(0);
-                if j.statics.is_some() { (first, next_fill.next().unwrap_or(0)) } else { (first, first) }
-            })
-            .collect();
-        let drawing =
-            Drawing { with, items: &data.items, layers: &self.layer_uniforms, instances: self.instances.bindings() };
-        let statics = self.statics.as_ref();
-        for page in distinct_pages(jobs.iter().filter(|j| j.statics.is_some()).map(|j| j.tile)) {
-            let Some(target) = statics.and_then(|s| s.pages.layer_views.get(page as usize)) else { continue };
-            let mut pass = begin(encoder, (target, None), false, stamps.next());
-            for (job, &(fill, _)) in jobs.iter().zip(&fills).filter(|(j, _)| j.tile.page == page) {
-                if let Some(calls) = &job.statics {
-                    let fill = Some((&self.fill, (depth, FillKind::Clear(None)), fill, None));
-                    drawing.tile(&mut pass, job, job.place(), fill, (set.get(None), calls));
-                }
-            }
-        }
-        let restore = statics
-            .filter(|_| jobs.iter().any(|j| j.over_static))
-            .map(|s| self.fill.statics(device, &s.pages.array_view));
-        // A page none of whose tiles is kept this frame is cleared whole by its first pass (a
-        // fill of memory: on a software rasterizer far cheaper than a triangle over each tile),
-        // and its tiles then need no clear of their own.
-        let drawn: HashSet<LayerKey> = jobs.iter().map(|j| j.layer.key).collect();
-        let kept: HashSet<u32> =
-            data.draws.iter().filter(|d| !drawn.contains(&d.key)).filter_map(|d| d.tile.map(|t| t.page)).collect();
-        let mut cleared = HashSet::new();
-        for PagePass { page, coloured, jobs: mine } in page_passes(jobs, self.part_draws) {
-            let target = &self.maps.pages.layer_views[page as usize];
-            let colour = coloured.then(|| &self.maps.moments.layer_views[page as usize]);
-            let mut clear = !kept.contains(&page) && cleared.insert(page);
-            let mut pass = None;
-            for (i, submit) in mine {
-                if submit {
-                    drop(pass.take());
-                    submit_and_wait((device, queue), encoder)?;
-                }
-                // Begun again after a submission, it keeps what the part before drew.
-                let pass = pass.get_or_insert_with(|| {
-                    begin(encoder, (target, colour), std::mem::take(&mut clear), stamps.next()).forget_lifetime()
-                });
-                let (job, (_, fill)) = (&jobs[i], fills[i]);
-                let kind = job.fill_kind();
-                let filled = cleared.contains(&page) && kind == FillKind::Clear(None);
-                let fill = (!filled).then_some((&self.fill, (depth, kind), fill, restore.as_ref()));
-                drawing.tile(pass, job, job.place(), fill, (set.get(job.colour), &job.calls));
-            }
-        }
-        Ok(())
     }
 }
 
