@@ -7,8 +7,9 @@
 //! ```
 //!
 //! holds the first table of that file (with `after: TEXT`, the first after the first line
-//! holding TEXT), only the rows whose first cell is one of `rows` if given (separated by `;`),
-//! and under it a line naming the file and the run: the file's line that says what made it
+//! holding TEXT), only the rows whose first or second cell is one of `rows` if given (separated by
+//! `;`; a bench's table names a row by its configuration, the second cell), only the columns
+//! whose heading is one of `columns` if given, and under it a line naming the file and the run: the file's line that says what made it
 //! (`made by umbra at commit …`, which `umbra bench` writes), or that the run did not say. `umbra
 //! docs` writes every block of the README and the book anew from the files; `tests/docs.rs`
 //! fails when a block differs from what it would write (a retyped figure, or a run redone since).
@@ -22,15 +23,19 @@ pub struct Figure {
     pub source: String,
     /// The table is the first after the first line holding this.
     pub after: Option<String>,
-    /// The rows kept, by their first cell (all when empty).
+    /// The rows kept, by their first or second cell (all when empty).
     pub rows: Vec<String>,
+    /// The columns kept, by their heading (all when empty).
+    pub columns: Vec<String>,
 }
 
 /// Why a document's figures cannot be written.
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
 pub enum FigureError {
-    /// A block's opening line is not `<!-- figure: PATH [| after: TEXT] [| rows: A; B] -->`.
-    #[error("line {line}: a figure block opens with `<!-- figure: PATH [| after: TEXT] [| rows: A; B] -->`: {why}")]
+    /// A block's opening line is not `<!-- figure: PATH [| after: TEXT] [| rows: A; B] [| columns: A; B] -->`.
+    #[error(
+        "line {line}: a figure block opens with `<!-- figure: PATH [| after: TEXT] [| rows: A; B] [| columns: A; B] -->`: {why}"
+    )]
     Opening { line: usize, why: String },
     /// A block opened and never closed.
     #[error("line {line}: the figure block is not closed by `<!-- /figure -->`")]
@@ -42,8 +47,11 @@ pub enum FigureError {
     #[error("{file}: no table{}", after.as_ref().map(|a| format!(" after a line holding {a:?}")).unwrap_or_default())]
     NoTable { file: String, after: Option<String> },
     /// A row asked for is not in the table.
-    #[error("{file}: no row of the table has the first cell {row:?}")]
+    #[error("{file}: no row of the table has the first or second cell {row:?}")]
     NoRow { file: String, row: String },
+    /// A column asked for is not in the table.
+    #[error("{file}: no column of the table is headed {column:?}")]
+    NoColumn { file: String, column: String },
 }
 
 const OPEN: &str = "<!-- figure:";
@@ -57,20 +65,40 @@ fn figure(text: &str, line: usize) -> Result<Figure, FigureError> {
     let inner = text.trim().strip_prefix(OPEN).and_then(|t| t.strip_suffix("-->")).ok_or_else(|| why("no `-->`"))?;
     let mut parts = inner.split('|').map(str::trim);
     let source = parts.next().filter(|s| !s.is_empty()).ok_or_else(|| why("no file named"))?.to_string();
-    let mut figure = Figure { source, after: None, rows: Vec::new() };
+    let mut figure = Figure { source, after: None, rows: Vec::new(), columns: Vec::new() };
+    let list = |items: &str| items.split(';').map(|r| r.trim().to_string()).collect();
     for part in parts {
         match part.split_once(':').map(|(k, v)| (k.trim(), v.trim())) {
             Some(("after", text)) if !text.is_empty() => figure.after = Some(text.to_string()),
-            Some(("rows", rows)) => figure.rows = rows.split(';').map(|r| r.trim().to_string()).collect(),
-            _ => return Err(why(&format!("{part:?} is neither `after: TEXT` nor `rows: A; B`"))),
+            Some(("rows", rows)) => figure.rows = list(rows),
+            Some(("columns", columns)) => figure.columns = list(columns),
+            _ => return Err(why(&format!("{part:?} is none of `after: TEXT`, `rows: A; B`, `columns: A; B`"))),
         }
     }
     Ok(figure)
 }
 
-/// The first cell of a table row, its bold marks left out.
-fn first_cell(row: &str) -> String {
-    row.trim().trim_start_matches('|').split('|').next().unwrap_or("").replace("**", "").trim().to_string()
+/// The cells of a table row as written (a `|` inside backticks is not looked for).
+fn cells(row: &str) -> Vec<&str> {
+    let row = row.trim();
+    let row = row.strip_prefix('|').unwrap_or(row);
+    row.strip_suffix('|').unwrap_or(row).split('|').map(str::trim).collect()
+}
+
+/// Whether a row is named `name` by its first or second cell, bold marks left out.
+fn named(row: &str, name: &str) -> bool {
+    cells(row).iter().take(2).any(|c| c.replace("**", "") == name)
+}
+
+/// `rows` with only the cells at `keep`.
+fn keep_columns(rows: Vec<String>, keep: &[usize]) -> Vec<String> {
+    rows.iter()
+        .map(|row| {
+            let cells = cells(row);
+            let kept: Vec<&str> = keep.iter().map(|&i| cells.get(i).copied().unwrap_or("")).collect();
+            format!("| {} |", kept.join(" | "))
+        })
+        .collect()
 }
 
 /// The lines `figure` asks for of `source` (the file's text), with the line saying what made it.
@@ -89,12 +117,24 @@ pub fn block(figure: &Figure, source: &str) -> Result<Vec<String>, FigureError> 
         out.extend(body.iter().map(|l| l.to_string()));
     } else {
         for row in &figure.rows {
-            let mine: Vec<&&str> = body.iter().filter(|l| first_cell(l) == *row).collect();
+            let mine: Vec<&&str> = body.iter().filter(|l| named(l, row)).collect();
             if mine.is_empty() {
                 return Err(FigureError::NoRow { file: figure.source.clone(), row: row.clone() });
             }
             out.extend(mine.into_iter().map(|l| l.to_string()));
         }
+    }
+    if !figure.columns.is_empty() {
+        let headings = cells(head[0]);
+        let keep = figure
+            .columns
+            .iter()
+            .map(|c| {
+                let no_column = || FigureError::NoColumn { file: figure.source.clone(), column: c.clone() };
+                headings.iter().position(|h| h == c).ok_or_else(no_column)
+            })
+            .collect::<Result<Vec<usize>, FigureError>>()?;
+        out = keep_columns(out, &keep);
     }
     let made = lines
         .iter()
@@ -131,6 +171,91 @@ pub fn rewrite(document: &str, read: impl Fn(&str) -> Result<String, String>) ->
         text.push('\n');
     }
     Ok(text)
+}
+
+/// The targets of the inline links and images in `text`: `[label](target)`, outside code.
+#[must_use]
+pub fn links(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut fenced = false;
+    for line in text.lines() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        if fenced {
+            continue;
+        }
+        // Inline code spans may hold brackets that are not links.
+        let plain: String = line.split('`').step_by(2).collect::<Vec<_>>().join(" ");
+        let mut rest = plain.as_str();
+        while let Some(at) = rest.find("](") {
+            let after = &rest[at + 2..];
+            let Some(end) = after.find(')') else { break };
+            out.push(after[..end].trim().to_string());
+            rest = &after[end..];
+        }
+    }
+    out
+}
+
+/// The shares a paragraph quotes: each number written with decimals before ` %`.
+fn shares(paragraph: &str) -> Vec<&str> {
+    paragraph
+        .match_indices(" %")
+        .filter_map(|(at, _)| {
+            let before = &paragraph[..at];
+            let start = before.rfind(|c: char| !(c.is_ascii_digit() || c == '.')).map_or(0, |i| i + 1);
+            let number = &before[start..];
+            (number.contains('.') && number.parse::<f64>().is_ok()).then_some(number)
+        })
+        .collect()
+}
+
+/// Whether `text` holds a number that, rounded to as many decimals as `quoted` has, is it.
+fn holds(text: &str, quoted: &str) -> bool {
+    let decimals = quoted.split_once('.').map_or(0, |(_, d)| d.len());
+    text.split(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .filter_map(|n| n.parse::<f64>().ok())
+        .any(|n| format!("{n:.decimals$}") == quoted)
+}
+
+/// The shares `document`'s prose quotes that no run its paragraph links holds, each as `line N:
+/// 0.052 %`. A paragraph names its runs by linking their files (`docs/bench…`, read by `read`
+/// from the project's root); tables, code and figure blocks are left alone (a run or `umbra`
+/// writes those). So a number retyped from a run, or quoted from one run beside a link to
+/// another, is found.
+pub fn unsourced_shares(document: &str, read: impl Fn(&str) -> Result<String, String>) -> Vec<String> {
+    let (mut out, mut paragraph, mut first) = (Vec::new(), String::new(), 0);
+    let (mut fenced, mut figure) = (false, false);
+    let mut check = |paragraph: &str, line: usize| {
+        let runs: Vec<String> = links(paragraph)
+            .iter()
+            .filter(|l| l.starts_with("docs/bench"))
+            .filter_map(|l| read(l.split('#').next().unwrap_or(l)).ok())
+            .collect();
+        for share in shares(paragraph) {
+            if !runs.iter().any(|run| holds(run, share)) {
+                out.push(format!("line {line}: {share} %"));
+            }
+        }
+    };
+    for (i, line) in document.lines().chain(std::iter::once("")).enumerate() {
+        let text = line.trim();
+        fenced ^= text.starts_with("```");
+        figure = (figure || text.starts_with(OPEN)) && text != CLOSE;
+        if text.is_empty() {
+            check(&paragraph, first);
+            paragraph.clear();
+        } else if !(fenced || figure || text.starts_with('|') || text.starts_with("```") || text == CLOSE) {
+            if paragraph.is_empty() {
+                first = i + 1;
+            }
+            paragraph += line;
+            paragraph.push('\n');
+        }
+    }
+    out
 }
 
 /// The README and every page of the book under `root`, the documents figures are written into.
@@ -190,8 +315,43 @@ mod tests {
     }
 
     #[test]
+    fn rows_are_named_by_their_first_or_second_cell_and_columns_by_their_heading() {
+        let run = "| family | configuration | ms | % |\n| --- | --- | --- | --- |\n| hard | **a** (default) | 1 | 0.5 |\n\
+                   | grid | b | 2 | 0.4 |\n| grid | c | 3 | 0.3 |\n";
+        let figure = Figure {
+            source: "run.md".to_string(),
+            after: None,
+            rows: vec!["c".to_string(), "a (default)".to_string()],
+            columns: vec!["configuration".to_string(), "%".to_string()],
+        };
+        let out = block(&figure, run).unwrap();
+        assert_eq!(out[..4], ["| configuration | % |", "| --- | --- |", "| c | 0.3 |", "| **a** (default) | 0.5 |"]);
+        let grid = Figure { rows: vec!["grid".to_string()], columns: Vec::new(), ..figure };
+        assert_eq!(block(&grid, run).unwrap().len(), 2 + 2 + 2, "both rows of the family, a gap, the source");
+    }
+
+    #[test]
+    fn a_share_quoted_in_prose_is_found_in_a_run_its_paragraph_links() {
+        let read = |path: &str| match path {
+            "docs/bench-a/summary.md" => Ok("| default | 0.0520 | 12.5 |".to_string()),
+            "docs/bench-b/summary.md" => Ok("| default | 0.0611 |".to_string()),
+            _ => Err("no such file".to_string()),
+        };
+        let doc = "The default gets 0.052 % wrong ([run](docs/bench-a/summary.md#x)), and\n\
+                   12.5 % of it, 3 % of all.\n\n\
+                   Retyped: 0.061 % here ([run](docs/bench-a/summary.md)).\n\n\
+                   No run named: 0.052 %.\n\n\
+                   ```\n0.999 % in code\n```\n\
+                   | 0.777 % | in a table |\n\n\
+                   <!-- figure: docs/bench-b/summary.md -->\n0.555 % in a block\n<!-- /figure -->\n\
+                   Beside its own run: 0.061 % ([run](docs/bench-b/summary.md)).\n";
+        assert_eq!(unsourced_shares(doc, read), ["line 4: 0.061 %", "line 6: 0.052 %"]);
+        assert_eq!(shares("of 1,024 lights 0.5 % and 40 % and 0.25 %, x%"), ["0.5", "0.25"]);
+    }
+
+    #[test]
     fn a_run_that_does_not_say_what_made_it_is_named_so() {
-        let figure = Figure { source: "old.md".to_string(), after: None, rows: Vec::new() };
+        let figure = Figure { source: "old.md".to_string(), after: None, rows: Vec::new(), columns: Vec::new() };
         let out = block(&figure, "| a |\n| --- |\n| 1 |").unwrap();
         assert_eq!(out.last().unwrap(), "<sub>From `old.md`: a run that did not say which commit made it.</sub>");
     }
@@ -207,6 +367,8 @@ mod tests {
         assert_eq!(no_row, FigureError::NoRow { file: "run.md".to_string(), row: "16".to_string() });
         let no_table = err("<!-- figure: run.md | after: nowhere -->\n<!-- /figure -->");
         assert!(matches!(no_table, FigureError::NoTable { .. }), "{no_table}");
+        let no_column = err("<!-- figure: run.md | columns: n; us -->\n<!-- /figure -->");
+        assert_eq!(no_column, FigureError::NoColumn { file: "run.md".to_string(), column: "us".to_string() });
         assert_eq!(rewrite("no blocks\n", read).unwrap(), "no blocks\n");
     }
 }

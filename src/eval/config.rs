@@ -318,15 +318,10 @@ pub fn configs(quick: bool) -> Vec<Config> {
         for fit in [FitMode::Unsnapped, FitMode::Tight, FitMode::Sdsm] {
             push(Config { map_size, fit, ..d });
         }
-        // Moment maps only at the default size (on the software rasterizer one frame takes
-        // seconds); the quick sweep takes one of them.
-        let moments_here = |m: &ShadowMethod| map_size == d.map_size && (!quick || *m == ShadowMethod::Vsm);
-        // Planar shadows have no map: one row.
-        let here = |m: &ShadowMethod| match m {
-            m if m.moments() => moments_here(m),
-            ShadowMethod::Planar => map_size == d.map_size,
-            _ => true,
-        };
+        // Moment maps (on the software rasterizer one frame takes seconds) and planar shadows
+        // (no map: one row) only at the default size: every method once there, which the
+        // gallery's captions read.
+        let here = |m: &ShadowMethod| map_size == d.map_size || !(m.moments() || *m == ShadowMethod::Planar);
         for &method in ShadowMethod::ALL.iter().filter(|m| here(m)) {
             push(Config { map_size, method, ..d });
         }
@@ -465,6 +460,18 @@ mod tests {
         assert_eq!(paged.family(), VIRTUAL_FAMILY);
         assert_eq!(paged.settings(&Settings::default()).maps.sun_maps, SunMaps::Virtual);
         assert!(configs(true).iter().any(|c| c.sun_maps == SunMaps::Virtual), "the quick sweep has virtual maps");
+    }
+
+    #[test]
+    fn both_sweeps_take_every_method_at_the_default_settings() {
+        // The gallery captions each picture from a run: each method at the default settings.
+        for quick in [true, false] {
+            let c = configs(quick);
+            for &method in ShadowMethod::ALL {
+                let at_default = Config { method, ..Config::default_settings() };
+                assert!(c.contains(&at_default), "{} (quick: {quick})", at_default.label());
+            }
+        }
     }
 
     #[test]
