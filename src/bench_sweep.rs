@@ -24,10 +24,11 @@ pub(super) fn sweep(args: &BenchArgs) -> Result<()> {
     let mut options = sweep_options::SweepOptions::new(args.quick);
     options.families = args.family.clone();
     options.skipped = args.skip_family.clone();
+    options.cases = (!args.cases.is_empty()).then(|| args.cases.clone());
     if let Some(n) = args.threads {
         options.workers = n as usize;
     }
-    // An unknown family is refused before a GPU is looked for.
+    // An unknown family or case is refused before a GPU is looked for.
     options.configs().map_err(anyhow::Error::msg)?;
     if settings.scene.file.is_some() {
         options.views = sweep_options::views(&mut app(&args.scene)?);

@@ -136,14 +136,19 @@ pub fn block(figure: &Figure, source: &str) -> Result<Vec<String>, FigureError> 
             .collect::<Result<Vec<usize>, FigureError>>()?;
         out = keep_columns(out, &keep);
     }
-    let made = lines
-        .iter()
-        .find(|l| l.to_lowercase().contains(MADE_BY))
-        .map(|l| l.trim().trim_matches('*').trim_end_matches('.'));
-    let run = made.map_or("a run that did not say which commit made it".to_string(), str::to_string);
     out.push(String::new());
-    out.push(format!("<sub>From `{}`: {run}.</sub>", figure.source));
+    out.push(format!("<sub>From `{}`: {}.</sub>", figure.source, what_made(source)));
     Ok(out)
+}
+
+/// What a run's file (`source`, its text) says made it, without the full stop: its line
+/// `Made by umbra at commit …`, or that the run did not say.
+#[must_use]
+pub fn what_made(source: &str) -> String {
+    let made = source.lines().find(|l| l.to_lowercase().contains(MADE_BY));
+    made.map_or("a run that did not say which commit made it".to_string(), |l| {
+        l.trim().trim_matches('*').trim_end_matches('.').to_string()
+    })
 }
 
 /// `document` with every figure block written anew, each from its file (read by `read`, given
@@ -222,17 +227,23 @@ fn holds(text: &str, quoted: &str) -> bool {
 
 /// The shares `document`'s prose quotes that no run its paragraph links holds, each as `line N:
 /// 0.052 %`. A paragraph names its runs by linking their files (`docs/bench…`, read by `read`
-/// from the project's root); tables, code and figure blocks are left alone (a run or `umbra`
+/// from the project's root, each with the `results.csv` beside it); tables, code and figure blocks are left alone (a run or `umbra`
 /// writes those). So a number retyped from a run, or quoted from one run beside a link to
 /// another, is found.
 pub fn unsourced_shares(document: &str, read: impl Fn(&str) -> Result<String, String>) -> Vec<String> {
     let (mut out, mut paragraph, mut first) = (Vec::new(), String::new(), 0);
     let (mut fenced, mut figure) = (false, false);
     let mut check = |paragraph: &str, line: usize| {
+        // A run is its folder: the file linked, and the results.csv beside it.
         let runs: Vec<String> = links(paragraph)
             .iter()
             .filter(|l| l.starts_with("docs/bench"))
-            .filter_map(|l| read(l.split('#').next().unwrap_or(l)).ok())
+            .flat_map(|l| {
+                let file = l.split('#').next().unwrap_or(l);
+                let csv = Path::new(file).with_file_name("results.csv");
+                [read(file), read(&csv.to_string_lossy())]
+            })
+            .filter_map(Result::ok)
             .collect();
         for share in shares(paragraph) {
             if !runs.iter().any(|run| holds(run, share)) {
@@ -269,7 +280,7 @@ pub fn documents(root: &Path) -> Vec<PathBuf> {
 }
 
 /// The line a run's summary carries to say what made it: the commit checked out in `dir` (and
-/// whether it had changes not committed), as git tells (that git did not tell, where it cannot),
+/// whether it had changes not committed outside the docs and the Markdown), as git tells (that git did not tell, where it cannot),
 /// and the adapter it ran on.
 #[must_use]
 pub fn made_by(dir: &Path, adapter: &str) -> String {
@@ -279,7 +290,10 @@ pub fn made_by(dir: &Path, adapter: &str) -> String {
     };
     match git(&["rev-parse", "--short=10", "HEAD"]) {
         Some(commit) => {
-            let changed = git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
+            // The docs are not the code: a run rewrites its own folder under docs/ as it goes.
+            let status =
+                ["status", "--porcelain", "--untracked-files=no", "--", ".", ":(exclude)docs", ":(exclude)*.md"];
+            let changed = git(&status).is_some_and(|s| !s.is_empty());
             let changes = if changed { " with changes not committed" } else { "" };
             format!("Made by umbra at commit {commit}{changes} on {adapter}.")
         }
@@ -335,6 +349,7 @@ mod tests {
         let read = |path: &str| match path {
             "docs/bench-a/summary.md" => Ok("| default | 0.0520 | 12.5 |".to_string()),
             "docs/bench-b/summary.md" => Ok("| default | 0.0611 |".to_string()),
+            "docs/bench-b/results.csv" => Ok("default,0.0611,4.7368".to_string()),
             _ => Err("no such file".to_string()),
         };
         let doc = "The default gets 0.052 % wrong ([run](docs/bench-a/summary.md#x)), and\n\
@@ -344,7 +359,7 @@ mod tests {
                    ```\n0.999 % in code\n```\n\
                    | 0.777 % | in a table |\n\n\
                    <!-- figure: docs/bench-b/summary.md -->\n0.555 % in a block\n<!-- /figure -->\n\
-                   Beside its own run: 0.061 % ([run](docs/bench-b/summary.md)).\n";
+                   Beside its own run: 0.061 % and 4.7 % ([run](docs/bench-b/summary.md)).\n";
         assert_eq!(unsourced_shares(doc, read), ["line 4: 0.061 %", "line 6: 0.052 %"]);
         assert_eq!(shares("of 1,024 lights 0.5 % and 40 % and 0.25 %, x%"), ["0.5", "0.25"]);
     }

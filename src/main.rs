@@ -48,8 +48,9 @@ struct GalleryArgs {
     /// Where the pictures and gallery.md go.
     #[arg(long, default_value = "docs/gallery")]
     out: PathBuf,
-    /// The bench run whose numbers label the pictures (its results.csv).
-    #[arg(long, default_value = "docs/bench/results.csv", value_name = "CSV")]
+    /// The bench run whose numbers label the pictures (its results.csv; by default the latest
+    /// quick sweep's, which measures every method the pictures show).
+    #[arg(long, default_value = "docs/bench-quick/results.csv", value_name = "CSV")]
     bench: PathBuf,
     /// Width of each picture in pixels.
     #[arg(long, default_value_t = 480, value_parser = parse_size, allow_negative_numbers = true)]
@@ -171,6 +172,11 @@ struct BenchArgs {
     /// it again for more: "moment maps" are half the quick sweep's time on a software rasterizer.
     #[arg(long, value_name = "FAMILY", conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]
     skip_family: Vec<String>,
+    /// Measure only this failure case (give it again for more; every case when not given): the
+    /// others are left unmeasured, with no row in the summary's table of cases and no chart. An
+    /// unknown one is refused with the list.
+    #[arg(long = "case", value_name = "CASE", conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]
+    cases: Vec<String>,
     /// Configurations whose errors the sweep measures at once, each on a thread of its own
     /// (default: one per four cores, one to four; the timing is never shared).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=64), conflicts_with_all = ["cache", "lab", "shadow_pass", "lights"])]
@@ -291,7 +297,9 @@ fn gallery(args: &GalleryArgs) -> Result<()> {
         println!("wrote {}", path.display());
     }
     // The pictures sit beside gallery.md; the README shows the same grid from the repository's root.
-    let md = format!("Numbers from {}.\n\n{}", args.bench.display(), markdown(&all, &results, "", 4));
+    let summary = std::fs::read_to_string(args.bench.with_file_name("summary.md")).unwrap_or_default();
+    let run = umbra::figures::what_made(&summary);
+    let md = format!("Numbers from {}: {run}.\n\n{}", args.bench.display(), markdown(&all, &results, "", 4));
     let path = args.out.join("gallery.md");
     std::fs::write(&path, md).with_context(|| format!("writing {}", path.display()))?;
     println!("wrote {}", path.display());

@@ -4,6 +4,7 @@
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
+use umbra::figures::links;
 
 /// The longest the README may grow (issue 25: a front door, the rest in the book).
 const README_MAX_LINES: usize = 250;
@@ -23,31 +24,6 @@ fn markdown_files() -> Vec<PathBuf> {
     let mut files = vec![root.join("README.md")];
     walk(&root.join("docs"), &mut files);
     files
-}
-
-/// The targets of the inline links and images in `text`: `[label](target)`, outside code.
-fn links(text: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut fenced = false;
-    for line in text.lines() {
-        if line.trim_start().starts_with("```") {
-            fenced = !fenced;
-            continue;
-        }
-        if fenced {
-            continue;
-        }
-        // Inline code spans may hold brackets that are not links.
-        let plain: String = line.split('`').step_by(2).collect::<Vec<_>>().join(" ");
-        let mut rest = plain.as_str();
-        while let Some(at) = rest.find("](") {
-            let after = &rest[at + 2..];
-            let Some(end) = after.find(')') else { break };
-            out.push(after[..end].trim().to_string());
-            rest = &after[end..];
-        }
-    }
-    out
 }
 
 /// A heading's anchor as GitHub makes it: lower case, punctuation dropped but for hyphens and
@@ -137,6 +113,18 @@ fn every_figure_block_is_its_runs_table_as_it_is_now() {
         assert!(written == text, "{} has a figure that is not its run's: run `umbra docs`", document.display());
     }
     assert!(blocks > 0, "the README and the book hold figure blocks");
+}
+
+#[test]
+fn every_share_the_readme_quotes_is_in_a_run_its_paragraph_links() {
+    // One number per fact, each with where it came from: a share of pixels wrong quoted in the
+    // README's prose is in a run that paragraph links, so a number retyped after its run was
+    // redone, or quoted from one run beside a link to another, fails here (src/figures.rs).
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let read = |path: &str| std::fs::read_to_string(root.join(path)).map_err(|e| e.to_string());
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let unsourced = umbra::figures::unsourced_shares(&readme, read);
+    assert!(unsourced.is_empty(), "README.md quotes shares no run its paragraph links holds: {unsourced:?}");
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! What a sweep measures besides its configurations ([`super::config`]): the views of the
 //! measured scene, how big and how long, the truth's rays, and how many threads measure errors.
 
+use super::cases::CASES;
 use super::config::{Config, configs};
 use super::measure::TruthSettings;
 use crate::App;
@@ -89,6 +90,18 @@ impl SweepOptions {
         self.cases.as_ref().is_none_or(|cases| cases.iter().any(|c| c == name))
     }
 
+    /// An error naming the first case asked for that is not a failure case, and listing those
+    /// there are.
+    pub fn known_cases(&self) -> Result<(), String> {
+        let known = || CASES.iter().map(|c| c.name).collect::<Vec<_>>();
+        match self.cases.iter().flatten().find(|name| !known().contains(&name.as_str())) {
+            Some(unknown) => {
+                Err(format!("no failure case is named \"{unknown}\"; the cases are: {}", known().join(", ")))
+            }
+            None => Ok(()),
+        }
+    }
+
     /// The full sweep, or the quick one.
     pub fn new(quick: bool) -> SweepOptions {
         let workers = error_workers(std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -127,8 +140,9 @@ impl SweepOptions {
     /// default's) when it names any, less those of the families it skips (but the default).
     /// [`CONTACT_GROUP`] names every configuration with contact shadows and each one's twin
     /// without them, whatever their families. A name no configuration has is an error that lists
-    /// those there are.
+    /// those there are, as is a failure case unknown ([`SweepOptions::known_cases`]).
     pub fn configs(&self) -> Result<Vec<Config>, String> {
+        self.known_cases()?;
         let all = configs(self.quick);
         let mut known: Vec<&str> = all.iter().fold(Vec::new(), |mut names, c| {
             if !names.contains(&c.family()) {
@@ -194,6 +208,17 @@ mod tests {
             err.starts_with(&format!("no configuration is of the family \"{CONTACT_GROUP}\"")),
             "the quick sweep has none: {err}"
         );
+    }
+
+    #[test]
+    fn an_unknown_case_is_refused_with_the_list() {
+        let mut options = SweepOptions::new(true);
+        options.cases = Some(vec!["acne".into(), "shimmer".into()]);
+        assert!(options.configs().is_ok());
+        assert!(options.measures_case("shimmer") && !options.measures_case("thin-casters"));
+        options.cases = Some(vec!["acne".into(), "spots".into()]);
+        let err = options.configs().unwrap_err();
+        assert!(err.starts_with("no failure case is named \"spots\"") && err.contains("peter-panning"), "{err}");
     }
 
     #[test]
