@@ -7,10 +7,11 @@
 //! ```
 //!
 //! holds the first table of that file (with `after: TEXT`, the first after the first line
-//! holding TEXT), only the rows whose first or second cell is one of `rows` if given (separated by
-//! `;`; a bench's table names a row by its configuration, the second cell), only the columns
-//! whose heading is one of `columns` if given, and under it a line naming the file and the run: the file's line that says what made it
-//! (`made by umbra at commit …`, which `umbra bench` writes), or that the run did not say. `umbra
+//! holding TEXT), only the rows whose first or second cell is one of `rows` if given (separated
+//! by `;`; a bench's table names a row by its configuration, the second cell), only the columns
+//! whose heading is one of `columns` if given, and under it a line naming the file and the run:
+//! the file's line that says what made it (`made by umbra at commit …`, which `umbra bench`
+//! writes), or that the run did not say. `umbra
 //! docs` writes every block of the README and the book anew from the files; `tests/docs.rs`
 //! fails when a block differs from what it would write (a retyped figure, or a run redone since).
 
@@ -78,7 +79,7 @@ fn figure(text: &str, line: usize) -> Result<Figure, FigureError> {
     Ok(figure)
 }
 
-/// The cells of a table row as written (a `|` inside backticks is not looked for).
+/// The cells of a table row, split at every `|` (the runs' tables hold none inside a cell).
 fn cells(row: &str) -> Vec<&str> {
     let row = row.trim();
     let row = row.strip_prefix('|').unwrap_or(row);
@@ -227,9 +228,9 @@ fn holds(text: &str, quoted: &str) -> bool {
 
 /// The shares `document`'s prose quotes that no run its paragraph links holds, each as `line N:
 /// 0.052 %`. A paragraph names its runs by linking their files (`docs/bench…`, read by `read`
-/// from the project's root, each with the `results.csv` beside it); tables, code and figure blocks are left alone (a run or `umbra`
-/// writes those). So a number retyped from a run, or quoted from one run beside a link to
-/// another, is found.
+/// from the project's root, each with the `results.csv` beside it); tables, code and figure
+/// blocks are left alone (a run or `umbra` writes those). So a number retyped from a run, or
+/// quoted from one run beside a link to another, is found.
 pub fn unsourced_shares(document: &str, read: impl Fn(&str) -> Result<String, String>) -> Vec<String> {
     let (mut out, mut paragraph, mut first) = (Vec::new(), String::new(), 0);
     let (mut fenced, mut figure) = (false, false);
@@ -280,8 +281,8 @@ pub fn documents(root: &Path) -> Vec<PathBuf> {
 }
 
 /// The line a run's summary carries to say what made it: the commit checked out in `dir` (and
-/// whether it had changes not committed outside the docs and the Markdown), as git tells (that git did not tell, where it cannot),
-/// and the adapter it ran on.
+/// whether it had changes not committed outside the docs and the Markdown), as git tells (that
+/// git did not tell, where it cannot), and the adapter it ran on.
 #[must_use]
 pub fn made_by(dir: &Path, adapter: &str) -> String {
     let git = |args: &[&str]| {
