@@ -93,10 +93,10 @@ impl SweepOptions {
     /// An error naming the first case asked for that is not a failure case, and listing those
     /// there are.
     pub fn known_cases(&self) -> Result<(), String> {
-        let known = || CASES.iter().map(|c| c.name).collect::<Vec<_>>();
-        match self.cases.iter().flatten().find(|name| !known().contains(&name.as_str())) {
+        match self.cases.iter().flatten().find(|name| !CASES.iter().any(|c| c.name == name.as_str())) {
             Some(unknown) => {
-                Err(format!("no failure case is named \"{unknown}\"; the cases are: {}", known().join(", ")))
+                let known: Vec<&str> = CASES.iter().map(|c| c.name).collect();
+                Err(format!("no failure case is named \"{unknown}\"; the cases are: {}", known.join(", ")))
             }
             None => Ok(()),
         }
