@@ -211,8 +211,7 @@ fn shares(paragraph: &str) -> Vec<&str> {
         .match_indices(" %")
         .filter_map(|(at, _)| {
             let before = &paragraph[..at];
-            let start = before.rfind(|c: char| !(c.is_ascii_digit() || c == '.')).map_or(0, |i| i + 1);
-            let number = &before[start..];
+            let number = &before[before.trim_end_matches(|c: char| c.is_ascii_digit() || c == '.').len()..];
             (number.contains('.') && number.parse::<f64>().is_ok()).then_some(number)
         })
         .collect()
@@ -226,38 +225,90 @@ fn holds(text: &str, quoted: &str) -> bool {
         .any(|n| format!("{n:.decimals$}") == quoted)
 }
 
-/// The shares `document`'s prose quotes that no run its paragraph links holds, each as `line N:
-/// 0.052 %`. A paragraph names its runs by linking their files (`docs/bench…`, read by `read`
-/// from the project's root, each with the `results.csv` beside it); tables, code and figure
-/// blocks are left alone (a run or `umbra` writes those). So a number retyped from a run, or
-/// quoted from one run beside a link to another, is found.
-pub fn unsourced_shares(document: &str, read: impl Fn(&str) -> Result<String, String>) -> Vec<String> {
-    let (mut out, mut paragraph, mut first) = (Vec::new(), String::new(), 0);
-    let (mut fenced, mut figure) = (false, false);
-    let mut check = |paragraph: &str, line: usize| {
-        // A run is its folder: the file linked, and the results.csv beside it.
-        let runs: Vec<String> = links(paragraph)
-            .iter()
-            .filter(|l| l.starts_with("docs/bench"))
-            .flat_map(|l| {
-                let file = l.split('#').next().unwrap_or(l);
-                let csv = Path::new(file).with_file_name("results.csv");
-                [read(file), read(&csv.to_string_lossy())]
-            })
-            .filter_map(Result::ok)
-            .collect();
-        for share in shares(paragraph) {
-            if !runs.iter().any(|run| holds(run, share)) {
-                out.push(format!("line {line}: {share} %"));
+/// `link` (as a document in `base`, a folder from the project's root, writes it) from the
+/// project's root, its `#anchor` left out: `../bench/summary.md` in `docs/book` is
+/// `docs/bench/summary.md`.
+fn from_root(base: &Path, link: &str) -> String {
+    let link = link.split('#').next().unwrap_or(link);
+    let mut parts: Vec<&str> = Vec::new();
+    let base = base.to_str().unwrap_or("");
+    let start = if link.starts_with("docs/") { "" } else { base };
+    for part in start.split('/').chain(link.split('/')) {
+        match part {
+            "" | "." => {}
+            ".." => {
+                parts.pop();
             }
+            _ => parts.push(part),
         }
-    };
+    }
+    parts.join("/") + if link.ends_with('/') { "/" } else { "" }
+}
+
+/// The runs `text` names, from the project's root: the `docs/bench…` files or folders it links
+/// (as a document in `base` links them) or writes in code (`docs/bench-lights/`).
+fn runs_named(text: &str, base: &Path) -> Vec<String> {
+    let in_code = text.split('`').skip(1).step_by(2).flat_map(str::split_whitespace);
+    let linked = links(text).into_iter().map(|l| from_root(base, &l));
+    linked.chain(in_code.map(|code| from_root(base, code))).filter(|run| run.starts_with("docs/bench")).collect()
+}
+
+/// The tests `text` names in code (`--test NAME` or `tests/NAME.rs`), as their files from the
+/// project's root: a share a paragraph quotes from a test's printout has no run to be checked
+/// against, only the test that prints it again.
+fn tests_named(text: &str) -> Vec<String> {
+    let words: Vec<&str> = text.split('`').skip(1).step_by(2).flat_map(str::split_whitespace).collect();
+    let after_flag = words.windows(2).filter(|w| w[0] == "--test").map(|w| format!("tests/{}.rs", w[1]));
+    let files = words.iter().filter(|w| w.starts_with("tests/") && w.ends_with(".rs")).map(|w| (*w).to_string());
+    after_flag.chain(files).collect()
+}
+
+/// The text of the runs named: each file, and the run's own files in its folder (`results.csv`,
+/// `summary.md`, `lights.md`), those `read` can read.
+fn runs_text(runs: &[String], read: &impl Fn(&str) -> Result<String, String>) -> String {
+    let mut text = String::new();
+    for run in runs {
+        let folder = if run.ends_with('/') { Path::new(run) } else { Path::new(run).parent().unwrap_or(Path::new("")) };
+        let own = ["results.csv", "summary.md", "lights.md"].map(|f| folder.join(f).to_string_lossy().into_owned());
+        for file in std::iter::once(run.clone()).chain(own) {
+            text += &read(&file).unwrap_or_default();
+        }
+    }
+    text
+}
+
+/// The shares `document`'s prose quotes that no run it names for them holds, each as `line N:
+/// 0.052 %`. `base` is the document's folder from the project's root; `read` reads a file from
+/// the root. A paragraph's runs are those it names (see [`runs_named`]), or else the runs last
+/// named in its section (by a paragraph or a figure block since the last heading); tables, code
+/// and figure blocks are left alone (a run or `umbra` writes those). So a number retyped from a
+/// run, or quoted from one run beside a link to another, is found.
+pub fn unsourced_shares(document: &str, base: &Path, read: impl Fn(&str) -> Result<String, String>) -> Vec<String> {
+    let (mut out, mut paragraph, mut first) = (Vec::new(), String::new(), 0);
+    let (mut fenced, mut figure, mut section) = (false, false, Vec::new());
     for (i, line) in document.lines().chain(std::iter::once("")).enumerate() {
         let text = line.trim();
+        if text.starts_with('#') && !fenced {
+            section.clear();
+        }
+        if let Some(source) = text.strip_prefix(OPEN).and_then(|t| t.split(['|', ' ']).find(|s| !s.is_empty())) {
+            section = vec![from_root(base, source)];
+        }
         fenced ^= text.starts_with("```");
         figure = (figure || text.starts_with(OPEN)) && text != CLOSE;
         if text.is_empty() {
-            check(&paragraph, first);
+            let named = runs_named(&paragraph, base);
+            if !named.is_empty() {
+                section = named;
+            }
+            if tests_named(&paragraph).iter().any(|test| read(test).is_ok()) {
+                paragraph.clear();
+                continue;
+            }
+            let runs = runs_text(&section, &read);
+            out.extend(
+                shares(&paragraph).into_iter().filter(|s| !holds(&runs, s)).map(|s| format!("line {first}: {s} %")),
+            );
             paragraph.clear();
         } else if !(fenced || figure || text.starts_with('|') || text.starts_with("```") || text == CLOSE) {
             if paragraph.is_empty() {
@@ -346,23 +397,34 @@ mod tests {
     }
 
     #[test]
-    fn a_share_quoted_in_prose_is_found_in_a_run_its_paragraph_links() {
+    fn a_share_quoted_in_prose_is_found_in_a_run_its_paragraph_or_section_names() {
         let read = |path: &str| match path {
             "docs/bench-a/summary.md" => Ok("| default | 0.0520 | 12.5 |".to_string()),
             "docs/bench-b/summary.md" => Ok("| default | 0.0611 |".to_string()),
             "docs/bench-b/results.csv" => Ok("default,0.0611,4.7368".to_string()),
+            "docs/bench-c/lights.md" => Ok("| 64 | 0.0333 |".to_string()),
             _ => Err("no such file".to_string()),
         };
         let doc = "The default gets 0.052 % wrong ([run](docs/bench-a/summary.md#x)), and\n\
                    12.5 % of it, 3 % of all.\n\n\
                    Retyped: 0.061 % here ([run](docs/bench-a/summary.md)).\n\n\
+                   Its section's run: 0.052 %.\n\n\
+                   # Another section\n\n\
                    No run named: 0.052 %.\n\n\
                    ```\n0.999 % in code\n```\n\
                    | 0.777 % | in a table |\n\n\
                    <!-- figure: docs/bench-b/summary.md -->\n0.555 % in a block\n<!-- /figure -->\n\
-                   Beside its own run: 0.061 % and 4.7 % ([run](docs/bench-b/summary.md)).\n";
-        assert_eq!(unsourced_shares(doc, read), ["line 4: 0.061 %", "line 6: 0.052 %"]);
-        assert_eq!(shares("of 1,024 lights 0.5 % and 40 % and 0.25 %, x%"), ["0.5", "0.25"]);
+                   Beside its block's run: 0.061 % and 4.7 %.\n\n\
+                   Named in code, `docs/bench-c/` (0.033 %), not 0.061 %.\n";
+        assert_eq!(
+            unsourced_shares(doc, Path::new(""), read),
+            ["line 4: 0.061 %", "line 10: 0.052 %", "line 22: 0.061 %"]
+        );
+        let book = "From [a run](../bench-b/summary.md): 0.061 %.\n";
+        assert!(unsourced_shares(book, Path::new("docs/book"), read).is_empty(), "a link from the book's folder");
+        assert_eq!(shares("of 1,024 lights 0.5 % and 40 % and 0.25 %, x%, 64²·0.1 %"), ["0.5", "0.25", "0.1"]);
+        assert_eq!(from_root(Path::new("docs/book"), "../../README.md#x"), "README.md");
+        assert_eq!(from_root(Path::new("docs/book"), "docs/bench/"), "docs/bench/");
     }
 
     #[test]

@@ -116,15 +116,23 @@ fn every_figure_block_is_its_runs_table_as_it_is_now() {
 }
 
 #[test]
-fn every_share_the_readme_quotes_is_in_a_run_its_paragraph_links() {
-    // One number per fact, each with where it came from: a share of pixels wrong quoted in the
-    // README's prose is in a run that paragraph links, so a number retyped after its run was
-    // redone, or quoted from one run beside a link to another, fails here (src/figures.rs).
+fn every_share_the_readme_and_the_book_quote_is_in_a_run_they_name_for_it() {
+    // One number per fact, each with where it came from: a share quoted in the prose of the
+    // README or the book is in a run its paragraph (or else its section) names, so a number
+    // retyped after its run was redone, or quoted from one run beside a link to another, fails
+    // here (src/figures.rs).
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let read = |path: &str| std::fs::read_to_string(root.join(path)).map_err(|e| e.to_string());
-    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
-    let unsourced = umbra::figures::unsourced_shares(&readme, read);
-    assert!(unsourced.is_empty(), "README.md quotes shares no run its paragraph links holds: {unsourced:?}");
+    let unsourced: Vec<String> = umbra::figures::documents(root)
+        .iter()
+        .flat_map(|doc| {
+            let name = doc.strip_prefix(root).unwrap();
+            let text = std::fs::read_to_string(doc).unwrap();
+            let found = umbra::figures::unsourced_shares(&text, name.parent().unwrap(), read);
+            found.into_iter().map(move |f| format!("{}: {f}", name.display()))
+        })
+        .collect();
+    assert!(unsourced.is_empty(), "shares quoted that no run named for them holds:\n{}", unsourced.join("\n"));
 }
 
 #[test]
