@@ -35,6 +35,9 @@ pub(super) fn sweep(args: &BenchArgs) -> Result<()> {
         options.base = settings;
     }
     let gpu = Gpu::headless()?;
+    // What made the run is what was checked out when it began (files edited while it runs are not
+    // in its binary).
+    let made = umbra::figures::made_by(Path::new("."), &gpu.describe());
     if let Some(n) = args.soft_rays {
         options.truth.soft_rays = n as usize;
     }
@@ -99,7 +102,7 @@ pub(super) fn sweep(args: &BenchArgs) -> Result<()> {
         options.size.1,
         options.truth.soft_rays,
         light_sizes(options.truth.sizes),
-        umbra::figures::made_by(Path::new("."), &gpu.describe()),
+        made,
     );
     let summary = results::write_all(&rows, &args.out, &heading, &gpu.describe())?;
     println!("{summary}");

@@ -403,6 +403,7 @@ mod tests {
             "docs/bench-b/summary.md" => Ok("| default | 0.0611 |".to_string()),
             "docs/bench-b/results.csv" => Ok("default,0.0611,4.7368".to_string()),
             "docs/bench-c/lights.md" => Ok("| 64 | 0.0333 |".to_string()),
+            "tests/stability.rs" => Ok("fn main() {}".to_string()),
             _ => Err("no such file".to_string()),
         };
         let doc = "The default gets 0.052 % wrong ([run](docs/bench-a/summary.md#x)), and\n\
@@ -422,6 +423,9 @@ mod tests {
         );
         let book = "From [a run](../bench-b/summary.md): 0.061 %.\n";
         assert!(unsourced_shares(book, Path::new("docs/book"), read).is_empty(), "a link from the book's folder");
+        let printed = "As `cargo test --test stability` prints: 0.777 %.\n\nAs `tests/stability.rs` does: 0.777 %.\n\n\
+                       As `cargo test --test gone` did: 0.777 %.\n";
+        assert_eq!(unsourced_shares(printed, Path::new(""), read), ["line 5: 0.777 %"], "a test that is not there");
         assert_eq!(shares("of 1,024 lights 0.5 % and 40 % and 0.25 %, x%, 64²·0.1 %"), ["0.5", "0.25", "0.1"]);
         assert_eq!(from_root(Path::new("docs/book"), "../../README.md#x"), "README.md");
         assert_eq!(from_root(Path::new("docs/book"), "docs/bench/"), "docs/bench/");

@@ -374,6 +374,9 @@ fn lights(args: &BenchArgs) -> Result<()> {
     settings.validate()?;
     let gpu = Gpu::headless()?;
     let adapter = gpu.describe();
+    // What made the run is what was checked out when it began (files edited while it runs are not
+    // in its binary).
+    let made = umbra::figures::made_by(Path::new("."), &adapter);
     let counts = if args.quick { &many::QUICK_COUNTS[..] } else { &many::LIGHT_COUNTS[..] };
     let options = many::LightsOptions {
         frames: args.frames.unwrap_or(if args.quick { 3 } else { 10 }),
@@ -401,7 +404,7 @@ fn lights(args: &BenchArgs) -> Result<()> {
         options.size.1,
         options.measure.0,
         options.measure.1,
-        umbra::figures::made_by(Path::new("."), &adapter),
+        made,
         many::columns_note()
     );
     let tail =

@@ -2,7 +2,8 @@
 //! truth puts it, through pages that are marked from the camera's depth, drawn once and kept;
 //! nothing drawn for a still view, only the pages a moving caster crosses drawn again (and its
 //! old shadow gone with them), a pool too small made do with coarser levels (counted), and a
-//! camera cut shadowed by what is resident until its own pages arrive. Where the device runs no
+//! camera cut shadowed by what is resident until its own pages arrive; and the shadow-map viewer
+//! drawing every one of the hundreds of layers the pages make. Where the device runs no
 //! compute shaders, pages cannot be marked: the sun reads its coarse map, and the tests say
 //! SKIPPED after checking that it does so.
 
@@ -14,7 +15,8 @@ use glam::Vec3;
 use umbra::components::{DirectionalLight, ShadowMap, SharedPool, Spin, Transform, VirtualPages};
 use umbra::eval::{metrics, truth};
 use umbra::render::{
-    DebugFrame, Gpu, HEADLESS_FORMAT, PRIME_ROUNDS, Renderer, ShadowStats, render_debug_frame, render_debug_frame_as_is,
+    DebugFrame, Gpu, HEADLESS_FORMAT, PRIME_ROUNDS, Renderer, ShadowStats, read_map_atlas, render_debug_frame,
+    render_debug_frame_as_is, render_headless,
 };
 use umbra::settings::SunMaps;
 use umbra::{App, Settings};
@@ -201,4 +203,38 @@ fn a_camera_cut_reads_what_is_resident_until_its_own_pages_come_and_is_never_uns
         }
         assert!(frames <= PRIME_ROUNDS as usize + 1, "its pages came within {PRIME_ROUNDS} frames");
     }
+}
+
+#[test]
+fn the_map_viewer_draws_every_tile_of_the_paged_sun_and_of_the_lights_beside_it() {
+    // The viewer's shader sees 96 layers at a time; a paged sun's pages are layers too, so the
+    // spots' tiles and most cube faces once came after the first 96 and were left black.
+    let gpu = gpu();
+    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
+    let mut app = paged(|_| {});
+    // A picture, as the window draws (the viewer shows the layers of the last one).
+    render_headless(&gpu, &mut renderer, &mut app, W, H).expect("no wgpu error");
+    if app.take_notices().iter().any(|n| n.contains("compute pass")) {
+        eprintln!("SKIPPED: this device runs no compute shaders, so no page is marked");
+        return;
+    }
+    let (picture, tiles) = read_map_atlas(&gpu, &mut renderer).expect("no wgpu error");
+    assert!(tiles.len() > 96, "more layers than the shader sees at once: {}", tiles.len());
+    let drawn = |rect: [f32; 3]| {
+        let [x, y, side] = rect.map(|v| v as u32);
+        (y..y + side).any(|y| (x..x + side).any(|x| picture.brightness(x, y) > 8.0))
+    };
+    let black: Vec<String> = tiles
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| !drawn(t.rect))
+        .map(|(i, t)| format!("layer {i}: {} {:?}", t.light, t.level))
+        .collect();
+    assert!(
+        black.is_empty(),
+        "{} of {} tiles left black: {:?}",
+        black.len(),
+        tiles.len(),
+        &black[..black.len().min(8)]
+    );
 }

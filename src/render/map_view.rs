@@ -12,6 +12,21 @@ pub const COLUMNS: u32 = 2;
 /// The atlas's format, as egui shows textures.
 pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
+/// The bytes of one chunk of the shader's layers: three vectors a layer (a multiple of 256, the
+/// most any device asks a dynamic offset to be aligned to).
+const CHUNK_BYTES: u64 = (MAX_LAYERS * 3 * 16) as u64;
+const _: () = assert!(CHUNK_BYTES % 256 == 0);
+
+/// A buffer of the layers' terms for `chunks` chunks of [`MAX_LAYERS`].
+fn terms_buffer(device: &wgpu::Device, chunks: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("map view terms"),
+        size: chunks as u64 * CHUNK_BYTES,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
 /// What the shader needs of layer `layer` to find its tile and turn what it keeps back into
 /// distance spread over grey: its depth terms, its near and far distances, whether it is a
 /// perspective one, its light's method (which says which map to read), EVSM's positive
@@ -81,8 +96,8 @@ impl MapView {
                     0,
                     wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
+                        has_dynamic_offset: true,
+                        min_binding_size: std::num::NonZeroU64::new(CHUNK_BYTES),
                     },
                 ),
                 entry(
@@ -129,18 +144,13 @@ impl MapView {
             multiview_mask: None,
             cache: None,
         });
-        let terms = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("map view terms"),
-            size: (MAX_LAYERS * 3 * 16) as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let terms = terms_buffer(device, 1);
         MapView { pipeline, layout, terms, atlas: None, generation: 0 }
     }
 
     /// The atlas as last drawn, and how many atlases have been made (none before the first draw).
-    pub fn atlas(&self) -> Option<(&wgpu::TextureView, u64)> {
-        self.atlas.as_ref().map(|(_, view)| (view, self.generation))
+    pub fn atlas(&self) -> Option<(&wgpu::Texture, &wgpu::TextureView, u64)> {
+        self.atlas.as_ref().map(|(texture, view)| (texture, view, self.generation))
     }
 
     /// Draws `layers` of `maps` (the depth array and the colour maps' array) into the atlas and
@@ -152,8 +162,7 @@ impl MapView {
         (maps, colours): (&wgpu::TextureView, &wgpu::TextureView),
         layers: &[GpuLayer],
     ) -> &wgpu::TextureView {
-        let count = layers.len().min(MAX_LAYERS) as u32;
-        let (w, h) = atlas_size(pages_of(&layers[..count as usize]));
+        let (w, h) = atlas_size(pages_of(layers));
         if self.atlas.as_ref().is_none_or(|(t, _)| (t.width(), t.height()) != (w, h)) {
             let texture = device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("shadow-map atlas"),
@@ -162,20 +171,31 @@ impl MapView {
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format: ATLAS_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                // Copied from to read the picture back (`render::read_map_atlas`).
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC,
                 view_formats: &[],
             });
             let view = texture.create_view(&Default::default());
             self.atlas = Some((texture, view));
             self.generation += 1;
         }
-        let terms: Vec<[[f32; 4]; 3]> = layers.iter().take(count as usize).map(view_terms).collect();
+        // The shader sees MAX_LAYERS layers at a time: the layers go in chunks of that many, each
+        // drawn with its chunk bound (a virtual map's pages are layers too, hundreds of them).
+        let chunks = layers.len().div_ceil(MAX_LAYERS).max(1);
+        if self.terms.size() < chunks as u64 * CHUNK_BYTES {
+            self.terms = terms_buffer(device, chunks);
+        }
+        let terms: Vec<[[f32; 4]; 3]> = layers.iter().map(view_terms).collect();
         queue.write_buffer(&self.terms, 0, bytemuck::cast_slice(&terms));
+        let chunk =
+            wgpu::BufferBinding { buffer: &self.terms, offset: 0, size: std::num::NonZeroU64::new(CHUNK_BYTES) };
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("map view"),
             layout: &self.layout,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: self.terms.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::Buffer(chunk) },
                 wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(maps) },
                 wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(colours) },
             ],
@@ -185,11 +205,13 @@ impl MapView {
         {
             let mut pass = super::colour_pass(&mut encoder, "map view", view, Some(wgpu::Color::BLACK));
             pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            for (i, layer) in (0..count).zip(layers) {
-                let [x, y, side] = tile_rect(layer);
-                pass.set_viewport(x, y, side, side, 0.0, 1.0);
-                pass.draw(0..3, i..i + 1);
+            for (c, chunk) in layers.chunks(MAX_LAYERS).enumerate() {
+                pass.set_bind_group(0, &bind, &[(c as u64 * CHUNK_BYTES) as u32]);
+                for (i, layer) in (0..).zip(chunk) {
+                    let [x, y, side] = tile_rect(layer);
+                    pass.set_viewport(x, y, side, side, 0.0, 1.0);
+                    pass.draw(0..3, i..i + 1);
+                }
             }
         }
         queue.submit([encoder.finish()]);

@@ -51,8 +51,8 @@ pub use moment_samples::sample_counts;
 pub use news::RenderNews;
 pub use parts::PART_DRAWS;
 pub use readback::{
-    DebugFrame, HEADLESS_FORMAT, Image, PRIME_ROUNDS, probe_visibility, read_picture, render_debug_frame,
-    render_debug_frame_as_is, render_headless, render_png,
+    DebugFrame, HEADLESS_FORMAT, Image, PRIME_ROUNDS, probe_visibility, read_map_atlas, read_picture,
+    render_debug_frame, render_debug_frame_as_is, render_headless, render_png,
 };
 pub use renderer::{AtlasTile, MapAtlas, Renderer};
 pub use shadow_stats::{LightPasses, PagePasses, ShadowStats};

@@ -335,6 +335,15 @@ pub fn probe_visibility(
     Ok(out)
 }
 
+/// The shadow-map viewer's picture of the atlas as the renderer's last frame left it (see
+/// [`Renderer::shadow_map_atlas`]), read back, with each layer's tile in it.
+pub fn read_map_atlas(gpu: &Gpu, renderer: &mut Renderer) -> Result<(Image, Vec<super::AtlasTile>), RenderError> {
+    let atlas = renderer.shadow_map_atlas(gpu);
+    let (width, height) = (atlas.texture.width(), atlas.texture.height());
+    let pixels = read_texture(gpu, atlas.texture, width, height, 4)?;
+    Ok((Image { width, height, pixels }, atlas.tiles))
+}
+
 /// The pixels of `texture`, `bytes` per pixel, rows top to bottom without padding.
 fn read_texture(
     gpu: &Gpu,

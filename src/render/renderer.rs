@@ -57,6 +57,8 @@ struct DepthBuffer {
 /// The shadow-map viewer's picture: its view, a number that changes whenever the texture behind
 /// it is made anew, and whose each tile is.
 pub struct MapAtlas<'a> {
+    /// The atlas's texture (`Rgba8UnormSrgb`).
+    pub texture: &'a wgpu::Texture,
     /// The atlas.
     pub view: &'a wgpu::TextureView,
     /// Changes when the atlas texture is replaced (a texture shown elsewhere must be rebound).
@@ -286,7 +288,7 @@ impl Renderer {
             let maps = (&self.shadow.maps.pages.array_view, &self.shadow.maps.moments.array_view);
             view.draw(&gpu.device, &gpu.queue, maps, &layers);
         }
-        let (atlas, generation) = view.atlas().expect("drawn above");
+        let (texture, atlas, generation) = view.atlas().expect("drawn above");
         let page = self.shadow.maps.shape.page as f32;
         let tiles = self.last_layers.iter().map(|(g, l, level)| AtlasTile {
             light: *l,
@@ -295,7 +297,7 @@ impl Renderer {
             level: *level,
         });
         let pages = map_view::pages_of(&self.last_layers.iter().map(|(g, ..)| *g).collect::<Vec<_>>());
-        MapAtlas { view: atlas, generation, tiles: tiles.collect(), pages }
+        MapAtlas { texture, view: atlas, generation, tiles: tiles.collect(), pages }
     }
 
     /// Draws the main pass in parts of at most `most` draws, each submitted and waited for
