@@ -8,7 +8,8 @@
 // its light's METHOD_*, EVSM's positive exponent, 0), (its tile's corner x, y and side as shares
 // of the page, its page).
 @group(0) @binding(0) var<uniform> view_layers: array<vec4<f32>, 288>;
-@group(0) @binding(1) var maps: texture_depth_2d_array;
+// The depth atlas, bound as unfilterable floats: GLSL cannot load from a depth texture.
+@group(0) @binding(1) var maps: texture_2d_array<f32>;
 @group(0) @binding(2) var colours: texture_2d_array<f32>;
 
 struct TileOut {
@@ -58,7 +59,7 @@ fn fs_tile(in: TileOut) -> @location(0) vec4<f32> {
             grey = textureLoad(colours, colour, layer, 0).x / max(a.w - a.z, 1e-6);
         }
         default: {
-            let z = textureLoad(maps, texel, layer, 0);
+            let z = textureLoad(maps, texel, layer, 0).x;
             let distance = select((a.y - z) / a.x, a.y / (z + a.x), b.x > 0.5);
             grey = (distance - a.z) / max(a.w - a.z, 1e-6);
         }

@@ -100,10 +100,12 @@ impl MapView {
                         min_binding_size: std::num::NonZeroU64::new(CHUNK_BYTES),
                     },
                 ),
+                // The depth atlas, bound as unfilterable floats (GLSL cannot load from a depth
+                // texture).
                 entry(
                     1,
                     wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
                         view_dimension: wgpu::TextureViewDimension::D2Array,
                         multisampled: false,
                     },
