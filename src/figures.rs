@@ -332,8 +332,8 @@ pub fn documents(root: &Path) -> Vec<PathBuf> {
 }
 
 /// The line a run's summary carries to say what made it: the commit checked out in `dir` (and
-/// whether it had changes not committed outside the docs and the Markdown), as git tells (that
-/// git did not tell, where it cannot), and the adapter it ran on.
+/// whether what is built into umbra had changes not committed: its code, shaders, assets and
+/// manifest), as git tells (that git did not tell, where it cannot), and the adapter it ran on.
 #[must_use]
 pub fn made_by(dir: &Path, adapter: &str) -> String {
     let git = |args: &[&str]| {
@@ -342,10 +342,11 @@ pub fn made_by(dir: &Path, adapter: &str) -> String {
     };
     match git(&["rev-parse", "--short=10", "HEAD"]) {
         Some(commit) => {
-            // The docs are not the code: a run rewrites its own folder under docs/ as it goes.
-            let status =
-                ["status", "--porcelain", "--untracked-files=no", "--", ".", ":(exclude)docs", ":(exclude)*.md"];
-            let changed = git(&status).is_some_and(|s| !s.is_empty());
+            // Only what is built into umbra counts: a run rewrites its own folder under docs/ as
+            // it goes, and a script or a test edited meanwhile is not in its binary.
+            let built = ["src", "shaders", "assets", "Cargo.toml", "Cargo.lock", "build.rs"];
+            let status = ["status", "--porcelain", "--untracked-files=no", "--"].into_iter().chain(built);
+            let changed = git(&status.collect::<Vec<_>>()).is_some_and(|s| !s.is_empty());
             let changes = if changed { " with changes not committed" } else { "" };
             format!("Made by umbra at commit {commit}{changes} on {adapter}.")
         }
