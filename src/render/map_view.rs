@@ -15,7 +15,7 @@ pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrg
 /// The bytes of one chunk of the shader's layers: three vectors a layer (a multiple of 256, the
 /// most any device asks a dynamic offset to be aligned to).
 const CHUNK_BYTES: u64 = (MAX_LAYERS * 3 * 16) as u64;
-const _: () = assert!(CHUNK_BYTES % 256 == 0);
+const _: () = assert!(CHUNK_BYTES.is_multiple_of(256));
 
 /// A buffer of the layers' terms for `chunks` chunks of [`MAX_LAYERS`].
 fn terms_buffer(device: &wgpu::Device, chunks: usize) -> wgpu::Buffer {
