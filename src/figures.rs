@@ -279,10 +279,12 @@ fn runs_text(runs: &[String], read: &impl Fn(&str) -> Result<String, String>) ->
 
 /// The shares `document`'s prose quotes that no run it names for them holds, each as `line N:
 /// 0.052 %`. `base` is the document's folder from the project's root; `read` reads a file from
-/// the root. A paragraph's runs are those it names (see [`runs_named`]), or else the runs last
-/// named in its section (by a paragraph or a figure block since the last heading); tables, code
-/// and figure blocks are left alone (a run or `umbra` writes those). So a number retyped from a
-/// run, or quoted from one run beside a link to another, is found.
+/// the root. A paragraph's runs are those it names (links to `docs/bench…` files, or their
+/// folders written in code), or else the runs last named in its section (by a paragraph or a
+/// figure block since the last heading). A paragraph that names the test printing its numbers
+/// (`--test NAME` or `tests/NAME.rs`, a file `read` finds) is left alone, as are tables, code
+/// and figure blocks (a run or `umbra` writes those). So a number retyped from a run, or quoted
+/// from one run beside a link to another, is found.
 pub fn unsourced_shares(document: &str, base: &Path, read: impl Fn(&str) -> Result<String, String>) -> Vec<String> {
     let (mut out, mut paragraph, mut first) = (Vec::new(), String::new(), 0);
     let (mut fenced, mut figure, mut section) = (false, false, Vec::new());
