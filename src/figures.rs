@@ -245,10 +245,15 @@ fn from_root(base: &Path, link: &str) -> String {
     parts.join("/") + if link.ends_with('/') { "/" } else { "" }
 }
 
+/// The words `text` writes in inline code (`` `like this` ``).
+fn code_words(text: &str) -> impl Iterator<Item = &str> {
+    text.split('`').skip(1).step_by(2).flat_map(str::split_whitespace)
+}
+
 /// The runs `text` names, from the project's root: the `docs/bench…` files or folders it links
 /// (as a document in `base` links them) or writes in code (`docs/bench-lights/`).
 fn runs_named(text: &str, base: &Path) -> Vec<String> {
-    let in_code = text.split('`').skip(1).step_by(2).flat_map(str::split_whitespace);
+    let in_code = code_words(text);
     let linked = links(text).into_iter().map(|l| from_root(base, &l));
     linked.chain(in_code.map(|code| from_root(base, code))).filter(|run| run.starts_with("docs/bench")).collect()
 }
@@ -257,7 +262,7 @@ fn runs_named(text: &str, base: &Path) -> Vec<String> {
 /// project's root: a share a paragraph quotes from a test's printout has no run to be checked
 /// against, only the test that prints it again.
 fn tests_named(text: &str) -> Vec<String> {
-    let words: Vec<&str> = text.split('`').skip(1).step_by(2).flat_map(str::split_whitespace).collect();
+    let words: Vec<&str> = code_words(text).collect();
     let after_flag = words.windows(2).filter(|w| w[0] == "--test").map(|w| format!("tests/{}.rs", w[1]));
     let files = words.iter().filter(|w| w.starts_with("tests/") && w.ends_with(".rs")).map(|w| (*w).to_string());
     after_flag.chain(files).collect()

@@ -15,8 +15,8 @@ use glam::Vec3;
 use umbra::components::{DirectionalLight, ShadowMap, SharedPool, Spin, Transform, VirtualPages};
 use umbra::eval::{metrics, truth};
 use umbra::render::{
-    DebugFrame, Gpu, HEADLESS_FORMAT, PRIME_ROUNDS, Renderer, ShadowStats, read_map_atlas, render_debug_frame,
-    render_debug_frame_as_is, render_headless,
+    AtlasTile, DebugFrame, Gpu, HEADLESS_FORMAT, PRIME_ROUNDS, Renderer, ShadowStats, read_map_atlas,
+    render_debug_frame, render_debug_frame_as_is, render_headless,
 };
 use umbra::settings::SunMaps;
 use umbra::{App, Settings};
@@ -205,29 +205,41 @@ fn a_camera_cut_reads_what_is_resident_until_its_own_pages_come_and_is_never_uns
     }
 }
 
+/// The shadow-map viewer's picture after one headless picture of the sample with `change` made to
+/// the settings, and each layer's tile; none where no page can be marked (no compute shaders).
+fn viewer(gpu: &Gpu, change: impl FnOnce(&mut Settings)) -> Option<(umbra::render::Image, Vec<AtlasTile>)> {
+    let mut renderer = Renderer::new(gpu, HEADLESS_FORMAT).unwrap();
+    let mut app = app(change);
+    // A picture, as the window draws (the viewer shows the layers of the last one).
+    render_headless(gpu, &mut renderer, &mut app, W, H).expect("no wgpu error");
+    if app.take_notices().iter().any(|n| n.contains("compute pass")) {
+        return None;
+    }
+    Some(read_map_atlas(gpu, &mut renderer).expect("no wgpu error"))
+}
+
+/// The pixels of `picture` under `tile`, row by row.
+fn tile_pixels(picture: &umbra::render::Image, tile: &AtlasTile) -> Vec<[u8; 4]> {
+    let [x, y, side] = tile.rect.map(|v| v as u32);
+    (y..y + side).flat_map(|y| (x..x + side).filter_map(move |x| picture.pixel(x, y))).collect()
+}
+
 #[test]
 fn the_map_viewer_draws_every_tile_of_the_paged_sun_and_of_the_lights_beside_it() {
-    // The viewer's shader sees 96 layers at a time; a paged sun's pages are layers too, so the
-    // spots' tiles and most cube faces once came after the first 96 and were left black.
+    // The viewer's shader sees MAX_LAYERS layers at a time; a paged sun's pages are layers too,
+    // so the spots' tiles and most cube faces once came after the first chunk and were left
+    // black, and a chunk bound at the wrong offset would draw another layer's texels there.
     let gpu = gpu();
-    let mut renderer = Renderer::new(&gpu, HEADLESS_FORMAT).unwrap();
-    let mut app = paged(|_| {});
-    // A picture, as the window draws (the viewer shows the layers of the last one).
-    render_headless(&gpu, &mut renderer, &mut app, W, H).expect("no wgpu error");
-    if app.take_notices().iter().any(|n| n.contains("compute pass")) {
+    let Some((picture, tiles)) = viewer(&gpu, |s| s.maps.sun_maps = SunMaps::Virtual) else {
         eprintln!("SKIPPED: this device runs no compute shaders, so no page is marked");
         return;
-    }
-    let (picture, tiles) = read_map_atlas(&gpu, &mut renderer).expect("no wgpu error");
-    assert!(tiles.len() > 96, "more layers than the shader sees at once: {}", tiles.len());
-    let drawn = |rect: [f32; 3]| {
-        let [x, y, side] = rect.map(|v| v as u32);
-        (y..y + side).any(|y| (x..x + side).any(|x| picture.brightness(x, y) > 8.0))
     };
+    let at_once = umbra::render::gpu_types::MAX_LAYERS;
+    assert!(tiles.len() > at_once, "more layers than the shader sees at once ({at_once}): {}", tiles.len());
     let black: Vec<String> = tiles
         .iter()
         .enumerate()
-        .filter(|(_, t)| !drawn(t.rect))
+        .filter(|(_, t)| tile_pixels(&picture, t).iter().all(|p| p[..3].iter().all(|&c| c <= 8)))
         .map(|(i, t)| format!("layer {i}: {} {:?}", t.light, t.level))
         .collect();
     assert!(
@@ -237,4 +249,18 @@ fn the_map_viewer_draws_every_tile_of_the_paged_sun_and_of_the_lights_beside_it(
         tiles.len(),
         &black[..black.len().min(8)]
     );
+    // A spot's map does not depend on how the sun keeps its shadows: its tile, far past the first
+    // chunk here, shows what it shows with cascades, where it is in the first.
+    let (cascaded, cascade_tiles) = viewer(&gpu, |_| {}).expect("cascades need no compute");
+    let spot =
+        |tiles: &[AtlasTile]| tiles.iter().position(|t| t.light.to_string() == "spot 1").expect("spot 1 has a tile");
+    let (paged_at, cascaded_at) = (spot(&tiles), spot(&cascade_tiles));
+    assert!(
+        paged_at >= at_once && cascaded_at < at_once,
+        "spot 1 is layer {paged_at} paged, {cascaded_at} with cascades"
+    );
+    let (a, b) = (tile_pixels(&picture, &tiles[paged_at]), tile_pixels(&cascaded, &cascade_tiles[cascaded_at]));
+    assert_eq!(a.len(), b.len(), "spot 1's tile is as large either way");
+    let differ = a.iter().zip(&b).filter(|(p, q)| p[..3].iter().zip(&q[..3]).any(|(x, y)| x.abs_diff(*y) > 2)).count();
+    assert!(differ * 100 <= a.len(), "spot 1's tile differs from its cascaded twin in {differ} of {} pixels", a.len());
 }
